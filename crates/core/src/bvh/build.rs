@@ -1,0 +1,164 @@
+//! What every BVH builder shares: parameters, and the top-down driver that turns a splitter's
+//! decisions into flat nodes.
+
+use crate::aabb::Aabb;
+use crate::bvh::tree::{Bvh, BvhNode};
+use crate::math::Vector;
+use crate::sah::SahCost;
+
+/// Parameters shared by every builder.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BuildParams {
+    /// Nodes with more primitives than this are always split. Middle and median splits make a
+    /// leaf at or below it; the SAH builders make one there only when no split is cheaper.
+    pub max_leaf_size: usize,
+    /// The SAH constants (also used to report a tree's cost).
+    pub cost: SahCost,
+}
+
+impl Default for BuildParams {
+    fn default() -> Self {
+        Self {
+            max_leaf_size: 4,
+            cost: SahCost::default(),
+        }
+    }
+}
+
+/// A BVH construction algorithm.
+pub trait Builder {
+    /// A short name, e.g. `sah-binned:16`.
+    fn name(&self) -> String;
+
+    /// Builds a BVH over primitives with these boxes (primitive `i` has `primitive_bounds[i]`).
+    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> Bvh<V>;
+}
+
+/// How a builder chooses splits. It owns the order of the primitives; a node is a range
+/// `begin..end` of that order.
+pub(crate) trait RangeSplitter<V: Vector> {
+    /// The box around the primitives in `begin..end`.
+    fn range_bounds(&self, begin: usize, end: usize) -> Aabb<V>;
+
+    /// Reorders `begin..end` so that the left child is `begin..mid`, and returns `mid`
+    /// (`begin < mid < end`), or `None` to make a leaf.
+    fn split(&mut self, begin: usize, end: usize, node_bounds: &Aabb<V>) -> Option<usize>;
+
+    /// The final order of the primitives: the BVH's `primitive_indices`.
+    fn into_order(self) -> Vec<u32>;
+}
+
+/// Builds the tree top down with an explicit work list (no recursion, so degenerate inputs
+/// cannot overflow the call stack). Siblings are allocated together.
+pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>>(
+    mut splitter: S,
+    primitive_count: usize,
+) -> Bvh<V> {
+    if primitive_count == 0 {
+        return Bvh::default();
+    }
+    let mut nodes = Vec::with_capacity(2 * primitive_count);
+    nodes.push(BvhNode {
+        bounds: splitter.range_bounds(0, primitive_count),
+        first: 0,
+        count: primitive_count as u32,
+    });
+    let mut work = vec![(0usize, 0usize, primitive_count)];
+    while let Some((node_index, begin, end)) = work.pop() {
+        let node_bounds = nodes[node_index].bounds;
+        let Some(mid) = (end - begin > 1)
+            .then(|| splitter.split(begin, end, &node_bounds))
+            .flatten()
+        else {
+            nodes[node_index].first = begin as u32;
+            nodes[node_index].count = (end - begin) as u32;
+            continue;
+        };
+        debug_assert!(begin < mid && mid < end, "a splitter returned an empty side");
+        let left = nodes.len();
+        nodes[node_index].first = left as u32;
+        nodes[node_index].count = 0;
+        for (child_begin, child_end) in [(begin, mid), (mid, end)] {
+            nodes.push(BvhNode {
+                bounds: splitter.range_bounds(child_begin, child_end),
+                first: child_begin as u32,
+                count: (child_end - child_begin) as u32,
+            });
+        }
+        // Right first on the work list, so the left subtree is built (and laid out) first.
+        work.push((left + 1, mid, end));
+        work.push((left, begin, mid));
+    }
+    Bvh {
+        nodes,
+        primitive_indices: splitter.into_order(),
+    }
+}
+
+/// Primitive boxes, their centroids and a working order: the state of the splitters that
+/// reorder one index list (middle, median, binned).
+pub(crate) struct IndexedBoxes<'a, V: Vector> {
+    pub(crate) bounds: &'a [Aabb<V>],
+    pub(crate) centroids: Vec<V>,
+    pub(crate) order: Vec<u32>,
+}
+
+impl<'a, V: Vector> IndexedBoxes<'a, V> {
+    pub(crate) fn new(bounds: &'a [Aabb<V>]) -> Self {
+        Self {
+            bounds,
+            centroids: bounds.iter().map(Aabb::center).collect(),
+            order: (0..bounds.len() as u32).collect(),
+        }
+    }
+
+    pub(crate) fn range_bounds(&self, begin: usize, end: usize) -> Aabb<V> {
+        self.order[begin..end]
+            .iter()
+            .fold(Aabb::empty(), |acc, &index| {
+                acc.union(self.bounds[index as usize])
+            })
+    }
+
+    /// The box around the centroids in `begin..end`: where splits can separate primitives.
+    pub(crate) fn centroid_bounds(&self, begin: usize, end: usize) -> Aabb<V> {
+        self.order[begin..end]
+            .iter()
+            .fold(Aabb::empty(), |acc, &index| {
+                acc.grown(self.centroids[index as usize])
+            })
+    }
+
+    /// Puts the primitives whose centroid satisfies `goes_left` first; returns where they end.
+    pub(crate) fn partition(
+        &mut self,
+        begin: usize,
+        end: usize,
+        mut goes_left: impl FnMut(V) -> bool,
+    ) -> usize {
+        let centroids = &self.centroids;
+        let range = &mut self.order[begin..end];
+        let mut left_end = 0;
+        for slot in 0..range.len() {
+            if goes_left(centroids[range[slot] as usize]) {
+                range.swap(left_end, slot);
+                left_end += 1;
+            }
+        }
+        begin + left_end
+    }
+
+    /// Splits `begin..end` at its middle element along `axis` (object median), in O(n).
+    pub(crate) fn median_split(&mut self, begin: usize, end: usize, axis: usize) -> usize {
+        let centroids = &self.centroids;
+        let range = &mut self.order[begin..end];
+        let half = range.len() / 2;
+        range.select_nth_unstable_by(half, |&a, &b| {
+            let (ca, cb) = (centroids[a as usize][axis], centroids[b as usize][axis]);
+            ca.partial_cmp(&cb)
+                .unwrap_or(std::cmp::Ordering::Equal)
+                .then(a.cmp(&b))
+        });
+        begin + half
+    }
+}

@@ -1,0 +1,134 @@
+//! Full-sweep SAH: exact over every candidate, built the lecture's second way, "without sort".
+//!
+//! Sort the primitives by centroid once per axis, then keep the `DIM` sorted lists through the
+//! recursion: after choosing a split on one axis, the other lists are partitioned *stably* by
+//! a per-primitive flag, which keeps them sorted in O(n). Each node then sweeps every list once
+//! from each side to cost every split between neighbours (MacDonald & Booth 1990; the sorted
+//! lists follow Wald 2007 §2 and Wald & Havran 2006). O(n log n) for the sort plus O(n) per
+//! level.
+
+use crate::aabb::Aabb;
+use crate::bvh::build::{BuildParams, Builder, RangeSplitter, build_top_down};
+use crate::bvh::tree::Bvh;
+use crate::math::{Real, Vector};
+use crate::sah::SahCost;
+
+/// The exact SAH builder that sorts once per axis.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SweepSah;
+
+struct Splitter<'a, V: Vector> {
+    bounds: &'a [Aabb<V>],
+    /// One list per axis, each sorted by centroid on that axis within every node's range.
+    sorted: Vec<Vec<u32>>,
+    goes_left: Vec<bool>,
+    right_areas: Vec<f64>,
+    scratch: Vec<u32>,
+    max_leaf_size: usize,
+    cost: SahCost,
+}
+
+impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
+    fn range_bounds(&self, begin: usize, end: usize) -> Aabb<V> {
+        self.sorted[0][begin..end]
+            .iter()
+            .fold(Aabb::empty(), |acc, &index| acc.union(self.bounds[index as usize]))
+    }
+
+    fn split(&mut self, begin: usize, end: usize, node_bounds: &Aabb<V>) -> Option<usize> {
+        let count = end - begin;
+        let parent_area = node_bounds.area().to_f64();
+        let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, left count)
+        for axis in 0..V::DIM {
+            let list = &self.sorted[axis][begin..end];
+            // Sweep from the right: the area of every suffix.
+            let mut right = Aabb::empty();
+            for split in (1..count).rev() {
+                right = right.union(self.bounds[list[split] as usize]);
+                self.right_areas[split] = right.area().to_f64();
+            }
+            // Sweep from the left, costing the split before each primitive.
+            let mut left = Aabb::empty();
+            for split in 1..count {
+                left = left.union(self.bounds[list[split - 1] as usize]);
+                let cost = self.cost.split_cost(
+                    parent_area,
+                    left.area().to_f64(),
+                    split,
+                    self.right_areas[split],
+                    count - split,
+                );
+                if best.is_none_or(|(best_cost, _, _)| cost < best_cost) {
+                    best = Some((cost, axis, split));
+                }
+            }
+        }
+        let (best_cost, axis, left_count) = best?;
+        // Keep the leaf if no split is cheaper (and the leaf is small enough).
+        if count <= self.max_leaf_size && self.cost.leaf_cost(count) <= best_cost {
+            return None;
+        }
+        let mid = begin + left_count;
+        // Flag the left side, then partition the other lists stably so they stay sorted.
+        for &index in &self.sorted[axis][begin..end] {
+            self.goes_left[index as usize] = false;
+        }
+        for &index in &self.sorted[axis][begin..mid] {
+            self.goes_left[index as usize] = true;
+        }
+        for other in (0..V::DIM).filter(|&other| other != axis) {
+            let list = &mut self.sorted[other][begin..end];
+            self.scratch.clear();
+            let mut left_end = 0;
+            for slot in 0..list.len() {
+                let index = list[slot];
+                if self.goes_left[index as usize] {
+                    list[left_end] = index;
+                    left_end += 1;
+                } else {
+                    self.scratch.push(index);
+                }
+            }
+            list[left_end..].copy_from_slice(&self.scratch);
+        }
+        Some(mid)
+    }
+
+    fn into_order(mut self) -> Vec<u32> {
+        self.sorted.swap_remove(0)
+    }
+}
+
+impl Builder for SweepSah {
+    fn name(&self) -> String {
+        "sah-sweep".into()
+    }
+
+    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> Bvh<V> {
+        let count = primitive_bounds.len();
+        let centroids: Vec<V> = primitive_bounds.iter().map(Aabb::center).collect();
+        // Sort once per axis (ties by number, so the tree does not depend on the sort).
+        let sorted = (0..V::DIM)
+            .map(|axis| {
+                let mut list: Vec<u32> = (0..count as u32).collect();
+                list.sort_unstable_by(|&a, &b| {
+                    let (ca, cb) = (centroids[a as usize][axis], centroids[b as usize][axis]);
+                    ca.partial_cmp(&cb)
+                        .unwrap_or(std::cmp::Ordering::Equal)
+                        .then(a.cmp(&b))
+                });
+                list
+            })
+            .collect();
+        let splitter = Splitter {
+            bounds: primitive_bounds,
+            sorted,
+            goes_left: vec![false; count],
+            right_areas: vec![0.0; count.max(1)],
+            scratch: Vec::with_capacity(count),
+            max_leaf_size: params.max_leaf_size.max(1),
+            cost: params.cost,
+        };
+        build_top_down(splitter, count)
+    }
+}

@@ -1,0 +1,30 @@
+//! Bounding volume hierarchies: a flat array of nodes, four builders, one traversal.
+//!
+//! Boxes → a builder (`build_*`) → [`Bvh`] (flat nodes, index children) → [`traverse`] told
+//! about each step by an [`Observer`](crate::observer::Observer). [`validate`] checks any tree;
+//! [`BvhStats`] measures it.
+
+mod build;
+mod build_binned;
+mod build_median;
+mod build_middle;
+mod build_sweep;
+mod stats;
+mod traverse;
+mod tree;
+mod validate;
+
+pub use build::{BuildParams, Builder};
+pub use build_binned::BinnedSah;
+pub use build_median::MedianSplit;
+pub use build_middle::MiddleSplit;
+pub use build_sweep::SweepSah;
+pub use stats::BvhStats;
+pub use traverse::{TraversalStack, traverse};
+pub use tree::{Bvh, BvhNode};
+pub use validate::{ValidationError, validate};
+
+/// A 2D BVH in f32.
+pub type Bvh2 = Bvh<glam::Vec2>;
+/// A 3D BVH in f32.
+pub type Bvh3 = Bvh<glam::Vec3>;

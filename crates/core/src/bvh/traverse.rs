@@ -1,0 +1,114 @@
+//! The one BVH traversal: closest or any hit, near-first or file order, told to an observer.
+
+use crate::bvh::tree::Bvh;
+use crate::math::{Real, Vector};
+use crate::observer::Observer;
+use crate::primitive::PrimitiveSet;
+use crate::query::{Hit, Order, Query, TraceOptions};
+use crate::ray::Ray;
+use crate::slab::{SlabRay, slab_clip};
+
+/// Reusable traversal stack: make one per thread and pass it to every [`traverse`] call, so
+/// tracing allocates nothing per ray.
+#[derive(Clone, Debug, Default)]
+pub struct TraversalStack<S: Real> {
+    /// Nodes still to visit, with the `t` at which the ray enters each.
+    entries: Vec<(u32, S)>,
+}
+
+impl<S: Real> TraversalStack<S> {
+    /// An empty stack with room for a deep tree.
+    pub fn new() -> Self {
+        Self {
+            entries: Vec::with_capacity(64),
+        }
+    }
+}
+
+/// Traces `ray` through `bvh` over `primitives`.
+///
+/// Test the root's box; then, from a stack of nodes the ray enters: skip a node that starts
+/// beyond the closest hit so far (a cull); test a leaf's primitives, shrinking the interval at
+/// each hit; test both children's boxes of an interior node and push the hit ones so that the
+/// child chosen by [`Order`] comes off the stack first.
+pub fn traverse<V, P, O>(
+    bvh: &Bvh<V>,
+    primitives: &P,
+    ray: &Ray<V>,
+    options: &TraceOptions,
+    stack: &mut TraversalStack<V::Scalar>,
+    observer: &mut O,
+) -> Option<Hit<V::Scalar>>
+where
+    V: Vector,
+    P: PrimitiveSet<V>,
+    O: Observer<V::Scalar>,
+{
+    let root = bvh.nodes.first()?;
+    let slab_ray = SlabRay::new(ray, options.robust_traversal);
+    let (t_enter, t_exit) = slab_clip(&root.bounds, &slab_ray, ray.t_max);
+    observer.box_tested(0, t_enter, t_exit, t_enter <= t_exit);
+    if !(t_enter <= t_exit) {
+        return None;
+    }
+    let primitive_ray = primitives.prepare(ray, options.hit_test);
+    let mut closest: Option<Hit<V::Scalar>> = None;
+    let mut t_closest = ray.t_max;
+    let nodes = bvh.nodes.as_slice();
+    let entries = &mut stack.entries;
+    entries.clear();
+    entries.push((0, t_enter));
+    while let Some((node_index, t_enter)) = entries.pop() {
+        // A hit found since this node was pushed may already be nearer than its box.
+        if t_enter > t_closest {
+            observer.node_culled(node_index, t_enter, t_closest);
+            continue;
+        }
+        observer.node_entered(node_index);
+        let node = &nodes[node_index as usize];
+        if node.is_leaf() {
+            // Test the leaf's primitives, shrinking the interval with every closer hit.
+            for &primitive in bvh.leaf_primitives(node) {
+                let t_hit =
+                    primitives.intersect(&primitive_ray, primitive as usize, ray.t_min, t_closest);
+                observer.primitive_tested(primitive, t_hit);
+                let Some(t) = t_hit else { continue };
+                if closest.is_none_or(|hit| hit.is_beaten_by(primitive, t)) {
+                    closest = Some(Hit { primitive, t });
+                    t_closest = t;
+                    observer.closest_hit_updated(primitive, t);
+                    if options.query == Query::Any {
+                        return closest;
+                    }
+                }
+            }
+            continue;
+        }
+        // Test both children's boxes against what is left of the interval.
+        let [left, right] = node.children();
+        let (left_enter, left_exit) = slab_clip(&nodes[left as usize].bounds, &slab_ray, t_closest);
+        let (right_enter, right_exit) =
+            slab_clip(&nodes[right as usize].bounds, &slab_ray, t_closest);
+        let left_hit = left_enter <= left_exit;
+        let right_hit = right_enter <= right_exit;
+        observer.box_tested(left, left_enter, left_exit, left_hit);
+        observer.box_tested(right, right_enter, right_exit, right_hit);
+        match (left_hit, right_hit) {
+            (true, true) => {
+                // Push the child to visit second first, so the other comes off the stack next.
+                let right_first = options.order == Order::NearFirst && right_enter < left_enter;
+                if right_first {
+                    entries.push((left, left_enter));
+                    entries.push((right, right_enter));
+                } else {
+                    entries.push((right, right_enter));
+                    entries.push((left, left_enter));
+                }
+            }
+            (true, false) => entries.push((left, left_enter)),
+            (false, true) => entries.push((right, right_enter)),
+            (false, false) => {}
+        }
+    }
+    closest
+}

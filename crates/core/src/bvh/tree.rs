@@ -1,0 +1,64 @@
+//! The BVH's memory layout.
+
+use crate::aabb::Aabb;
+use crate::math::Vector;
+
+/// One node: its box, and either two children or a run of primitives.
+///
+/// 32 bytes in 3D f32. A leaf has `count > 0` and owns `primitive_indices[first..first +
+/// count]`; an interior node has `count == 0` and children `first` and `first + 1`, side by side
+/// so that one cache line holds both boxes traversal tests together.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C)]
+pub struct BvhNode<V: Vector> {
+    /// Bounds of everything below.
+    pub bounds: Aabb<V>,
+    /// Leaf: the first slot in `primitive_indices`. Interior: the left child's index.
+    pub first: u32,
+    /// Leaf: how many primitives. Interior: 0.
+    pub count: u32,
+}
+
+impl<V: Vector> BvhNode<V> {
+    /// True for a leaf.
+    #[inline(always)]
+    pub fn is_leaf(&self) -> bool {
+        self.count > 0
+    }
+
+    /// The two children's indices, for an interior node.
+    #[inline(always)]
+    pub fn children(&self) -> [u32; 2] {
+        [self.first, self.first + 1]
+    }
+}
+
+/// A bounding volume hierarchy over primitives numbered `0..n`. Node 0 is the root.
+///
+/// An empty primitive set gives a tree with no nodes (a leaf with `count == 0` would read as
+/// an interior node), which every ray misses.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Bvh<V: Vector> {
+    /// The nodes; `nodes[0]` is the root.
+    pub nodes: Vec<BvhNode<V>>,
+    /// Primitive numbers in leaf order.
+    pub primitive_indices: Vec<u32>,
+}
+
+impl<V: Vector> Bvh<V> {
+    /// The number of nodes.
+    pub fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// The root's box (empty without primitives).
+    pub fn bounds(&self) -> Aabb<V> {
+        self.nodes.first().map_or_else(Aabb::empty, |root| root.bounds)
+    }
+
+    /// The primitives of a leaf.
+    pub fn leaf_primitives(&self, node: &BvhNode<V>) -> &[u32] {
+        let first = node.first as usize;
+        &self.primitive_indices[first..first + node.count as usize]
+    }
+}

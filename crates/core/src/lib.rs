@@ -1,0 +1,42 @@
+//! # accelviz-core
+//!
+//! The algorithms of accelviz, for teaching and measuring ray-tracing acceleration structures.
+//! One implementation serves 2D and 3D, f32 and f64, through the narrow [`Vector`] trait
+//! implemented for glam's `Vec2`, `Vec3`, `DVec2` and `DVec3`.
+//!
+//! The pipeline:
+//!
+//! ```text
+//! primitives ──bounds──▶ boxes ──builder──▶ Bvh (flat nodes) ──traverse + Observer──▶ hits, counts, steps
+//!     └──────────────────────────── brute_force (the reference) ───────────────────────────┘
+//! ```
+//!
+//! - [`slab`]: the slab test, with the record a lesson shows and the hot path traversal runs.
+//! - [`bounding`]: bounding box and sphere of an object, their reject tests and void.
+//! - [`bvh`]: four builders ([`bvh::MiddleSplit`], [`bvh::MedianSplit`], [`bvh::BinnedSah`],
+//!   [`bvh::SweepSah`]) sharing one [`SahCost`], one traversal, a validator and statistics.
+//! - [`observer`]: how traversal reports each step (nothing, counts, or a full record).
+//!
+//! No file IO, no UI: this crate builds for `wasm32-unknown-unknown`.
+
+pub mod aabb;
+pub mod bounding;
+pub mod brute;
+pub mod bvh;
+pub mod math;
+pub mod observer;
+pub mod primitive;
+pub mod query;
+pub mod ray;
+pub mod sah;
+pub mod slab;
+
+pub use aabb::{Aabb, Aabb2, Aabb3};
+pub use brute::brute_force;
+pub use math::{Real, Vector, Vector3};
+pub use observer::{Counters, NoObserver, Observer, Recorder, Step};
+pub use primitive::{HitTest, PrimitiveSet, Shape, ShapeSet, Sphere, TriangleSet};
+pub use query::{Hit, Order, Query, TraceOptions};
+pub use ray::{Ray, Ray2, Ray3, RayError};
+pub use sah::SahCost;
+pub use slab::{SlabRay, SlabRecord, slab_clip, slab_record};

@@ -1,0 +1,250 @@
+//! The narrow numeric interface that lets one implementation serve 2D and 3D, f32 and f64.
+//!
+//! [`Real`] is the scalar (f32 or f64); [`Vector`] is a glam point/vector of dimension
+//! [`Vector::DIM`] over that scalar (`Vec2`, `Vec3`, `DVec2`, `DVec3`). Everything in the core is
+//! written against these two traits, in the spirit of bevy_math's bounding traits: "area" is
+//! the perimeter in 2D and the surface area in 3D.
+
+use std::fmt::{Debug, Display};
+use std::ops::{Add, AddAssign, Div, Index, IndexMut, Mul, Neg, Sub, SubAssign};
+
+use glam::{DVec2, DVec3, Vec2, Vec3};
+
+/// A floating-point scalar: `f32` or `f64`.
+pub trait Real:
+    Copy
+    + Debug
+    + Display
+    + Default
+    + PartialEq
+    + PartialOrd
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Div<Output = Self>
+    + Neg<Output = Self>
+    + AddAssign
+    + SubAssign
+{
+    /// 0.
+    const ZERO: Self;
+    /// 1.
+    const ONE: Self;
+    /// 2.
+    const TWO: Self;
+    /// +∞.
+    const INFINITY: Self;
+    /// −∞.
+    const NEG_INFINITY: Self;
+    /// The unit roundoff ε/2 of the format (pbrt's `MachineEpsilon`).
+    const UNIT_ROUNDOFF: Self;
+    /// The largest finite value.
+    const MAX: Self;
+    /// Converts from f64, rounding to nearest.
+    fn from_f64(value: f64) -> Self;
+    /// Widens to f64 (exact).
+    fn to_f64(self) -> f64;
+    /// Converts a count.
+    fn from_usize(value: usize) -> Self;
+    /// |x|.
+    fn abs(self) -> Self;
+    /// √x.
+    fn sqrt(self) -> Self;
+    /// Neither NaN nor ±∞.
+    fn is_finite(self) -> bool;
+    /// NaN.
+    fn is_nan(self) -> bool;
+    /// The smaller of two numbers; if one is NaN, the other.
+    fn min(self, other: Self) -> Self;
+    /// The larger of two numbers; if one is NaN, the other.
+    fn max(self, other: Self) -> Self;
+    /// The next representable value towards +∞ (finite inputs).
+    fn next_up(self) -> Self;
+    /// The next representable value towards −∞ (finite inputs).
+    fn next_down(self) -> Self;
+
+    /// pbrt's γ(n) = nε/(1 − nε): the relative error bound of n chained roundings
+    /// (Pharr, Jakob, Humphreys, "Physically Based Rendering", 3rd ed., §3.9).
+    #[inline]
+    fn gamma(n: u32) -> Self {
+        let n_eps = Self::from_usize(n as usize) * Self::UNIT_ROUNDOFF;
+        n_eps / (Self::ONE - n_eps)
+    }
+}
+
+macro_rules! impl_real {
+    ($t:ty) => {
+        impl Real for $t {
+            const ZERO: Self = 0.0;
+            const ONE: Self = 1.0;
+            const TWO: Self = 2.0;
+            const INFINITY: Self = <$t>::INFINITY;
+            const NEG_INFINITY: Self = <$t>::NEG_INFINITY;
+            const UNIT_ROUNDOFF: Self = <$t>::EPSILON * 0.5;
+            const MAX: Self = <$t>::MAX;
+            #[inline(always)]
+            fn from_f64(value: f64) -> Self {
+                value as $t
+            }
+            #[inline(always)]
+            fn to_f64(self) -> f64 {
+                self as f64
+            }
+            #[inline(always)]
+            fn from_usize(value: usize) -> Self {
+                value as $t
+            }
+            #[inline(always)]
+            fn abs(self) -> Self {
+                <$t>::abs(self)
+            }
+            #[inline(always)]
+            fn sqrt(self) -> Self {
+                <$t>::sqrt(self)
+            }
+            #[inline(always)]
+            fn is_finite(self) -> bool {
+                <$t>::is_finite(self)
+            }
+            #[inline(always)]
+            fn is_nan(self) -> bool {
+                <$t>::is_nan(self)
+            }
+            #[inline(always)]
+            fn min(self, other: Self) -> Self {
+                <$t>::min(self, other)
+            }
+            #[inline(always)]
+            fn max(self, other: Self) -> Self {
+                <$t>::max(self, other)
+            }
+            #[inline(always)]
+            fn next_up(self) -> Self {
+                <$t>::next_up(self)
+            }
+            #[inline(always)]
+            fn next_down(self) -> Self {
+                <$t>::next_down(self)
+            }
+        }
+    };
+}
+impl_real!(f32);
+impl_real!(f64);
+
+/// A point or vector of dimension [`Vector::DIM`] over [`Vector::Scalar`].
+///
+/// Implemented for glam's `Vec2`, `Vec3`, `DVec2` and `DVec3`. Component `i` is `v[i]`.
+pub trait Vector:
+    Copy
+    + Debug
+    + Default
+    + PartialEq
+    + Send
+    + Sync
+    + 'static
+    + Add<Output = Self>
+    + Sub<Output = Self>
+    + Mul<Output = Self>
+    + Mul<<Self as Vector>::Scalar, Output = Self>
+    + Div<<Self as Vector>::Scalar, Output = Self>
+    + Neg<Output = Self>
+    + Index<usize, Output = <Self as Vector>::Scalar>
+    + IndexMut<usize>
+{
+    /// The component type.
+    type Scalar: Real;
+    /// 2 or 3.
+    const DIM: usize;
+    /// Every component set to `value`.
+    fn splat(value: Self::Scalar) -> Self;
+    /// Component-wise minimum.
+    fn min(self, other: Self) -> Self;
+    /// Component-wise maximum.
+    fn max(self, other: Self) -> Self;
+    /// Dot product.
+    fn dot(self, other: Self) -> Self::Scalar;
+    /// Builds a vector from the first `DIM` values of `values` (f64, rounded to the scalar).
+    fn from_f64_slice(values: &[f64]) -> Self;
+    /// Every component finite.
+    fn is_finite(self) -> bool;
+
+    /// Euclidean length.
+    #[inline]
+    fn length(self) -> Self::Scalar {
+        self.dot(self).sqrt()
+    }
+    /// The components as f64, padded with zeros to three (for printing and JSON).
+    #[inline]
+    fn to_f64_array(self) -> [f64; 3] {
+        let mut out = [0.0; 3];
+        for (axis, slot) in out.iter_mut().enumerate().take(Self::DIM) {
+            *slot = self[axis].to_f64();
+        }
+        out
+    }
+}
+
+macro_rules! impl_vector {
+    ($v:ty, $s:ty, $dim:expr) => {
+        impl Vector for $v {
+            type Scalar = $s;
+            const DIM: usize = $dim;
+            #[inline(always)]
+            fn splat(value: $s) -> Self {
+                <$v>::splat(value)
+            }
+            #[inline(always)]
+            fn min(self, other: Self) -> Self {
+                <$v>::min(self, other)
+            }
+            #[inline(always)]
+            fn max(self, other: Self) -> Self {
+                <$v>::max(self, other)
+            }
+            #[inline(always)]
+            fn dot(self, other: Self) -> $s {
+                <$v>::dot(self, other)
+            }
+            #[inline]
+            fn from_f64_slice(values: &[f64]) -> Self {
+                let mut out = Self::ZERO;
+                for axis in 0..$dim {
+                    out[axis] = values[axis] as $s;
+                }
+                out
+            }
+            #[inline(always)]
+            fn is_finite(self) -> bool {
+                <$v>::is_finite(self)
+            }
+        }
+    };
+}
+impl_vector!(Vec2, f32, 2);
+impl_vector!(Vec3, f32, 3);
+impl_vector!(DVec2, f64, 2);
+impl_vector!(DVec3, f64, 3);
+
+/// A three-dimensional [`Vector`]: adds the cross product that triangles need.
+pub trait Vector3: Vector {
+    /// Cross product.
+    fn cross(self, other: Self) -> Self;
+}
+
+impl Vector3 for Vec3 {
+    #[inline(always)]
+    fn cross(self, other: Self) -> Self {
+        Vec3::cross(self, other)
+    }
+}
+
+impl Vector3 for DVec3 {
+    #[inline(always)]
+    fn cross(self, other: Self) -> Self {
+        DVec3::cross(self, other)
+    }
+}

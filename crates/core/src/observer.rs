@@ -1,0 +1,180 @@
+//! The observer: how one traversal tells a benchmark, the CLI and an animation what it does.
+//!
+//! Traversal calls these methods at each step. Every method has an empty default that is
+//! inlined away, so the benchmark's [`NoObserver`] costs nothing; [`Counters`] counts; the
+//! [`Recorder`] keeps every step for the app's timeline.
+
+use crate::math::Real;
+
+/// Told about every step of a traversal (or of brute force).
+pub trait Observer<S: Real> {
+    /// A ray/box slab test of node `node`: its clipped interval and whether it hit.
+    #[inline(always)]
+    fn box_tested(&mut self, _node: u32, _t_enter: S, _t_exit: S, _hit: bool) {}
+    /// Traversal entered node `node` (after its box was hit and it was not culled).
+    #[inline(always)]
+    fn node_entered(&mut self, _node: u32) {}
+    /// A node waiting on the stack was skipped: it is entered only beyond the closest hit.
+    #[inline(always)]
+    fn node_culled(&mut self, _node: u32, _t_enter: S, _t_closest: S) {}
+    /// Primitive `primitive` was tested; `t_hit` is where it was hit inside the interval.
+    #[inline(always)]
+    fn primitive_tested(&mut self, _primitive: u32, _t_hit: Option<S>) {}
+    /// `primitive` at `t` became the closest hit so far.
+    #[inline(always)]
+    fn closest_hit_updated(&mut self, _primitive: u32, _t: S) {}
+}
+
+/// Observes nothing, at no cost: what benchmarks pass.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoObserver;
+
+impl<S: Real> Observer<S> for NoObserver {}
+
+/// Counts the work of one or many traversals.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counters {
+    /// Nodes entered.
+    pub nodes_visited: u64,
+    /// Ray/box slab tests.
+    pub box_tests: u64,
+    /// Ray/primitive tests.
+    pub primitive_tests: u64,
+    /// Nodes skipped because they start beyond the closest hit.
+    pub nodes_culled: u64,
+}
+
+impl std::ops::AddAssign for Counters {
+    fn add_assign(&mut self, other: Self) {
+        self.nodes_visited += other.nodes_visited;
+        self.box_tests += other.box_tests;
+        self.primitive_tests += other.primitive_tests;
+        self.nodes_culled += other.nodes_culled;
+    }
+}
+
+impl<S: Real> Observer<S> for Counters {
+    #[inline(always)]
+    fn box_tested(&mut self, _node: u32, _t_enter: S, _t_exit: S, _hit: bool) {
+        self.box_tests += 1;
+    }
+    #[inline(always)]
+    fn node_entered(&mut self, _node: u32) {
+        self.nodes_visited += 1;
+    }
+    #[inline(always)]
+    fn node_culled(&mut self, _node: u32, _t_enter: S, _t_closest: S) {
+        self.nodes_culled += 1;
+    }
+    #[inline(always)]
+    fn primitive_tested(&mut self, _primitive: u32, _t_hit: Option<S>) {
+        self.primitive_tests += 1;
+    }
+}
+
+/// One step of a traversal, as the animation shows it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Step<S: Real> {
+    /// See [`Observer::box_tested`].
+    BoxTested {
+        /// The node whose box was tested.
+        node: u32,
+        /// Where the ray enters the box (clipped to the ray's interval).
+        t_enter: S,
+        /// Where it leaves.
+        t_exit: S,
+        /// `t_enter <= t_exit`.
+        hit: bool,
+    },
+    /// See [`Observer::node_entered`].
+    NodeEntered {
+        /// The node.
+        node: u32,
+    },
+    /// See [`Observer::node_culled`].
+    NodeCulled {
+        /// The node.
+        node: u32,
+        /// Where the ray would enter it.
+        t_enter: S,
+        /// The closest hit at that moment.
+        t_closest: S,
+    },
+    /// See [`Observer::primitive_tested`].
+    PrimitiveTested {
+        /// The primitive.
+        primitive: u32,
+        /// Where it was hit, if it was.
+        t_hit: Option<S>,
+    },
+    /// See [`Observer::closest_hit_updated`].
+    ClosestHitUpdated {
+        /// The primitive.
+        primitive: u32,
+        /// Its `t`.
+        t: S,
+    },
+}
+
+/// Records every step, in order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Recorder<S: Real> {
+    /// The steps so far.
+    pub steps: Vec<Step<S>>,
+}
+
+impl<S: Real> Observer<S> for Recorder<S> {
+    fn box_tested(&mut self, node: u32, t_enter: S, t_exit: S, hit: bool) {
+        self.steps.push(Step::BoxTested {
+            node,
+            t_enter,
+            t_exit,
+            hit,
+        });
+    }
+    fn node_entered(&mut self, node: u32) {
+        self.steps.push(Step::NodeEntered { node });
+    }
+    fn node_culled(&mut self, node: u32, t_enter: S, t_closest: S) {
+        self.steps.push(Step::NodeCulled {
+            node,
+            t_enter,
+            t_closest,
+        });
+    }
+    fn primitive_tested(&mut self, primitive: u32, t_hit: Option<S>) {
+        self.steps.push(Step::PrimitiveTested { primitive, t_hit });
+    }
+    fn closest_hit_updated(&mut self, primitive: u32, t: S) {
+        self.steps.push(Step::ClosestHitUpdated { primitive, t });
+    }
+}
+
+/// Forwards every step to two observers (e.g. count and record at once).
+impl<S: Real, A: Observer<S>, B: Observer<S>> Observer<S> for (A, B) {
+    #[inline(always)]
+    fn box_tested(&mut self, node: u32, t_enter: S, t_exit: S, hit: bool) {
+        self.0.box_tested(node, t_enter, t_exit, hit);
+        self.1.box_tested(node, t_enter, t_exit, hit);
+    }
+    #[inline(always)]
+    fn node_entered(&mut self, node: u32) {
+        self.0.node_entered(node);
+        self.1.node_entered(node);
+    }
+    #[inline(always)]
+    fn node_culled(&mut self, node: u32, t_enter: S, t_closest: S) {
+        self.0.node_culled(node, t_enter, t_closest);
+        self.1.node_culled(node, t_enter, t_closest);
+    }
+    #[inline(always)]
+    fn primitive_tested(&mut self, primitive: u32, t_hit: Option<S>) {
+        self.0.primitive_tested(primitive, t_hit);
+        self.1.primitive_tested(primitive, t_hit);
+    }
+    #[inline(always)]
+    fn closest_hit_updated(&mut self, primitive: u32, t: S) {
+        self.0.closest_hit_updated(primitive, t);
+        self.1.closest_hit_updated(primitive, t);
+    }
+}

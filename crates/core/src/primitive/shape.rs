@@ -1,0 +1,186 @@
+//! Spheres (discs in 2D), boxes and segments: the solid shapes of 2D lessons and scenes.
+//!
+//! Shapes are solid: a ray hits a shape at the first `t` of its interval where it is inside
+//! (so a ray starting inside a disc hits it at `t_min`).
+
+use crate::aabb::Aabb;
+use crate::math::{Real, Vector};
+use crate::primitive::{HitTest, PrimitiveSet};
+use crate::ray::Ray;
+use crate::slab::{SlabRay, slab_clip};
+
+/// A sphere in 3D, a disc in 2D.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sphere<V: Vector> {
+    /// The centre.
+    pub center: V,
+    /// The radius (≥ 0).
+    pub radius: V::Scalar,
+}
+
+impl<V: Vector> Sphere<V> {
+    /// The bounding box.
+    pub fn bounds(&self) -> Aabb<V> {
+        let reach = V::splat(self.radius);
+        Aabb::new(self.center - reach, self.center + reach)
+    }
+
+    /// The area in 2D (πr²), the volume in 3D (4/3 πr³).
+    pub fn measure(&self) -> V::Scalar {
+        let r = self.radius;
+        let pi = V::Scalar::from_f64(std::f64::consts::PI);
+        if V::DIM == 2 {
+            pi * r * r
+        } else {
+            V::Scalar::from_f64(4.0 / 3.0) * pi * r * r * r
+        }
+    }
+
+    /// Where the ray is inside the closed sphere, `[t_0, t_1]`, if anywhere on its line.
+    pub fn interval(&self, ray: &Ray<V>) -> Option<(V::Scalar, V::Scalar)> {
+        // Solve |o + t d − c|² = r² in the numerically stable form of pbrt-v3 §3.2.2.
+        let to_origin = ray.origin - self.center;
+        let a = ray.direction.dot(ray.direction);
+        let half_b = to_origin.dot(ray.direction);
+        let c = to_origin.dot(to_origin) - self.radius * self.radius;
+        let discriminant = half_b * half_b - a * c;
+        if discriminant < V::Scalar::ZERO {
+            return None;
+        }
+        let root = discriminant.sqrt();
+        let q = if half_b < V::Scalar::ZERO {
+            -half_b + root
+        } else {
+            -half_b - root
+        };
+        if q == V::Scalar::ZERO {
+            // Origin at the centre of a zero sphere, or a tangent through the origin.
+            return Some((V::Scalar::ZERO, V::Scalar::ZERO));
+        }
+        let (t0, t1) = (q / a, c / q);
+        Some(if t0 <= t1 { (t0, t1) } else { (t1, t0) })
+    }
+}
+
+/// One solid shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Shape<V: Vector> {
+    /// A disc (2D) or ball (3D).
+    Sphere(Sphere<V>),
+    /// A solid axis-aligned box.
+    Box(Aabb<V>),
+    /// A line segment between two points. Only a 2D segment can be hit; in 3D it has no area.
+    Segment([V; 2]),
+}
+
+impl<V: Vector> Shape<V> {
+    /// The bounding box.
+    pub fn bounds(&self) -> Aabb<V> {
+        match self {
+            Shape::Sphere(sphere) => sphere.bounds(),
+            Shape::Box(bounds) => *bounds,
+            Shape::Segment(ends) => Aabb::from_points(*ends),
+        }
+    }
+
+    /// The first `t` in `[t_min, t_max]` where the ray is inside the shape.
+    pub fn intersect(
+        &self,
+        ray: &Ray<V>,
+        t_min: V::Scalar,
+        t_max: V::Scalar,
+    ) -> Option<V::Scalar> {
+        let (t_enter, t_exit) = match self {
+            Shape::Sphere(sphere) => sphere.interval(ray)?,
+            Shape::Box(bounds) => {
+                let slab_ray = SlabRay::new(ray, false);
+                slab_clip(bounds, &SlabRay { t_min, ..slab_ray }, t_max)
+            }
+            Shape::Segment(ends) => segment_interval(ray, ends)?,
+        };
+        let first = t_enter.max(t_min);
+        (first <= t_exit.min(t_max)).then_some(first)
+    }
+}
+
+/// Where a 2D ray meets a segment: one `t`, or a range when the ray runs along it.
+fn segment_interval<V: Vector>(ray: &Ray<V>, [a, b]: &[V; 2]) -> Option<(V::Scalar, V::Scalar)> {
+    if V::DIM != 2 {
+        return None;
+    }
+    let perp = |p: V, q: V| p[0] * q[1] - p[1] * q[0];
+    let zero = V::Scalar::ZERO;
+    let edge = *b - *a;
+    let to_a = *a - ray.origin;
+    let denominator = perp(ray.direction, edge);
+    if denominator == zero {
+        // Parallel: a hit only when the ray runs along the segment's line.
+        if perp(to_a, ray.direction) != zero {
+            return None;
+        }
+        let length_squared = ray.direction.dot(ray.direction);
+        let t_a = to_a.dot(ray.direction) / length_squared;
+        let t_b = (*b - ray.origin).dot(ray.direction) / length_squared;
+        return Some((t_a.min(t_b), t_a.max(t_b)));
+    }
+    let t = perp(to_a, edge) / denominator;
+    let s = perp(to_a, ray.direction) / denominator;
+    (s >= zero && s <= V::Scalar::ONE).then_some((t, t))
+}
+
+/// A list of shapes, numbered in order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ShapeSet<V: Vector> {
+    /// The shapes.
+    pub shapes: Vec<Shape<V>>,
+}
+
+impl<V: Vector> PrimitiveSet<V> for ShapeSet<V> {
+    type RayData = Ray<V>;
+
+    fn len(&self) -> usize {
+        self.shapes.len()
+    }
+
+    fn bounds(&self, index: usize) -> Aabb<V> {
+        self.shapes[index].bounds()
+    }
+
+    fn prepare(&self, ray: &Ray<V>, _test: HitTest) -> Ray<V> {
+        *ray
+    }
+
+    fn intersect(
+        &self,
+        ray: &Ray<V>,
+        index: usize,
+        t_min: V::Scalar,
+        t_max: V::Scalar,
+    ) -> Option<V::Scalar> {
+        self.shapes[index].intersect(ray, t_min, t_max)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec2;
+
+    #[test]
+    fn disc_segment_and_box_in_2d() {
+        let ray = Ray::try_new(DVec2::new(-2.0, 0.0), DVec2::X).unwrap();
+        let disc = Shape::Sphere(Sphere {
+            center: DVec2::ZERO,
+            radius: 1.0,
+        });
+        assert_eq!(disc.intersect(&ray, 0.0, f64::INFINITY), Some(1.0));
+        let wall = Shape::Segment([DVec2::new(3.0, -1.0), DVec2::new(3.0, 1.0)]);
+        assert_eq!(wall.intersect(&ray, 0.0, f64::INFINITY), Some(5.0));
+        assert_eq!(wall.intersect(&ray, 0.0, 4.0), None);
+        let along = Shape::Segment([DVec2::new(4.0, 0.0), DVec2::new(6.0, 0.0)]);
+        assert_eq!(along.intersect(&ray, 0.0, f64::INFINITY), Some(6.0));
+        let solid = Shape::Box(Aabb::new(DVec2::new(-3.0, -1.0), DVec2::new(-1.0, 1.0)));
+        // The origin is inside the box: the first inside point is t_min.
+        assert_eq!(solid.intersect(&ray, 0.0, f64::INFINITY), Some(0.0));
+    }
+}

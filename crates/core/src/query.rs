@@ -1,0 +1,70 @@
+//! What a ray query asks for and what it answers.
+
+use crate::math::Real;
+use crate::primitive::HitTest;
+
+/// The closest (or any) primitive a ray hits.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Hit<S: Real> {
+    /// The primitive's number.
+    pub primitive: u32,
+    /// Where along the ray.
+    pub t: S,
+}
+
+impl<S: Real> Hit<S> {
+    /// Whether a hit at `t` on `primitive` replaces this one as the closest. Equal `t` goes to
+    /// the lower primitive number, so every structure answers a tie the same way.
+    #[inline(always)]
+    pub fn is_beaten_by(&self, primitive: u32, t: S) -> bool {
+        t < self.t || (t == self.t && primitive < self.primitive)
+    }
+}
+
+/// Closest hit, or the first hit found (shadow rays).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Query {
+    /// The hit with the smallest `t`.
+    #[default]
+    Closest,
+    /// Any hit; traversal stops at the first.
+    Any,
+}
+
+/// In what order traversal visits the two children of a node when the ray hits both.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Order {
+    /// The child the ray enters first, so that a hit there culls the other.
+    #[default]
+    NearFirst,
+    /// The children in memory order (left first), whatever the ray.
+    FileOrder,
+}
+
+/// Every switch of one traversal.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct TraceOptions {
+    /// Child order.
+    pub order: Order,
+    /// Closest or any hit.
+    pub query: Query,
+    /// Conservative slab test (Ize 2013).
+    pub robust_traversal: bool,
+    /// Ray/triangle test.
+    pub hit_test: HitTest,
+}
+
+impl TraceOptions {
+    /// The fast defaults, or everything robust: watertight triangles and conservative boxes.
+    pub fn with_robust(self, robust: bool) -> Self {
+        Self {
+            robust_traversal: robust,
+            hit_test: if robust {
+                HitTest::Watertight
+            } else {
+                HitTest::Fast
+            },
+            ..self
+        }
+    }
+}

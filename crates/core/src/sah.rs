@@ -1,0 +1,54 @@
+//! The surface area heuristic's cost model: one object shared by every builder and by the
+//! cost-curve view, so that what a view plots is what a builder minimised.
+//!
+//! `cost(node) = C_trav + P(L)·N_L·C_isect + P(R)·N_R·C_isect` with `P(child) = area(child) /
+//! area(node)`: the chance that a ray through the node also passes through the child, for
+//! uniformly distributed rays (Goldsmith & Salmon 1987; MacDonald & Booth 1990). "Area" is the
+//! surface area in 3D and the perimeter in 2D.
+
+/// The constants of the SAH cost model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SahCost {
+    /// `C_trav`: the cost of visiting an interior node (its two box tests).
+    pub traversal_cost: f64,
+    /// `C_isect`: the cost of one ray/primitive test.
+    pub intersection_cost: f64,
+}
+
+impl Default for SahCost {
+    fn default() -> Self {
+        Self {
+            traversal_cost: 1.0,
+            intersection_cost: 1.0,
+        }
+    }
+}
+
+impl SahCost {
+    /// The cost of making a leaf of `count` primitives: `N · C_isect`.
+    #[inline]
+    pub fn leaf_cost(&self, count: usize) -> f64 {
+        count as f64 * self.intersection_cost
+    }
+
+    /// The cost of splitting a node of area `parent_area` into children with these areas and
+    /// primitive counts.
+    #[inline]
+    pub fn split_cost(
+        &self,
+        parent_area: f64,
+        left_area: f64,
+        left_count: usize,
+        right_area: f64,
+        right_count: usize,
+    ) -> f64 {
+        if parent_area <= 0.0 {
+            // A point-sized node: every ray that reaches it reaches both children.
+            return self.traversal_cost
+                + (left_count + right_count) as f64 * self.intersection_cost;
+        }
+        self.traversal_cost
+            + (left_area * left_count as f64 + right_area * right_count as f64) / parent_area
+                * self.intersection_cost
+    }
+}

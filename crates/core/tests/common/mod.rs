@@ -1,0 +1,112 @@
+//! Shared by the core's integration tests: every builder, every switch, checked against brute
+//! force.
+
+#![allow(dead_code)]
+
+use accelviz_core::bvh::{
+    BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, SweepSah, TraversalStack,
+    traverse, validate,
+};
+use accelviz_core::{
+    Counters, Hit, NoObserver, Order, PrimitiveSet, Query, Ray, Real, TraceOptions, Vector,
+    brute_force,
+};
+
+/// Builds with every builder (and a few bin counts), validating each tree.
+pub fn all_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(String, Bvh<V>)> {
+    let bounds = primitives.all_bounds();
+    let mut trees = Vec::new();
+    for max_leaf_size in [1, 4] {
+        let params = BuildParams {
+            max_leaf_size,
+            ..BuildParams::default()
+        };
+        let mut add = |name: String, bvh: Bvh<V>| {
+            validate(&bvh, &bounds).unwrap_or_else(|error| panic!("{name}: {error}"));
+            trees.push((format!("{name} leaf {max_leaf_size}"), bvh));
+        };
+        add(MiddleSplit.name(), MiddleSplit.build(&bounds, &params));
+        add(MedianSplit.name(), MedianSplit.build(&bounds, &params));
+        for bins in [2, 16] {
+            let builder = BinnedSah { bins };
+            add(builder.name(), builder.build(&bounds, &params));
+        }
+        add(SweepSah.name(), SweepSah.build(&bounds, &params));
+    }
+    trees
+}
+
+/// Every combination of order, query and robustness.
+pub fn all_options() -> Vec<TraceOptions> {
+    let mut options = Vec::new();
+    for order in [Order::NearFirst, Order::FileOrder] {
+        for robust in [false, true] {
+            for query in [Query::Closest, Query::Any] {
+                options.push(
+                    TraceOptions {
+                        order,
+                        query,
+                        ..TraceOptions::default()
+                    }
+                    .with_robust(robust),
+                );
+            }
+        }
+    }
+    options
+}
+
+/// Asserts that every tree and every option gives brute force's answer for every ray:
+/// the same closest primitive (or, at a tie, the same t within a relative 1e-5), and for
+/// any-hit queries a hit exactly when brute force has one.
+pub fn assert_agrees_with_brute_force<V: Vector, P: PrimitiveSet<V>>(
+    primitives: &P,
+    rays: &[Ray<V>],
+) {
+    let trees = all_trees(primitives);
+    let mut stack = TraversalStack::new();
+    for options in all_options() {
+        for (index, ray) in rays.iter().enumerate() {
+            let closest_options = TraceOptions {
+                query: Query::Closest,
+                ..options
+            };
+            let expected = brute_force(primitives, ray, &closest_options, &mut NoObserver);
+            for (name, bvh) in &trees {
+                let mut counters = Counters::default();
+                let got = traverse(bvh, primitives, ray, &options, &mut stack, &mut counters);
+                let context = format!("{name}, {options:?}, ray {index} {ray:?}");
+                match options.query {
+                    Query::Closest => assert_same_hit(got, expected, &context),
+                    Query::Any => assert_eq!(got.is_some(), expected.is_some(), "{context}"),
+                }
+                if let Some(hit) = got {
+                    // Any hit must be a real hit of that primitive.
+                    let prepared = primitives.prepare(ray, options.hit_test);
+                    assert!(
+                        primitives
+                            .intersect(&prepared, hit.primitive as usize, ray.t_min, ray.t_max)
+                            .is_some(),
+                        "{context}: reported hit is not a hit"
+                    );
+                }
+                assert!(counters.primitive_tests <= primitives.len() as u64 * 2 + 1);
+            }
+        }
+    }
+}
+
+fn assert_same_hit<S: Real>(got: Option<Hit<S>>, expected: Option<Hit<S>>, context: &str) {
+    match (got, expected) {
+        (None, None) => {}
+        (Some(got), Some(expected)) => {
+            let scale = expected.t.abs().to_f64().max(1.0);
+            assert!(
+                got.primitive == expected.primitive
+                    || (got.t.to_f64() - expected.t.to_f64()).abs() <= 1e-5 * scale,
+                "{context}: got {got:?}, brute force {expected:?}"
+            );
+        }
+        _ => panic!("{context}: got {got:?}, brute force {expected:?}"),
+    }
+}
