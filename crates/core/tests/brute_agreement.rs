@@ -4,7 +4,7 @@
 
 mod common;
 
-use accelviz_core::{Ray, Shape, ShapeSet, Sphere, TriangleSet, Vector, Aabb};
+use accelviz_core::{Aabb, Ray, Shape, ShapeSet, Sphere, TriangleSet, Vector};
 use common::assert_agrees_with_brute_force;
 use glam::{DVec2, DVec3, Vec2, Vec3};
 use proptest::prelude::*;
@@ -44,27 +44,22 @@ fn triangles() -> impl Strategy<Value = Vec<[[f64; 3]; 3]>> {
                 .into_iter()
                 .map(|(cluster, a, b, c)| {
                     let center = centers[cluster % centers.len()];
-                    [a, b, c].map(|p| {
-                        [0, 1, 2].map(|axis| center[axis] + p[axis] * 0.01)
-                    })
+                    [a, b, c].map(|p| [0, 1, 2].map(|axis| center[axis] + p[axis] * 0.01))
                 })
                 .collect()
         });
-    let degenerate = prop::collection::vec(
-        (point3(), point3(), 0usize..4),
-        1..60,
-    )
-    .prop_map(|items| {
-        items
-            .into_iter()
-            .map(|(a, b, kind)| match kind {
-                0 => [a, a, b],
-                1 => [a, b, [0, 1, 2].map(|axis| 2.0 * b[axis] - a[axis])],
-                2 => [[a[0], a[1], 0.0], [b[0], b[1], 0.0], [a[1], b[0], 0.0]],
-                _ => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-            })
-            .collect()
-    });
+    let degenerate =
+        prop::collection::vec((point3(), point3(), 0usize..4), 1..60).prop_map(|items| {
+            items
+                .into_iter()
+                .map(|(a, b, kind)| match kind {
+                    0 => [a, a, b],
+                    1 => [a, b, [0, 1, 2].map(|axis| 2.0 * b[axis] - a[axis])],
+                    2 => [[a[0], a[1], 0.0], [b[0], b[1], 0.0], [a[1], b[0], 0.0]],
+                    _ => [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
+                })
+                .collect()
+        });
     prop_oneof![uniform, clustered, degenerate]
 }
 

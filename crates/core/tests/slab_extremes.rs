@@ -29,39 +29,219 @@ fn cases() -> Vec<Case> {
         expected,
     };
     vec![
-        case("straight through along +x", unit, [-1.0, 0.5, 0.5], [1.0, 0.0, 0.0], Some((1.0, 2.0))),
-        case("straight through along -x", unit, [2.0, 0.5, 0.5], [-1.0, 0.0, 0.0], Some((1.0, 2.0))),
-        case("-0 components, origin inside the other slabs", unit, [-1.0, 0.5, 0.5], [1.0, -0.0, -0.0], Some((1.0, 2.0))),
-        case("+0 y component, origin above the y slab", unit, [-1.0, 2.0, 0.5], [1.0, 0.0, 0.0], None),
-        case("-0 y component, origin above the y slab", unit, [-1.0, 2.0, 0.5], [1.0, -0.0, 0.0], None),
-        case("+0 y component, origin below the y slab", unit, [-1.0, -1.0, 0.5], [1.0, 0.0, 0.0], None),
-        case("+0 y, origin exactly on the lower y plane", unit, [-1.0, 0.0, 0.5], [1.0, 0.0, 0.0], Some((1.0, 2.0))),
-        case("-0 y, origin exactly on the lower y plane", unit, [-1.0, 0.0, 0.5], [1.0, -0.0, 0.0], Some((1.0, 2.0))),
-        case("+0 y, origin exactly on the upper y plane", unit, [-1.0, 1.0, 0.5], [1.0, 0.0, 0.0], Some((1.0, 2.0))),
-        case("-0 y, origin exactly on the upper y plane", unit, [-1.0, 1.0, 0.5], [1.0, -0.0, 0.0], Some((1.0, 2.0))),
-        case("grazing along an edge (on two planes)", unit, [-1.0, 1.0, 1.0], [1.0, 0.0, -0.0], Some((1.0, 2.0))),
-        case("grazing along a face diagonally", unit, [-1.0, -1.0, 1.0], [1.0, 1.0, 0.0], Some((1.0, 2.0))),
-        case("touching a corner only", unit, [2.0, 0.0, 0.5], [-1.0, 1.0, 0.0], Some((1.0, 1.0))),
-        case("passing a corner by a hair", unit, [2.0, 0.000_001, 0.5], [-1.0, 1.0, 0.0], None),
-        case("origin inside", unit, [0.5, 0.5, 0.5], [1.0, 2.0, 4.0], Some((-0.125, 0.125))),
-        case("origin on a face, leaving", unit, [1.0, 0.5, 0.5], [1.0, 0.0, 0.0], Some((-1.0, 0.0))),
-        case("origin on a face, entering", unit, [0.0, 0.5, 0.5], [1.0, 0.0, 0.0], Some((0.0, 1.0))),
-        case("origin on a corner, along the diagonal", unit, [0.0, 0.0, 0.0], [1.0, 1.0, 1.0], Some((0.0, 1.0))),
-        case("box behind the ray", unit, [2.0, 0.5, 0.5], [1.0, 0.0, 0.0], None),
-        case("flat box, crossed", ([0.0, 0.0, 0.0], [1.0, 0.0, 1.0]), [0.5, -1.0, 0.5], [0.0, 1.0, 0.0], Some((1.0, 1.0))),
-        case("flat box, ray in its plane", ([0.0, 0.0, 0.0], [1.0, 0.0, 1.0]), [-1.0, 0.0, 0.5], [1.0, 0.0, 0.0], Some((1.0, 2.0))),
-        case("flat box, ray parallel beside it", ([0.0, 0.0, 0.0], [1.0, 0.0, 1.0]), [-1.0, 0.25, 0.5], [1.0, 0.0, 0.0], None),
-        case("point box, hit", ([1.0, 1.0, 1.0], [1.0, 1.0, 1.0]), [0.0, 0.0, 0.0], [1.0, 1.0, 1.0], Some((1.0, 1.0))),
-        case("huge coordinates", ([1e30, 1e30, 1e30], [2e30, 2e30, 2e30]), [0.0, 1.5e30, 1.5e30], [1.0, 0.0, 0.0], Some((1e30, 2e30))),
-        case("huge coordinates, miss", ([1e30, 1e30, 1e30], [2e30, 2e30, 2e30]), [0.0, 2.5e30, 1.5e30], [1.0, 0.0, 0.0], None),
-        case("tiny coordinates", ([1e-30, 1e-30, 1e-30], [2e-30, 2e-30, 2e-30]), [0.0, 1.5e-30, 1.5e-30], [1.0, 0.0, 0.0], Some((1e-30, 2e-30))),
-        case("tiny coordinates, miss", ([1e-30, 1e-30, 1e-30], [2e-30, 2e-30, 2e-30]), [0.0, 2.5e-30, 1.5e-30], [1.0, 0.0, 0.0], None),
-        case("tiny box crossed by a unit-scale ray", ([1e-30, 1e-30, 1e-30], [2e-30, 2e-30, 2e-30]), [-1.0, -1.0, -1.0], [1.0, 1.0, 1.0], Some((1.0, 1.0))),
+        case(
+            "straight through along +x",
+            unit,
+            [-1.0, 0.5, 0.5],
+            [1.0, 0.0, 0.0],
+            Some((1.0, 2.0)),
+        ),
+        case(
+            "straight through along -x",
+            unit,
+            [2.0, 0.5, 0.5],
+            [-1.0, 0.0, 0.0],
+            Some((1.0, 2.0)),
+        ),
+        case(
+            "-0 components, origin inside the other slabs",
+            unit,
+            [-1.0, 0.5, 0.5],
+            [1.0, -0.0, -0.0],
+            Some((1.0, 2.0)),
+        ),
+        case(
+            "+0 y component, origin above the y slab",
+            unit,
+            [-1.0, 2.0, 0.5],
+            [1.0, 0.0, 0.0],
+            None,
+        ),
+        case(
+            "-0 y component, origin above the y slab",
+            unit,
+            [-1.0, 2.0, 0.5],
+            [1.0, -0.0, 0.0],
+            None,
+        ),
+        case(
+            "+0 y component, origin below the y slab",
+            unit,
+            [-1.0, -1.0, 0.5],
+            [1.0, 0.0, 0.0],
+            None,
+        ),
+        case(
+            "+0 y, origin exactly on the lower y plane",
+            unit,
+            [-1.0, 0.0, 0.5],
+            [1.0, 0.0, 0.0],
+            Some((1.0, 2.0)),
+        ),
+        case(
+            "-0 y, origin exactly on the lower y plane",
+            unit,
+            [-1.0, 0.0, 0.5],
+            [1.0, -0.0, 0.0],
+            Some((1.0, 2.0)),
+        ),
+        case(
+            "+0 y, origin exactly on the upper y plane",
+            unit,
+            [-1.0, 1.0, 0.5],
+            [1.0, 0.0, 0.0],
+            Some((1.0, 2.0)),
+        ),
+        case(
+            "-0 y, origin exactly on the upper y plane",
+            unit,
+            [-1.0, 1.0, 0.5],
+            [1.0, -0.0, 0.0],
+            Some((1.0, 2.0)),
+        ),
+        case(
+            "grazing along an edge (on two planes)",
+            unit,
+            [-1.0, 1.0, 1.0],
+            [1.0, 0.0, -0.0],
+            Some((1.0, 2.0)),
+        ),
+        case(
+            "grazing along a face diagonally",
+            unit,
+            [-1.0, -1.0, 1.0],
+            [1.0, 1.0, 0.0],
+            Some((1.0, 2.0)),
+        ),
+        case(
+            "touching a corner only",
+            unit,
+            [2.0, 0.0, 0.5],
+            [-1.0, 1.0, 0.0],
+            Some((1.0, 1.0)),
+        ),
+        case(
+            "passing a corner by a hair",
+            unit,
+            [2.0, 0.000_001, 0.5],
+            [-1.0, 1.0, 0.0],
+            None,
+        ),
+        case(
+            "origin inside",
+            unit,
+            [0.5, 0.5, 0.5],
+            [1.0, 2.0, 4.0],
+            Some((-0.125, 0.125)),
+        ),
+        case(
+            "origin on a face, leaving",
+            unit,
+            [1.0, 0.5, 0.5],
+            [1.0, 0.0, 0.0],
+            Some((-1.0, 0.0)),
+        ),
+        case(
+            "origin on a face, entering",
+            unit,
+            [0.0, 0.5, 0.5],
+            [1.0, 0.0, 0.0],
+            Some((0.0, 1.0)),
+        ),
+        case(
+            "origin on a corner, along the diagonal",
+            unit,
+            [0.0, 0.0, 0.0],
+            [1.0, 1.0, 1.0],
+            Some((0.0, 1.0)),
+        ),
+        case(
+            "box behind the ray",
+            unit,
+            [2.0, 0.5, 0.5],
+            [1.0, 0.0, 0.0],
+            None,
+        ),
+        case(
+            "flat box, crossed",
+            ([0.0, 0.0, 0.0], [1.0, 0.0, 1.0]),
+            [0.5, -1.0, 0.5],
+            [0.0, 1.0, 0.0],
+            Some((1.0, 1.0)),
+        ),
+        case(
+            "flat box, ray in its plane",
+            ([0.0, 0.0, 0.0], [1.0, 0.0, 1.0]),
+            [-1.0, 0.0, 0.5],
+            [1.0, 0.0, 0.0],
+            Some((1.0, 2.0)),
+        ),
+        case(
+            "flat box, ray parallel beside it",
+            ([0.0, 0.0, 0.0], [1.0, 0.0, 1.0]),
+            [-1.0, 0.25, 0.5],
+            [1.0, 0.0, 0.0],
+            None,
+        ),
+        case(
+            "point box, hit",
+            ([1.0, 1.0, 1.0], [1.0, 1.0, 1.0]),
+            [0.0, 0.0, 0.0],
+            [1.0, 1.0, 1.0],
+            Some((1.0, 1.0)),
+        ),
+        case(
+            "huge coordinates",
+            ([1e30, 1e30, 1e30], [2e30, 2e30, 2e30]),
+            [0.0, 1.5e30, 1.5e30],
+            [1.0, 0.0, 0.0],
+            Some((1e30, 2e30)),
+        ),
+        case(
+            "huge coordinates, miss",
+            ([1e30, 1e30, 1e30], [2e30, 2e30, 2e30]),
+            [0.0, 2.5e30, 1.5e30],
+            [1.0, 0.0, 0.0],
+            None,
+        ),
+        case(
+            "tiny coordinates",
+            ([1e-30, 1e-30, 1e-30], [2e-30, 2e-30, 2e-30]),
+            [0.0, 1.5e-30, 1.5e-30],
+            [1.0, 0.0, 0.0],
+            Some((1e-30, 2e-30)),
+        ),
+        case(
+            "tiny coordinates, miss",
+            ([1e-30, 1e-30, 1e-30], [2e-30, 2e-30, 2e-30]),
+            [0.0, 2.5e-30, 1.5e-30],
+            [1.0, 0.0, 0.0],
+            None,
+        ),
+        case(
+            "tiny box crossed by a unit-scale ray",
+            ([1e-30, 1e-30, 1e-30], [2e-30, 2e-30, 2e-30]),
+            [-1.0, -1.0, -1.0],
+            [1.0, 1.0, 1.0],
+            Some((1.0, 1.0)),
+        ),
         // 1e-40 is subnormal in f32 (the smallest normal is about 1.2e-38).
-        case("subnormal box", ([1e-40, 1e-40, 1e-40], [2e-40, 2e-40, 2e-40]), [0.0, 1.5e-40, 1.5e-40], [1.0, 0.0, 0.0], Some((1e-40, 2e-40))),
+        case(
+            "subnormal box",
+            ([1e-40, 1e-40, 1e-40], [2e-40, 2e-40, 2e-40]),
+            [0.0, 1.5e-40, 1.5e-40],
+            [1.0, 0.0, 0.0],
+            Some((1e-40, 2e-40)),
+        ),
         // A subnormal direction component: its reciprocal overflows to ∞ in f32; the ray
         // still starts inside that slab, so the slab never constrains it.
-        case("subnormal direction component", unit, [-1.0, 0.5, 0.5], [1.0, 1e-40, 0.0], Some((1.0, 2.0))),
+        case(
+            "subnormal direction component",
+            unit,
+            [-1.0, 0.5, 0.5],
+            [1.0, 1e-40, 0.0],
+            Some((1.0, 2.0)),
+        ),
     ]
 }
 
@@ -73,7 +253,12 @@ fn check<V: Vector>(case: &Case, robust: bool) {
     let bounds = Aabb::new(V::from_f64_slice(&case.min), V::from_f64_slice(&case.max));
     let origin = V::from_f64_slice(&case.origin);
     let direction = V::from_f64_slice(&case.direction);
-    let label = format!("{} ({}D, {}, robust {robust})", case.what, V::DIM, std::any::type_name::<V>());
+    let label = format!(
+        "{} ({}D, {}, robust {robust})",
+        case.what,
+        V::DIM,
+        std::any::type_name::<V>()
+    );
     // The CLI's convention: the interval is [0, +∞), a hit needs t_enter <= t_exit and t_exit >= 0.
     let ray = Ray::try_new(origin, direction).expect(&label);
     let record = slab_record(&bounds, &ray, robust);
@@ -85,7 +270,10 @@ fn check<V: Vector>(case: &Case, robust: bool) {
                 V::Scalar::from_f64(t_exit).to_f64(),
             );
             assert!(record.hit, "{label}: expected a hit, got {record:?}");
-            assert!(close(record.t_enter.to_f64(), t_enter), "{label}: t_enter {record:?}");
+            assert!(
+                close(record.t_enter.to_f64(), t_enter),
+                "{label}: t_enter {record:?}"
+            );
             // Robust mode widens t_exit by a few ulps at most.
             let slack = if robust { 1e-5 } else { 1e-6 };
             let t_exit_got = record.t_exit.to_f64();
@@ -94,19 +282,29 @@ fn check<V: Vector>(case: &Case, robust: bool) {
                 "{label}: t_exit {record:?}"
             );
             for axis in 0..V::DIM {
-                assert!(!record.t_near[axis].is_nan() && !record.t_far[axis].is_nan(), "{label}: NaN in the record");
+                assert!(
+                    !record.t_near[axis].is_nan() && !record.t_far[axis].is_nan(),
+                    "{label}: NaN in the record"
+                );
             }
         }
         None => assert!(!record.hit, "{label}: expected a miss, got {record:?}"),
     }
     // The hot path agrees with the record.
     let (t_enter, t_exit) = slab_clip(&bounds, &SlabRay::new(&ray, robust), V::Scalar::INFINITY);
-    assert_eq!(t_enter <= t_exit, record.hit, "{label}: hot path disagrees with the record");
+    assert_eq!(
+        t_enter <= t_exit,
+        record.hit,
+        "{label}: hot path disagrees with the record"
+    );
     // A hit from outside, reversed, must miss.
     if let Some((t_enter, _)) = case.expected {
         if t_enter > 0.0 {
             let reversed = Ray::try_new(origin, -direction).expect(&label);
-            assert!(!slab_record(&bounds, &reversed, robust).hit, "{label}: reversed ray hits");
+            assert!(
+                !slab_record(&bounds, &reversed, robust).hit,
+                "{label}: reversed ray hits"
+            );
         }
     }
 }
@@ -124,7 +322,9 @@ fn slab_cases_in_3d() {
 #[test]
 fn slab_cases_in_2d() {
     // The same cases seen from above: drop z (cases that need z to miss are skipped).
-    for case in cases().into_iter().filter(|case| case.direction[2] == 0.0 && (case.min[2]..=case.max[2]).contains(&case.origin[2])) {
+    for case in cases().into_iter().filter(|case| {
+        case.direction[2] == 0.0 && (case.min[2]..=case.max[2]).contains(&case.origin[2])
+    }) {
         for robust in [false, true] {
             check::<DVec2>(&case, robust);
             check::<Vec2>(&case, robust);
@@ -140,7 +340,10 @@ fn lecture_example_record() {
     let record = slab_record(&bounds, &ray, false);
     assert_eq!(record.t_near, DVec2::new(2.0, 2.0));
     assert_eq!(record.t_far, DVec2::new(6.0, 6.0));
-    assert_eq!((record.t_enter, record.t_exit, record.hit), (2.0, 6.0, true));
+    assert_eq!(
+        (record.t_enter, record.t_exit, record.hit),
+        (2.0, 6.0, true)
+    );
     let above = Ray::try_new(DVec2::new(0.0, 2.0), DVec2::new(1.0, 1.0)).unwrap();
     let record = slab_record(&bounds, &above, false);
     // Enters x at 2 but has already left y at 1: max near > min far.

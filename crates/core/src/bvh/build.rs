@@ -74,7 +74,10 @@ pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>>(
             nodes[node_index].count = (end - begin) as u32;
             continue;
         };
-        debug_assert!(begin < mid && mid < end, "a splitter returned an empty side");
+        debug_assert!(
+            begin < mid && mid < end,
+            "a splitter returned an empty side"
+        );
         let left = nodes.len();
         nodes[node_index].first = left as u32;
         nodes[node_index].count = 0;

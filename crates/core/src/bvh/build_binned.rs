@@ -72,7 +72,9 @@ impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
             for &index in &self.boxes.order[begin..end] {
                 let coordinate = self.boxes.centroids[index as usize][axis];
                 let bin = bin_index(coordinate, min, bins_per_unit, self.bin_count);
-                self.bins[bin].bounds = self.bins[bin].bounds.union(self.boxes.bounds[index as usize]);
+                self.bins[bin].bounds = self.bins[bin]
+                    .bounds
+                    .union(self.boxes.bounds[index as usize]);
                 self.bins[bin].count += 1;
             }
             // Sweep from the right to know each plane's right side.
@@ -105,8 +107,7 @@ impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
         }
         let Some((best_cost, axis, plane)) = best else {
             // All centroids coincide: no plane separates them. Halve big nodes anyway.
-            return (count > self.max_leaf_size)
-                .then(|| self.boxes.median_split(begin, end, 0));
+            return (count > self.max_leaf_size).then(|| self.boxes.median_split(begin, end, 0));
         };
         // Keep the leaf if no split is cheaper (and the leaf is small enough).
         if count <= self.max_leaf_size && self.cost.leaf_cost(count) <= best_cost {

@@ -32,7 +32,9 @@ impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
     fn range_bounds(&self, begin: usize, end: usize) -> Aabb<V> {
         self.sorted[0][begin..end]
             .iter()
-            .fold(Aabb::empty(), |acc, &index| acc.union(self.bounds[index as usize]))
+            .fold(Aabb::empty(), |acc, &index| {
+                acc.union(self.bounds[index as usize])
+            })
     }
 
     fn split(&mut self, begin: usize, end: usize, node_bounds: &Aabb<V>) -> Option<usize> {

@@ -31,7 +31,13 @@ impl BvhStats {
             return Self::default();
         };
         let root_area = root.bounds.area().to_f64();
-        let relative_area = |area: f64| if root_area > 0.0 { area / root_area } else { 1.0 };
+        let relative_area = |area: f64| {
+            if root_area > 0.0 {
+                area / root_area
+            } else {
+                1.0
+            }
+        };
         let mut stats = Self {
             node_count: bvh.nodes.len(),
             min_leaf_size: usize::MAX,

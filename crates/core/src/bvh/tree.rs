@@ -53,7 +53,9 @@ impl<V: Vector> Bvh<V> {
 
     /// The root's box (empty without primitives).
     pub fn bounds(&self) -> Aabb<V> {
-        self.nodes.first().map_or_else(Aabb::empty, |root| root.bounds)
+        self.nodes
+            .first()
+            .map_or_else(Aabb::empty, |root| root.bounds)
     }
 
     /// The primitives of a leaf.

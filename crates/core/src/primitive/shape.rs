@@ -84,12 +84,7 @@ impl<V: Vector> Shape<V> {
     }
 
     /// The first `t` in `[t_min, t_max]` where the ray is inside the shape.
-    pub fn intersect(
-        &self,
-        ray: &Ray<V>,
-        t_min: V::Scalar,
-        t_max: V::Scalar,
-    ) -> Option<V::Scalar> {
+    pub fn intersect(&self, ray: &Ray<V>, t_min: V::Scalar, t_max: V::Scalar) -> Option<V::Scalar> {
         let (t_enter, t_exit) = match self {
             Shape::Sphere(sphere) => sphere.interval(ray)?,
             Shape::Box(bounds) => {

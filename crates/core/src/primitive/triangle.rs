@@ -259,8 +259,14 @@ mod tests {
         let away = Ray::try_new(DVec3::new(0.25, 0.25, 2.0), DVec3::Z).unwrap();
         let along = Ray::try_new(DVec3::new(1.0, 1.0, 1.0), DVec3::new(0.0, 0.0, -1.0)).unwrap();
         for test in [HitTest::Fast, HitTest::Watertight] {
-            assert_eq!(set.intersect(&set.prepare(&away, test), 0, 0.0, f64::INFINITY), None);
-            assert_eq!(set.intersect(&set.prepare(&along, test), 1, 0.0, f64::INFINITY), None);
+            assert_eq!(
+                set.intersect(&set.prepare(&away, test), 0, 0.0, f64::INFINITY),
+                None
+            );
+            assert_eq!(
+                set.intersect(&set.prepare(&along, test), 1, 0.0, f64::INFINITY),
+                None
+            );
         }
     }
 }

@@ -1,0 +1,184 @@
+//! Built-in procedural meshes: closed meshes whose shared vertices are bit-identical, for
+//! watertightness tests, and the default mesh that `accelviz-cli bench` runs on.
+
+use std::collections::HashMap;
+
+use crate::Mesh;
+
+/// An indexed mesh: shared corners are stored once, so neighbours share them exactly.
+struct Indexed {
+    vertices: Vec<[f64; 3]>,
+    faces: Vec<[usize; 3]>,
+}
+
+impl Indexed {
+    fn into_mesh(self, name: String) -> Mesh {
+        Mesh {
+            name,
+            triangles: self
+                .faces
+                .iter()
+                .map(|face| face.map(|corner| self.vertices[corner]))
+                .collect(),
+        }
+    }
+}
+
+fn normalized([x, y, z]: [f64; 3]) -> [f64; 3] {
+    let length = (x * x + y * y + z * z).sqrt();
+    [x / length, y / length, z / length]
+}
+
+fn icosphere_indexed(subdivisions: u32) -> Indexed {
+    // The icosahedron: three golden rectangles.
+    let phi = (1.0 + 5f64.sqrt()) / 2.0;
+    let mut vertices: Vec<[f64; 3]> = [
+        [-1.0, phi, 0.0],
+        [1.0, phi, 0.0],
+        [-1.0, -phi, 0.0],
+        [1.0, -phi, 0.0],
+        [0.0, -1.0, phi],
+        [0.0, 1.0, phi],
+        [0.0, -1.0, -phi],
+        [0.0, 1.0, -phi],
+        [phi, 0.0, -1.0],
+        [phi, 0.0, 1.0],
+        [-phi, 0.0, -1.0],
+        [-phi, 0.0, 1.0],
+    ]
+    .into_iter()
+    .map(normalized)
+    .collect();
+    let mut faces = vec![
+        [0, 11, 5],
+        [0, 5, 1],
+        [0, 1, 7],
+        [0, 7, 10],
+        [0, 10, 11],
+        [1, 5, 9],
+        [5, 11, 4],
+        [11, 10, 2],
+        [10, 7, 6],
+        [7, 1, 8],
+        [3, 9, 4],
+        [3, 4, 2],
+        [3, 2, 6],
+        [3, 6, 8],
+        [3, 8, 9],
+        [4, 9, 5],
+        [2, 4, 11],
+        [6, 2, 10],
+        [8, 6, 7],
+        [9, 8, 1],
+    ];
+    for _ in 0..subdivisions {
+        // Split every triangle in four; each edge's midpoint is made once and shared.
+        let mut midpoints: HashMap<(usize, usize), usize> = HashMap::new();
+        let mut midpoint = |a: usize, b: usize, vertices: &mut Vec<[f64; 3]>| {
+            *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                let (p, q) = (vertices[a], vertices[b]);
+                vertices.push(normalized([
+                    (p[0] + q[0]) / 2.0,
+                    (p[1] + q[1]) / 2.0,
+                    (p[2] + q[2]) / 2.0,
+                ]));
+                vertices.len() - 1
+            })
+        };
+        let mut finer = Vec::with_capacity(faces.len() * 4);
+        for [a, b, c] in faces {
+            let ab = midpoint(a, b, &mut vertices);
+            let bc = midpoint(b, c, &mut vertices);
+            let ca = midpoint(c, a, &mut vertices);
+            finer.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+        }
+        faces = finer;
+    }
+    Indexed { vertices, faces }
+}
+
+/// A unit sphere made of `20 · 4^subdivisions` triangles (a subdivided icosahedron).
+pub fn icosphere(subdivisions: u32) -> Mesh {
+    icosphere_indexed(subdivisions).into_mesh(format!("builtin:icosphere-{subdivisions}"))
+}
+
+/// The cube `[-1, 1]³` with each face cut into `cells × cells` squares of two triangles.
+pub fn subdivided_cube(cells: usize) -> Mesh {
+    let cells = cells.max(1);
+    let coordinate = |step: usize| -1.0 + 2.0 * step as f64 / cells as f64;
+    let mut indexed = Indexed {
+        vertices: Vec::new(),
+        faces: Vec::new(),
+    };
+    let mut index_of: HashMap<[usize; 3], usize> = HashMap::new();
+    // For each axis and side, the two in-face axes (ordered so the face points outwards).
+    for axis in 0..3 {
+        for side in [0, cells] {
+            let (u_axis, v_axis) = if side == 0 {
+                ((axis + 2) % 3, (axis + 1) % 3)
+            } else {
+                ((axis + 1) % 3, (axis + 2) % 3)
+            };
+            let mut vertex = |u: usize, v: usize, vertices: &mut Vec<[f64; 3]>| {
+                let mut grid = [0; 3];
+                grid[axis] = side;
+                grid[u_axis] = u;
+                grid[v_axis] = v;
+                *index_of.entry(grid).or_insert_with(|| {
+                    vertices.push(grid.map(coordinate));
+                    vertices.len() - 1
+                })
+            };
+            for u in 0..cells {
+                for v in 0..cells {
+                    let a = vertex(u, v, &mut indexed.vertices);
+                    let b = vertex(u + 1, v, &mut indexed.vertices);
+                    let c = vertex(u + 1, v + 1, &mut indexed.vertices);
+                    let d = vertex(u, v + 1, &mut indexed.vertices);
+                    indexed.faces.extend([[a, b, c], [a, c, d]]);
+                }
+            }
+        }
+    }
+    indexed.into_mesh(format!("builtin:cube-{cells}"))
+}
+
+/// The default mesh: a lumpy sphere of 20,480 triangles (an icosphere of 5 subdivisions with
+/// every vertex pushed in or out by a smooth pattern), so that triangle sizes and densities
+/// vary as in a scanned model.
+pub fn lumpy_sphere() -> Mesh {
+    let mut indexed = icosphere_indexed(5);
+    for vertex in &mut indexed.vertices {
+        let [x, y, z] = *vertex;
+        let bump = 1.0
+            + 0.25 * (5.0 * x).sin() * (4.0 * y).sin() * (3.0 * z + 1.0).sin()
+            + 0.1 * (11.0 * x + 7.0 * z).sin();
+        *vertex = [x * bump, y * bump, z * bump];
+    }
+    indexed.into_mesh("builtin:lumpy-sphere".into())
+}
+
+/// The built-in meshes by name, for the CLI's `--mesh builtin:NAME`.
+pub fn by_name(name: &str) -> Option<Mesh> {
+    match name {
+        "lumpy-sphere" => Some(lumpy_sphere()),
+        "icosphere" => Some(icosphere(4)),
+        "cube" => Some(subdivided_cube(16)),
+        _ => None,
+    }
+}
+
+/// The names [`by_name`] knows.
+pub const BUILTIN_NAMES: [&str; 3] = ["lumpy-sphere", "icosphere", "cube"];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sizes() {
+        assert_eq!(icosphere(2).triangles.len(), 320);
+        assert_eq!(subdivided_cube(3).triangles.len(), 6 * 9 * 2);
+        assert_eq!(lumpy_sphere().triangles.len(), 20_480);
+    }
+}

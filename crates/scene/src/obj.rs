@@ -1,0 +1,226 @@
+//! Wavefront OBJ meshes, read with tobj.
+//!
+//! Triangle numbering (the CLI's contract): triangles are numbered from 0 in file order:
+//! models in order, faces in order, each polygon fan-triangulated in order (tobj's
+//! `triangulate`). Before tobj reads the file, a line scan checks what tobj would accept
+//! silently or report without a place: malformed or non-finite coordinates and face indices
+//! out of range, each reported with its line.
+
+use std::io::BufReader;
+
+use crate::Mesh;
+use crate::error::{LoadError, read_text};
+
+/// Reads an OBJ file.
+pub fn load_obj(path: &str) -> Result<Mesh, LoadError> {
+    let text = read_text(path)?;
+    parse_obj(&text, path)
+}
+
+/// Parses OBJ text; `path` names it in errors.
+pub fn parse_obj(text: &str, path: &str) -> Result<Mesh, LoadError> {
+    let face_count = check_lines(text, path)?;
+    let options = tobj::LoadOptions {
+        single_index: false,
+        triangulate: true,
+        ignore_points: true,
+        ignore_lines: true,
+        ..Default::default()
+    };
+    // Materials are irrelevant here; `mtllib` lines are answered with "no such file".
+    let (models, _materials) =
+        tobj::load_obj_buf(&mut BufReader::new(text.as_bytes()), &options, |_| {
+            Err(tobj::LoadError::OpenFileFailed)
+        })
+        .map_err(|error| LoadError::in_file(path, format!("not a valid OBJ file: {error}")))?;
+    let mut triangles = Vec::new();
+    for model in &models {
+        let positions = &model.mesh.positions;
+        let corner = |index: u32| {
+            let at = index as usize * 3;
+            [positions[at], positions[at + 1], positions[at + 2]]
+        };
+        for face in model.mesh.indices.chunks_exact(3) {
+            triangles.push([corner(face[0]), corner(face[1]), corner(face[2])]);
+        }
+    }
+    if face_count == 0 || triangles.is_empty() {
+        return Err(LoadError::in_file(path, "the file has no faces"));
+    }
+    Ok(Mesh {
+        name: path.to_owned(),
+        triangles,
+    })
+}
+
+/// Checks every `v` and `f` line; returns the number of faces.
+fn check_lines(text: &str, path: &str) -> Result<usize, LoadError> {
+    let total_positions = text
+        .lines()
+        .filter(|line| line.split_whitespace().next() == Some("v"))
+        .count();
+    let mut counts = [0usize; 3]; // positions, texture coordinates, normals so far
+    let mut faces = 0;
+    for (line_index, line) in text.lines().enumerate() {
+        let line_number = line_index + 1;
+        let fail = |problem: String| LoadError::at_line(path, line_number, problem);
+        let mut words = line.split_whitespace();
+        let Some(keyword) = words.next() else {
+            continue;
+        };
+        let values: Vec<&str> = words.collect();
+        match keyword {
+            "v" => {
+                counts[0] += 1;
+                if !matches!(values.len(), 3 | 4 | 6) {
+                    return Err(fail(format!(
+                        "a vertex needs 3 coordinates (optionally w, or r g b), found {} values",
+                        values.len()
+                    )));
+                }
+                let numbers = parse_numbers(&values, &fail)?;
+                let w = if values.len() == 4 { numbers[3] } else { 1.0 };
+                if w == 0.0 {
+                    return Err(fail("the vertex weight w is zero".into()));
+                }
+                if numbers[..3].iter().any(|x| !(x / w).is_finite()) {
+                    return Err(fail(format!(
+                        "vertex coordinate is not finite (NaN or infinity): {}",
+                        values[..3].join(" ")
+                    )));
+                }
+            }
+            "vt" | "vn" => {
+                counts[if keyword == "vt" { 1 } else { 2 }] += 1;
+                parse_numbers(&values, &fail)?;
+            }
+            "f" => {
+                faces += 1;
+                if values.len() < 3 {
+                    return Err(fail(format!(
+                        "a face needs at least 3 vertices, found {}",
+                        values.len()
+                    )));
+                }
+                for vertex in &values {
+                    check_face_vertex(vertex, &counts, total_positions, &fail)?;
+                }
+            }
+            _ => {}
+        }
+    }
+    Ok(faces)
+}
+
+fn parse_numbers(
+    values: &[&str],
+    fail: &impl Fn(String) -> LoadError,
+) -> Result<Vec<f64>, LoadError> {
+    values
+        .iter()
+        .map(|value| {
+            value
+                .parse::<f64>()
+                .map_err(|_| fail(format!("'{value}' is not a number")))
+        })
+        .collect()
+}
+
+/// Checks `v`, `v/vt`, `v//vn` or `v/vt/vn`. Negative indices count back from the last
+/// element read so far; positive ones may refer to any vertex in the file.
+fn check_face_vertex(
+    vertex: &str,
+    counts: &[usize; 3],
+    total_positions: usize,
+    fail: &impl Fn(String) -> LoadError,
+) -> Result<(), LoadError> {
+    let names = ["vertex", "texture coordinate", "normal"];
+    for (slot, part) in vertex.split('/').enumerate() {
+        if slot > 2 {
+            return Err(fail(format!("'{vertex}' has more than three indices")));
+        }
+        if part.is_empty() && slot > 0 {
+            continue;
+        }
+        let index: i64 = part
+            .parse()
+            .map_err(|_| fail(format!("'{vertex}' is not a face vertex (index '{part}')")))?;
+        let available = if slot == 0 {
+            total_positions
+        } else {
+            counts[slot]
+        };
+        let in_range = match index {
+            0 => false,
+            index if index > 0 => index as usize <= available,
+            index => index.unsigned_abs() as usize <= counts[slot],
+        };
+        if !in_range {
+            return Err(fail(format!(
+                "{} index {index} is out of range (the file has {available} {}s)",
+                names[slot], names[slot]
+            )));
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quads_are_fan_triangulated_in_order() {
+        let text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\nf 1 2 3\n";
+        let mesh = parse_obj(text, "quad.obj").unwrap();
+        assert_eq!(mesh.triangles.len(), 3);
+        assert_eq!(
+            mesh.triangles[0],
+            [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]]
+        );
+        assert_eq!(
+            mesh.triangles[1],
+            [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]]
+        );
+    }
+
+    #[test]
+    fn errors_name_the_line() {
+        let cases = [
+            ("v 0 0 0\nv 1 0\n", "x.obj:2: a vertex needs 3 coordinates"),
+            (
+                "v 0 0 0\nv 1 nan 0\n",
+                "x.obj:2: vertex coordinate is not finite",
+            ),
+            (
+                "v 0 0 0\nv 1 inf 0\n",
+                "x.obj:2: vertex coordinate is not finite",
+            ),
+            ("v 0 0 0\nv 1 x 0\n", "x.obj:2: 'x' is not a number"),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 4\n",
+                "x.obj:5: vertex index 4 is out of range",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n",
+                "x.obj:4: vertex index -4 is out of range",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n",
+                "x.obj:4: a face needs at least 3 vertices",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/1\n",
+                "x.obj:4: texture coordinate index 1",
+            ),
+            ("v 0 0 0\n", "x.obj: the file has no faces"),
+        ];
+        for (text, expected) in cases {
+            let message = parse_obj(text, "x.obj").unwrap_err().to_string();
+            assert!(
+                message.starts_with(expected),
+                "{message:?} should start with {expected:?}"
+            );
+        }
+    }
+}

@@ -1,0 +1,270 @@
+//! Ray files and seeded ray generators.
+//!
+//! A ray file has one ray a line, `ox oy oz dx dy dz [tmin tmax]`; a line starting with `#`
+//! is a comment, a blank line is skipped. The interval defaults to `[0, +inf)`; `tmax` may be
+//! `inf`.
+
+use accelviz_core::{Aabb, Ray, RayError, Vector};
+use glam::{DVec3, Vec3};
+
+use crate::error::{LoadError, read_text};
+use crate::rng::SplitMix64;
+
+/// One ray as read or generated, in f64, with the line it came from (0 when generated).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RaySpec {
+    /// The 1-based line in its file, or 0.
+    pub line: usize,
+    /// Origin.
+    pub origin: [f64; 3],
+    /// Direction (nonzero).
+    pub direction: [f64; 3],
+    /// Start of the interval.
+    pub t_min: f64,
+    /// End of the interval (may be +∞).
+    pub t_max: f64,
+}
+
+impl RaySpec {
+    /// The ray in the precision of `V` (checked again after rounding).
+    pub fn to_ray<V: Vector>(&self) -> Result<Ray<V>, RayError> {
+        Ray::<DVec3> {
+            origin: DVec3::from_array(self.origin),
+            direction: DVec3::from_array(self.direction),
+            t_min: self.t_min,
+            t_max: self.t_max,
+        }
+        .cast::<V>()
+        .revalidated()
+    }
+}
+
+trait Revalidate: Sized {
+    fn revalidated(self) -> Result<Self, RayError>;
+}
+
+impl<V: Vector> Revalidate for Ray<V> {
+    fn revalidated(self) -> Result<Self, RayError> {
+        Ray::try_with_interval(self.origin, self.direction, self.t_min, self.t_max)
+    }
+}
+
+/// Reads a ray file.
+pub fn load_rays(path: &str) -> Result<Vec<RaySpec>, LoadError> {
+    parse_rays(&read_text(path)?, path)
+}
+
+/// Parses ray-file text; `path` names it in errors.
+pub fn parse_rays(text: &str, path: &str) -> Result<Vec<RaySpec>, LoadError> {
+    let mut rays = Vec::new();
+    for (line_index, line) in text.lines().enumerate() {
+        let line_number = line_index + 1;
+        let trimmed = line.trim();
+        if trimmed.is_empty() || trimmed.starts_with('#') {
+            continue;
+        }
+        let fail = |problem: String| LoadError::at_line(path, line_number, problem);
+        let words: Vec<&str> = trimmed.split_whitespace().collect();
+        if words.len() != 6 && words.len() != 8 {
+            return Err(fail(format!(
+                "a ray is 'ox oy oz dx dy dz [tmin tmax]', found {} values",
+                words.len()
+            )));
+        }
+        let mut numbers = [0.0f64; 8];
+        for (slot, word) in words.iter().enumerate() {
+            numbers[slot] = word
+                .parse()
+                .map_err(|_| fail(format!("'{word}' is not a number")))?;
+        }
+        let (t_min, t_max) = if words.len() == 8 {
+            (numbers[6], numbers[7])
+        } else {
+            (0.0, f64::INFINITY)
+        };
+        if !t_min.is_finite() || t_max.is_nan() || t_max == f64::NEG_INFINITY {
+            return Err(fail(format!(
+                "the interval [{t_min}, {t_max}] must have a finite tmin and a tmax that is a number or inf"
+            )));
+        }
+        let ray = RaySpec {
+            line: line_number,
+            origin: [numbers[0], numbers[1], numbers[2]],
+            direction: [numbers[3], numbers[4], numbers[5]],
+            t_min,
+            t_max,
+        };
+        // Check in both precisions: a direction can be nonzero in f64 and zero in f32.
+        for (precision, result) in [
+            ("", ray.to_ray::<DVec3>().err()),
+            (" in f32 precision", ray.to_ray::<Vec3>().err()),
+        ] {
+            if let Some(error) = result {
+                return Err(fail(format!("bad ray{precision}: {error}")));
+            }
+        }
+        rays.push(ray);
+    }
+    Ok(rays)
+}
+
+/// `count` random rays around `bounds`, the same for the same seed on every machine.
+///
+/// Each ray starts on the sphere of radius `2r` around the box's centre (`r` half the box's
+/// diagonal, so every origin is outside the box) at a uniformly random point, and is aimed at
+/// a uniformly random point inside the box. Its direction is that difference (not normalised,
+/// so `t = 1` is the aim point); its interval is `[0, +inf)`.
+pub fn random_rays(bounds: &Aabb<DVec3>, count: usize, seed: u64) -> Vec<RaySpec> {
+    let mut rng = SplitMix64::new(seed);
+    let center = bounds.center();
+    let radius = 2.0 * (bounds.extent().length() * 0.5).max(f64::MIN_POSITIVE);
+    let mut rays = Vec::with_capacity(count);
+    while rays.len() < count {
+        let origin = center + DVec3::from_array(rng.unit_vector()) * radius;
+        let target = DVec3::new(
+            rng.range(bounds.min.x, bounds.max.x),
+            rng.range(bounds.min.y, bounds.max.y),
+            rng.range(bounds.min.z, bounds.max.z),
+        );
+        let direction = target - origin;
+        if direction == DVec3::ZERO {
+            continue;
+        }
+        rays.push(RaySpec {
+            line: 0,
+            origin: origin.to_array(),
+            direction: direction.to_array(),
+            t_min: 0.0,
+            t_max: f64::INFINITY,
+        });
+    }
+    rays
+}
+
+/// Primary rays of a pinhole camera with a 45° vertical field of view, one through the centre
+/// of each of `width × height` pixels (row by row from the top left). The camera looks at the
+/// box's centre from the +z side, slightly raised, from far enough that the box fills the
+/// frame: coherent rays, as a renderer traces them.
+pub fn camera_rays(bounds: &Aabb<DVec3>, width: usize, height: usize) -> Vec<RaySpec> {
+    let center = bounds.center();
+    let radius = (bounds.extent().length() * 0.5).max(f64::MIN_POSITIVE);
+    let half_fov = 22.5f64.to_radians();
+    let distance = radius / half_fov.sin();
+    let eye = center + DVec3::new(0.25, 0.35, 1.0).normalize() * distance;
+    let forward = (center - eye).normalize();
+    let right = forward.cross(DVec3::Y).normalize();
+    let up = right.cross(forward);
+    let half_height = half_fov.tan();
+    let half_width = half_height * width as f64 / height.max(1) as f64;
+    let mut rays = Vec::with_capacity(width * height);
+    for row in 0..height {
+        for column in 0..width {
+            let x = ((column as f64 + 0.5) / width as f64 * 2.0 - 1.0) * half_width;
+            let y = (1.0 - (row as f64 + 0.5) / height as f64 * 2.0) * half_height;
+            rays.push(RaySpec {
+                line: 0,
+                origin: eye.to_array(),
+                direction: (forward + right * x + up * y).to_array(),
+                t_min: 0.0,
+                t_max: f64::INFINITY,
+            });
+        }
+    }
+    rays
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parses_rays_and_names_bad_lines() {
+        let rays = parse_rays(
+            "# a comment\n0 0 0 1 0 0\n\n1 2 3 0 0 -1 0.5 inf\n",
+            "r.txt",
+        )
+        .unwrap();
+        assert_eq!(rays.len(), 2);
+        assert_eq!(rays[1].line, 4);
+        assert_eq!((rays[1].t_min, rays[1].t_max), (0.5, f64::INFINITY));
+        let cases = [
+            ("0 0 0 0 0 0\n", "r.txt:1: bad ray: the direction is zero"),
+            ("0 0 0 -0 0 0\n", "r.txt:1: bad ray: the direction is zero"),
+            (
+                "0 0 0 1e-50 0 0\n",
+                "r.txt:1: bad ray in f32 precision: the direction is zero",
+            ),
+            (
+                "\n0 nan 0 1 0 0\n",
+                "r.txt:2: bad ray: the origin is not finite",
+            ),
+            (
+                "0 0 0 inf 0 0\n",
+                "r.txt:1: bad ray: the direction is not finite",
+            ),
+            (
+                "0 0 0 1 0\n",
+                "r.txt:1: a ray is 'ox oy oz dx dy dz [tmin tmax]', found 5 values",
+            ),
+            ("0 0 0 1 0 x\n", "r.txt:1: 'x' is not a number"),
+            ("0 0 0 1 0 0 2 1\n", "r.txt:1: bad ray: the interval"),
+            ("0 0 0 1 0 0 nan 1\n", "r.txt:1: the interval"),
+        ];
+        for (text, expected) in cases {
+            let message = parse_rays(text, "r.txt").unwrap_err().to_string();
+            assert!(
+                message.starts_with(expected),
+                "{message:?} should start with {expected:?}"
+            );
+        }
+    }
+
+    #[test]
+    fn random_rays_start_outside_and_aim_inside() {
+        let bounds = Aabb::new(DVec3::ZERO, DVec3::new(1.0, 2.0, 3.0));
+        let rays = random_rays(&bounds, 100, 7);
+        assert_eq!(rays, random_rays(&bounds, 100, 7));
+        for ray in &rays {
+            let origin = DVec3::from_array(ray.origin);
+            let aim = origin + DVec3::from_array(ray.direction);
+            assert!(!bounds.contains_point(origin));
+            assert!(bounds.contains_point(aim));
+        }
+    }
+}
+
+/// Rays from outside a mesh aimed exactly at each triangle corner, at the midpoint of each edge
+/// and at a random point on each edge: where a ray test that is not watertight lets rays slip between neighbours.
+///
+/// Meant for closed meshes that are star-shaped around their box's centre (spheres, cubes):
+/// each ray comes from a distance `2r` off the surface, from a seeded random direction within
+/// about 30° of the radial direction through its target, so that it crosses the surface there.
+/// (A ray grazing a silhouette edge may truly miss: after rounding it passes a hair outside.)
+/// The direction is `target − origin`, so the aim point is at `t = 1`.
+pub fn surface_aim_rays(triangles: &[[[f64; 3]; 3]], seed: u64) -> Vec<RaySpec> {
+    let bounds = Aabb::from_points(triangles.iter().flatten().map(|&c| DVec3::from_array(c)));
+    let center = bounds.center();
+    let radius = 2.0 * (bounds.extent().length() * 0.5).max(f64::MIN_POSITIVE);
+    let mut rng = SplitMix64::new(seed);
+    let mut rays = Vec::with_capacity(triangles.len() * 9);
+    for triangle in triangles {
+        for corner in 0..3 {
+            let a = DVec3::from_array(triangle[corner]);
+            let b = DVec3::from_array(triangle[(corner + 1) % 3]);
+            let along = rng.next_f64();
+            for target in [a, (a + b) * 0.5, a + (b - a) * along] {
+                let radial = (target - center).normalize_or(DVec3::Z);
+                let approach = (radial + DVec3::from_array(rng.unit_vector()) * 0.5).normalize();
+                let origin = target + approach * radius;
+                rays.push(RaySpec {
+                    line: 0,
+                    origin: origin.to_array(),
+                    direction: (target - origin).to_array(),
+                    t_min: 0.0,
+                    t_max: f64::INFINITY,
+                });
+            }
+        }
+    }
+    rays
+}
