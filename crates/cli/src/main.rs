@@ -1,1 +1,191 @@
-fn main() {}
+//! `accelviz-cli`: the headless accelviz. Queries rays against a mesh, shows the slab test's
+//! numbers, and measures build time, traversal cost and speed of every acceleration structure.
+//!
+//! Every error is one line on stderr naming the file, the line and the problem, with exit
+//! status 2 and nothing on stdout: output is assembled whole and printed only on success.
+
+mod bench;
+mod json;
+mod slab;
+mod spec;
+
+use std::process::ExitCode;
+
+use accelviz_core::bvh::TraversalStack;
+use accelviz_core::{NoObserver, Order, TraceOptions, TriangleSet, Vector3};
+use accelviz_scene::Mesh;
+use accelviz_scene::rays::RaySpec;
+use anyhow::{Context, Result};
+use clap::{Args, Parser, Subcommand, ValueEnum};
+
+use crate::spec::AccelSpec;
+
+/// Ray-tracing acceleration structures, measured.
+#[derive(Parser, Debug)]
+#[command(name = "accelviz-cli", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Option<Command>,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Trace rays from a file; print `HIT <triangle> <t>` or `MISS` per ray, in input order.
+    Query(QueryArgs),
+    /// The slab test of one ray and one box, axis by axis.
+    Slab(slab::SlabArgs),
+    /// Build and trace with each structure; report build time, cost and speed.
+    Bench(bench::BenchArgs),
+}
+
+/// Traversal order.
+#[derive(Clone, Copy, Debug, Default, ValueEnum, PartialEq, Eq)]
+pub enum OrderArg {
+    /// The child the ray enters first.
+    #[default]
+    NearFirst,
+    /// Children in memory order.
+    FileOrder,
+}
+
+/// Arithmetic precision.
+#[derive(Clone, Copy, Debug, Default, ValueEnum, PartialEq, Eq)]
+pub enum Precision {
+    /// 32-bit floats (fast).
+    #[default]
+    F32,
+    /// 64-bit floats (accurate).
+    F64,
+}
+
+/// Switches shared by `query` and `bench`.
+#[derive(Args, Debug, Clone, Copy)]
+pub struct TraceArgs {
+    /// Child order when the ray hits both children.
+    #[arg(long, value_enum, default_value_t)]
+    order: OrderArg,
+    /// Arithmetic precision of the structure, the triangles and the rays.
+    #[arg(long, value_enum, default_value_t)]
+    precision: Precision,
+    /// Watertight triangle test (Woop et al. 2013) and conservative box test (Ize 2013).
+    #[arg(long)]
+    robust: bool,
+}
+
+impl TraceArgs {
+    /// The core's options for a closest-hit query.
+    pub fn options(&self) -> TraceOptions {
+        TraceOptions {
+            order: match self.order {
+                OrderArg::NearFirst => Order::NearFirst,
+                OrderArg::FileOrder => Order::FileOrder,
+            },
+            ..TraceOptions::default()
+        }
+        .with_robust(self.robust)
+    }
+}
+
+#[derive(Args, Debug)]
+struct QueryArgs {
+    /// The mesh: an OBJ file, or builtin:NAME (lumpy-sphere, icosphere, cube).
+    #[arg(long)]
+    mesh: String,
+    /// The structure: brute, bvh:middle, bvh:median, bvh:sah-binned[:BINS], bvh:sah-sweep.
+    #[arg(long)]
+    accel: String,
+    /// Ray file: `ox oy oz dx dy dz [tmin tmax]` per line, `#` starts a comment.
+    #[arg(long)]
+    rays: String,
+    #[command(flatten)]
+    trace: TraceArgs,
+}
+
+/// Loads `--mesh`: a path, or `builtin:NAME`.
+pub fn load_mesh(mesh: &str) -> Result<Mesh> {
+    if let Some(name) = mesh.strip_prefix("builtin:") {
+        return accelviz_scene::builtin::by_name(name).with_context(|| {
+            format!(
+                "unknown built-in mesh '{name}'; built-in meshes are: {}",
+                accelviz_scene::builtin::BUILTIN_NAMES.join(", ")
+            )
+        });
+    }
+    Ok(accelviz_scene::obj::load_obj(mesh)?)
+}
+
+/// Converts rays to the chosen precision, naming the line of any that cannot be.
+pub fn convert_rays<V: Vector3>(
+    rays: &[RaySpec],
+    source: &str,
+) -> Result<Vec<accelviz_core::Ray<V>>> {
+    rays.iter()
+        .map(|spec| {
+            spec.to_ray::<V>()
+                .with_context(|| format!("{source}:{}: bad ray", spec.line))
+        })
+        .collect()
+}
+
+fn query(args: &QueryArgs) -> Result<String> {
+    let spec = AccelSpec::parse(&args.accel)?;
+    let mesh = load_mesh(&args.mesh)?;
+    let rays = accelviz_scene::rays::load_rays(&args.rays)?;
+    match args.trace.precision {
+        Precision::F32 => query_in::<glam::Vec3>(spec, &mesh, &rays, args),
+        Precision::F64 => query_in::<glam::DVec3>(spec, &mesh, &rays, args),
+    }
+}
+
+fn query_in<V: Vector3>(
+    spec: AccelSpec,
+    mesh: &Mesh,
+    rays: &[RaySpec],
+    args: &QueryArgs,
+) -> Result<String> {
+    let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
+    let rays = convert_rays::<V>(rays, &args.rays)?;
+    let (accel, _) = spec.build(&triangles);
+    let options = args.trace.options();
+    let mut stack = TraversalStack::new();
+    let mut output = String::with_capacity(rays.len() * 32);
+    for ray in &rays {
+        match accel.trace(&triangles, ray, &options, &mut stack, &mut NoObserver) {
+            // f32 needs 9 significant digits to round-trip, f64 17.
+            Some(hit) => {
+                let digits = if size_of::<V::Scalar>() == 4 { 8 } else { 16 };
+                let t = accelviz_core::Real::to_f64(hit.t);
+                output.push_str(&format!("HIT {} {t:.digits$e}\n", hit.primitive));
+            }
+            None => output.push_str("MISS\n"),
+        }
+    }
+    Ok(output)
+}
+
+fn run(cli: Cli) -> Result<String> {
+    match cli.command {
+        Some(Command::Query(args)) => query(&args),
+        Some(Command::Slab(args)) => slab::run(&args),
+        Some(Command::Bench(args)) => bench::run(&args),
+        None => bench::run(&bench::BenchArgs::default_run()),
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    match run(cli) {
+        Ok(output) => {
+            use std::io::Write;
+            let mut stdout = std::io::stdout().lock();
+            // A closed pipe (e.g. `| head`) is not an error worth a panic.
+            let _ = stdout.write_all(output.as_bytes());
+            let _ = stdout.flush();
+            ExitCode::SUCCESS
+        }
+        Err(error) => {
+            eprintln!("accelviz-cli: error: {error:#}");
+            ExitCode::from(2)
+        }
+    }
+}

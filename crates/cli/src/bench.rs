@@ -1,0 +1,250 @@
+//! `accelviz-cli bench`: build each structure, trace the same rays, report the figures.
+
+use std::time::Instant;
+
+use accelviz_core::bvh::TraversalStack;
+use accelviz_core::{Counters, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
+use accelviz_scene::Mesh;
+use accelviz_scene::rays::{RaySpec, random_rays};
+use anyhow::{Result, bail};
+use clap::Args;
+
+use crate::json::JsonObject;
+use crate::spec::{Accel, AccelSpec};
+use crate::{Precision, TraceArgs, convert_rays, load_mesh};
+
+#[derive(Args, Debug)]
+pub struct BenchArgs {
+    /// The mesh: an OBJ file, or builtin:NAME (default: the built-in lumpy sphere).
+    #[arg(long, default_value = "builtin:lumpy-sphere")]
+    mesh: String,
+    /// Comma-separated structures, e.g. bvh:sah-binned:8,bvh:sah-sweep.
+    #[arg(long)]
+    accel: String,
+    /// How many random rays (origins outside the mesh's box, aimed at random points in it).
+    #[arg(long, default_value_t = 100_000, conflicts_with = "rays_file")]
+    rays: usize,
+    /// Trace the rays of this file (the `query` format) instead.
+    #[arg(long)]
+    rays_file: Option<String>,
+    /// Seed of the random rays.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    #[command(flatten)]
+    trace: TraceArgs,
+    /// Threads tracing rays (the build is single-threaded).
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
+    /// One JSON object per structure, one per line.
+    #[arg(long)]
+    json: bool,
+}
+
+impl BenchArgs {
+    /// What `cargo run --release` runs: every BVH builder on the built-in mesh.
+    pub fn default_run() -> Self {
+        Self {
+            mesh: "builtin:lumpy-sphere".into(),
+            accel: "bvh:middle,bvh:median,bvh:sah-binned,bvh:sah-sweep".into(),
+            rays: 100_000,
+            rays_file: None,
+            seed: 1,
+            trace: TraceArgs {
+                order: crate::OrderArg::NearFirst,
+                precision: Precision::F32,
+                robust: false,
+            },
+            threads: 1,
+            json: false,
+        }
+    }
+}
+
+/// The figures of one structure.
+struct Figures {
+    accel: String,
+    triangles: usize,
+    build_ms: f64,
+    nodes: usize,
+    leaves: usize,
+    max_depth: usize,
+    sah_cost: f64,
+    rays: usize,
+    trace_ms: f64,
+    counters: Counters,
+    hits: usize,
+}
+
+pub fn run(args: &BenchArgs) -> Result<String> {
+    let specs = AccelSpec::parse_list(&args.accel)?;
+    if args.threads == 0 {
+        bail!("--threads must be at least 1");
+    }
+    let mesh = load_mesh(&args.mesh)?;
+    let (rays, ray_source) = match &args.rays_file {
+        Some(path) => (accelviz_scene::rays::load_rays(path)?, path.clone()),
+        None => (
+            random_rays(&mesh.bounds(), args.rays, args.seed),
+            format!("random:{}:seed{}", args.rays, args.seed),
+        ),
+    };
+    let figures = match args.trace.precision {
+        Precision::F32 => measure::<glam::Vec3>(&specs, &mesh, &rays, &ray_source, args)?,
+        Precision::F64 => measure::<glam::DVec3>(&specs, &mesh, &rays, &ray_source, args)?,
+    };
+    let options = args.trace.options();
+    let mut output = String::new();
+    if !args.json {
+        output.push_str(&format!(
+            "mesh {} ({} triangles), {} rays ({ray_source}), {:?} order, {:?}, {}, {} thread(s)\n",
+            mesh.name,
+            mesh.triangles.len(),
+            rays.len(),
+            options.order,
+            args.trace.precision,
+            if args.trace.robust { "robust" } else { "fast" },
+            args.threads
+        ));
+        output.push_str(&format!(
+            "{:<22} {:>10} {:>8} {:>8} {:>6} {:>9} {:>10} {:>9} {:>11} {:>11} {:>8}\n",
+            "accel",
+            "build ms",
+            "nodes",
+            "leaves",
+            "depth",
+            "SAH cost",
+            "trace ms",
+            "Mrays/s",
+            "nodes/ray",
+            "prims/ray",
+            "hits"
+        ));
+    }
+    for f in &figures {
+        let rays = f.rays.max(1) as f64;
+        let mrays_per_s = f.rays as f64 / (f.trace_ms * 1e3);
+        let avg_nodes = f.counters.nodes_visited as f64 / rays;
+        let avg_prims = f.counters.primitive_tests as f64 / rays;
+        if args.json {
+            let object = JsonObject::new()
+                .string("accel", &f.accel)
+                .string("mesh", &mesh.name)
+                .integer("triangles", f.triangles as u64)
+                .number("build_ms", f.build_ms)
+                .integer("nodes", f.nodes as u64)
+                .integer("leaves", f.leaves as u64)
+                .integer("max_depth", f.max_depth as u64)
+                .number("sah_cost", f.sah_cost)
+                .integer("rays", f.rays as u64)
+                .string("ray_source", &ray_source)
+                .number("trace_ms", f.trace_ms)
+                .number("mrays_per_s", mrays_per_s)
+                .number("avg_nodes_visited", avg_nodes)
+                .number("avg_box_tests", f.counters.box_tests as f64 / rays)
+                .number("avg_prims_tested", avg_prims)
+                .integer("hits", f.hits as u64)
+                .string(
+                    "order",
+                    if options.order == accelviz_core::Order::NearFirst {
+                        "near-first"
+                    } else {
+                        "file-order"
+                    },
+                )
+                .string(
+                    "precision",
+                    match args.trace.precision {
+                        Precision::F32 => "f32",
+                        Precision::F64 => "f64",
+                    },
+                )
+                .boolean("robust", args.trace.robust)
+                .integer("threads", args.threads as u64)
+                .finish();
+            output.push_str(&object);
+            output.push('\n');
+        } else {
+            output.push_str(&format!(
+                "{:<22} {:>10.2} {:>8} {:>8} {:>6} {:>9.2} {:>10.2} {:>9.3} {:>11.2} {:>11.2} {:>8}\n",
+                f.accel, f.build_ms, f.nodes, f.leaves, f.max_depth, f.sah_cost, f.trace_ms,
+                mrays_per_s, avg_nodes, avg_prims, f.hits
+            ));
+        }
+    }
+    Ok(output)
+}
+
+fn measure<V: Vector3>(
+    specs: &[AccelSpec],
+    mesh: &Mesh,
+    ray_specs: &[RaySpec],
+    ray_source: &str,
+    args: &BenchArgs,
+) -> Result<Vec<Figures>> {
+    let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
+    let rays = convert_rays::<V>(ray_specs, ray_source)?;
+    let options = args.trace.options();
+    let mut all = Vec::with_capacity(specs.len());
+    for spec in specs {
+        let (accel, build_ms) = spec.build(&triangles);
+        let stats = accel.stats(triangles.triangles().len());
+        // Time with the observer that does nothing; count in a second, untimed pass.
+        let start = Instant::now();
+        let hits = trace_all(&accel, &triangles, &rays, &options, args.threads);
+        let trace_ms = start.elapsed().as_secs_f64() * 1e3;
+        let mut counters = Counters::default();
+        let mut stack = TraversalStack::new();
+        for ray in &rays {
+            accel.trace(&triangles, ray, &options, &mut stack, &mut counters);
+        }
+        all.push(Figures {
+            accel: spec.name(),
+            triangles: triangles.triangles().len(),
+            build_ms,
+            nodes: stats.node_count,
+            leaves: stats.leaf_count,
+            max_depth: stats.max_depth,
+            sah_cost: stats.sah_cost,
+            rays: rays.len(),
+            trace_ms,
+            counters,
+            hits,
+        });
+    }
+    Ok(all)
+}
+
+/// Traces every ray, on `threads` threads; returns the number of hits.
+fn trace_all<V: Vector3>(
+    accel: &Accel<V>,
+    triangles: &TriangleSet<V>,
+    rays: &[Ray<V>],
+    options: &TraceOptions,
+    threads: usize,
+) -> usize {
+    let trace_chunk = |chunk: &[Ray<V>]| {
+        let mut stack = TraversalStack::new();
+        chunk
+            .iter()
+            .filter(|ray| {
+                accel
+                    .trace(triangles, ray, options, &mut stack, &mut NoObserver)
+                    .is_some()
+            })
+            .count()
+    };
+    if threads <= 1 {
+        return trace_chunk(rays);
+    }
+    let chunk_size = rays.len().div_ceil(threads).max(1);
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = rays
+            .chunks(chunk_size)
+            .map(|chunk| scope.spawn(move || trace_chunk(chunk)))
+            .collect();
+        workers
+            .into_iter()
+            .map(|worker| worker.join().unwrap_or(0))
+            .sum()
+    })
+}

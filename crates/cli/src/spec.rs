@@ -1,0 +1,130 @@
+//! Acceleration-structure specs (`brute`, `bvh:sah-binned:16`, ...) and what they build.
+
+use std::time::Instant;
+
+use accelviz_core::bvh::{
+    BinnedSah, BuildParams, Builder, Bvh, BvhStats, MedianSplit, MiddleSplit, SweepSah,
+    TraversalStack, traverse,
+};
+use accelviz_core::{Hit, Observer, PrimitiveSet, Ray, TraceOptions, Vector, brute_force};
+use anyhow::{Result, bail};
+
+/// The specs the CLI accepts, for messages.
+pub const VALID_SPECS: &str =
+    "brute, bvh:middle, bvh:median, bvh:sah-binned[:BINS] (default 16 bins), bvh:sah-sweep";
+
+/// A parsed spec.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AccelSpec {
+    /// Test every triangle.
+    Brute,
+    /// Middle split.
+    Middle,
+    /// Object median split.
+    Median,
+    /// Binned SAH with this many bins.
+    Binned(usize),
+    /// Full-sweep SAH.
+    Sweep,
+}
+
+impl AccelSpec {
+    /// Parses one spec.
+    pub fn parse(text: &str) -> Result<Self> {
+        let spec = match text {
+            "brute" => Self::Brute,
+            "bvh:middle" => Self::Middle,
+            "bvh:median" => Self::Median,
+            "bvh:sah-binned" => Self::Binned(16),
+            "bvh:sah-sweep" => Self::Sweep,
+            _ => match text.strip_prefix("bvh:sah-binned:") {
+                Some(bins) => match bins.parse::<usize>() {
+                    Ok(bins) if (2..=4096).contains(&bins) => Self::Binned(bins),
+                    _ => bail!(
+                        "unknown accelerator '{text}': the bin count must be a whole number from 2 to 4096"
+                    ),
+                },
+                None => bail!("unknown accelerator '{text}'; valid ones are: {VALID_SPECS}"),
+            },
+        };
+        Ok(spec)
+    }
+
+    /// Parses a comma-separated list.
+    pub fn parse_list(text: &str) -> Result<Vec<Self>> {
+        text.split(',')
+            .map(|part| Self::parse(part.trim()))
+            .collect()
+    }
+
+    /// The canonical name.
+    pub fn name(&self) -> String {
+        match self {
+            Self::Brute => "brute".into(),
+            Self::Middle => "bvh:middle".into(),
+            Self::Median => "bvh:median".into(),
+            Self::Binned(bins) => format!("bvh:sah-binned:{bins}"),
+            Self::Sweep => "bvh:sah-sweep".into(),
+        }
+    }
+
+    /// Builds the structure over `primitives`, timing the build (boxes included).
+    pub fn build<V: Vector, P: PrimitiveSet<V>>(&self, primitives: &P) -> (Accel<V>, f64) {
+        let start = Instant::now();
+        let params = BuildParams::default();
+        let bvh = |builder: &dyn Fn(&[accelviz_core::Aabb<V>]) -> Bvh<V>| {
+            Accel::Bvh(builder(&primitives.all_bounds()))
+        };
+        let accel = match self {
+            Self::Brute => Accel::Brute,
+            Self::Middle => bvh(&|bounds| MiddleSplit.build(bounds, &params)),
+            Self::Median => bvh(&|bounds| MedianSplit.build(bounds, &params)),
+            Self::Binned(bins) => bvh(&|bounds| BinnedSah { bins: *bins }.build(bounds, &params)),
+            Self::Sweep => bvh(&|bounds| SweepSah.build(bounds, &params)),
+        };
+        (accel, start.elapsed().as_secs_f64() * 1e3)
+    }
+}
+
+/// A built structure.
+pub enum Accel<V: Vector> {
+    /// No structure: brute force.
+    Brute,
+    /// A BVH.
+    Bvh(Bvh<V>),
+}
+
+impl<V: Vector> Accel<V> {
+    /// Traces one ray.
+    #[inline]
+    pub fn trace<P: PrimitiveSet<V>, O: Observer<V::Scalar>>(
+        &self,
+        primitives: &P,
+        ray: &Ray<V>,
+        options: &TraceOptions,
+        stack: &mut TraversalStack<V::Scalar>,
+        observer: &mut O,
+    ) -> Option<Hit<V::Scalar>> {
+        match self {
+            Accel::Brute => brute_force(primitives, ray, options, observer),
+            Accel::Bvh(bvh) => traverse(bvh, primitives, ray, options, stack, observer),
+        }
+    }
+
+    /// The tree's statistics (for brute force: one leaf holding everything).
+    pub fn stats(&self, primitive_count: usize) -> BvhStats {
+        let cost = BuildParams::default().cost;
+        match self {
+            Accel::Brute => BvhStats {
+                node_count: 0,
+                leaf_count: 0,
+                max_depth: 0,
+                min_leaf_size: primitive_count,
+                max_leaf_size: primitive_count,
+                mean_leaf_size: primitive_count as f64,
+                sah_cost: cost.leaf_cost(primitive_count),
+            },
+            Accel::Bvh(bvh) => BvhStats::of(bvh, &cost),
+        }
+    }
+}
