@@ -77,10 +77,9 @@ const AXES: [&str; 3] = ["x", "y", "z"];
 
 fn as_text<V: Vector>(record: &SlabRecord<V>) -> String {
     let mut text = String::new();
-    for axis in 0..V::DIM {
+    for (axis, name) in AXES.iter().enumerate().take(V::DIM) {
         text.push_str(&format!(
-            "{}: t_near = {}, t_far = {}\n",
-            AXES[axis],
+            "{name}: t_near = {}, t_far = {}\n",
             record.t_near[axis].to_f64(),
             record.t_far[axis].to_f64()
         ));

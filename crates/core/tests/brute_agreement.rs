@@ -2,6 +2,8 @@
 //! both orders, both precisions, fast and robust modes, closest and any hit, agree with brute
 //! force. Seeded, so a failure reproduces.
 
+#![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
+
 mod common;
 
 use accelviz_core::{Aabb, Ray, Shape, ShapeSet, Sphere, TriangleSet, Vector};

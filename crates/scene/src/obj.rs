@@ -25,7 +25,6 @@ pub fn parse_obj(text: &str, path: &str) -> Result<Mesh, LoadError> {
         triangulate: true,
         ignore_points: true,
         ignore_lines: true,
-        ..Default::default()
     };
     // Materials are irrelevant here; `mtllib` lines are answered with "no such file".
     let (models, _materials) =

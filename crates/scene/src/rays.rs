@@ -173,6 +173,42 @@ pub fn camera_rays(bounds: &Aabb<DVec3>, width: usize, height: usize) -> Vec<Ray
     rays
 }
 
+/// Rays from outside a mesh aimed exactly at each triangle corner, at the midpoint of each edge
+/// and at a random point on each edge: where a ray test that is not watertight lets rays slip between neighbours.
+///
+/// Meant for closed meshes that are star-shaped around their box's centre (spheres, cubes):
+/// each ray comes from a distance `2r` off the surface, from a seeded random direction within
+/// about 30° of the radial direction through its target, so that it crosses the surface there.
+/// (A ray grazing a silhouette edge may truly miss: after rounding it passes a hair outside.)
+/// The direction is `target − origin`, so the aim point is at `t = 1`.
+pub fn surface_aim_rays(triangles: &[[[f64; 3]; 3]], seed: u64) -> Vec<RaySpec> {
+    let bounds = Aabb::from_points(triangles.iter().flatten().map(|&c| DVec3::from_array(c)));
+    let center = bounds.center();
+    let radius = 2.0 * (bounds.extent().length() * 0.5).max(f64::MIN_POSITIVE);
+    let mut rng = SplitMix64::new(seed);
+    let mut rays = Vec::with_capacity(triangles.len() * 9);
+    for triangle in triangles {
+        for corner in 0..3 {
+            let a = DVec3::from_array(triangle[corner]);
+            let b = DVec3::from_array(triangle[(corner + 1) % 3]);
+            let along = rng.next_f64();
+            for target in [a, (a + b) * 0.5, a + (b - a) * along] {
+                let radial = (target - center).normalize_or(DVec3::Z);
+                let approach = (radial + DVec3::from_array(rng.unit_vector()) * 0.5).normalize();
+                let origin = target + approach * radius;
+                rays.push(RaySpec {
+                    line: 0,
+                    origin: origin.to_array(),
+                    direction: (target - origin).to_array(),
+                    t_min: 0.0,
+                    t_max: f64::INFINITY,
+                });
+            }
+        }
+    }
+    rays
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -231,40 +267,4 @@ mod tests {
             assert!(bounds.contains_point(aim));
         }
     }
-}
-
-/// Rays from outside a mesh aimed exactly at each triangle corner, at the midpoint of each edge
-/// and at a random point on each edge: where a ray test that is not watertight lets rays slip between neighbours.
-///
-/// Meant for closed meshes that are star-shaped around their box's centre (spheres, cubes):
-/// each ray comes from a distance `2r` off the surface, from a seeded random direction within
-/// about 30° of the radial direction through its target, so that it crosses the surface there.
-/// (A ray grazing a silhouette edge may truly miss: after rounding it passes a hair outside.)
-/// The direction is `target − origin`, so the aim point is at `t = 1`.
-pub fn surface_aim_rays(triangles: &[[[f64; 3]; 3]], seed: u64) -> Vec<RaySpec> {
-    let bounds = Aabb::from_points(triangles.iter().flatten().map(|&c| DVec3::from_array(c)));
-    let center = bounds.center();
-    let radius = 2.0 * (bounds.extent().length() * 0.5).max(f64::MIN_POSITIVE);
-    let mut rng = SplitMix64::new(seed);
-    let mut rays = Vec::with_capacity(triangles.len() * 9);
-    for triangle in triangles {
-        for corner in 0..3 {
-            let a = DVec3::from_array(triangle[corner]);
-            let b = DVec3::from_array(triangle[(corner + 1) % 3]);
-            let along = rng.next_f64();
-            for target in [a, (a + b) * 0.5, a + (b - a) * along] {
-                let radial = (target - center).normalize_or(DVec3::Z);
-                let approach = (radial + DVec3::from_array(rng.unit_vector()) * 0.5).normalize();
-                let origin = target + approach * radius;
-                rays.push(RaySpec {
-                    line: 0,
-                    origin: origin.to_array(),
-                    direction: (target - origin).to_array(),
-                    t_min: 0.0,
-                    t_max: f64::INFINITY,
-                });
-            }
-        }
-    }
-    rays
 }

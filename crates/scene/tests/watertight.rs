@@ -2,6 +2,8 @@
 //! meshes never miss in robust mode (watertight triangles, conservative boxes), near the
 //! origin and far from it, in f32 and f64. The fast mode's misses are counted and printed.
 
+#![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
+
 use accelviz_core::bvh::{BinnedSah, BuildParams, Builder, TraversalStack, traverse, validate};
 use accelviz_core::{NoObserver, PrimitiveSet, TraceOptions, TriangleSet, Vector3, brute_force};
 use accelviz_scene::Mesh;

@@ -48,7 +48,7 @@ where
     let slab_ray = SlabRay::new(ray, options.robust_traversal);
     let (t_enter, t_exit) = slab_clip(&root.bounds, &slab_ray, ray.t_max);
     observer.box_tested(0, t_enter, t_exit, t_enter <= t_exit);
-    if !(t_enter <= t_exit) {
+    if t_enter > t_exit {
         return None;
     }
     let primitive_ray = primitives.prepare(ray, options.hit_test);

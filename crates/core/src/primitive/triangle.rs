@@ -23,7 +23,7 @@ impl<V: Vector3> TriangleSet<V> {
         let triangles = triangles
             .iter()
             .map(|corners| {
-                let [a, b, c] = corners.map(|corner| glam::DVec3::from_array(corner));
+                let [a, b, c] = corners.map(glam::DVec3::from_array);
                 let points = corners.map(|corner| V::from_f64_slice(&corner));
                 let degenerate = (b - a).cross(c - a) == glam::DVec3::ZERO
                     || points[0] == points[1]

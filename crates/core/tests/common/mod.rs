@@ -1,6 +1,7 @@
 //! Shared by the core's integration tests: every builder, every switch, checked against brute
 //! force.
 
+#![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 #![allow(dead_code)]
 
 use accelviz_core::bvh::{

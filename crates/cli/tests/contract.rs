@@ -1,0 +1,327 @@
+//! The CLI's contract: outputs, and every error path (exit 2, one message naming the file and
+//! line, nothing on stdout).
+
+#![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
+
+use std::path::PathBuf;
+use std::process::{Command, Output};
+
+fn cli(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_accelviz-cli"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn stdout(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stdout).into_owned()
+}
+
+fn stderr(output: &Output) -> String {
+    String::from_utf8_lossy(&output.stderr).into_owned()
+}
+
+/// A scratch file with this content, unique to the test.
+fn file(name: &str, content: &str) -> String {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("contract");
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join(name);
+    std::fs::write(&path, content).unwrap();
+    path.to_string_lossy().into_owned()
+}
+
+const SQUARE: &str =
+    "# two triangles in the plane z = 0\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n";
+
+#[test]
+fn query_prints_one_line_per_ray_in_order() {
+    let mesh = file("square.obj", SQUARE);
+    let rays = file(
+        "rays.txt",
+        "# comment\n0.75 0.25 1 0 0 -1\n0.25 0.75 2 0 0 -1\n5 5 1 0 0 -1\n0.25 0.75 2 0 0 -1 0 1.5\n",
+    );
+    for accel in [
+        "brute",
+        "bvh:middle",
+        "bvh:median",
+        "bvh:sah-binned",
+        "bvh:sah-binned:4",
+        "bvh:sah-sweep",
+    ] {
+        for extra in [
+            &[][..],
+            &["--order", "file-order"],
+            &["--precision", "f64", "--robust"],
+        ] {
+            let mut args = vec!["query", "--mesh", &mesh, "--accel", accel, "--rays", &rays];
+            args.extend_from_slice(extra);
+            let output = cli(&args);
+            assert!(output.status.success(), "{accel}: {}", stderr(&output));
+            let lines: Vec<_> = stdout(&output).lines().map(str::to_owned).collect();
+            assert_eq!(lines.len(), 4, "{accel}");
+            let hit = |line: &str, triangle: &str, t: f64| {
+                let words: Vec<_> = line.split(' ').collect();
+                assert_eq!(&words[..2], ["HIT", triangle], "{accel}: {line}");
+                let mantissa = words[2].split('e').next().unwrap();
+                assert!(
+                    mantissa.len() >= 10,
+                    "{accel}: at least 9 significant digits: {line}"
+                );
+                assert_eq!(words[2].parse::<f64>().unwrap(), t, "{accel}: {line}");
+            };
+            hit(&lines[0], "0", 1.0);
+            hit(&lines[1], "1", 2.0);
+            assert_eq!(lines[2], "MISS");
+            assert_eq!(
+                lines[3], "MISS",
+                "{accel}: t_max 1.5 is before the hit at 2"
+            );
+        }
+    }
+}
+
+#[test]
+fn slab_text_and_json() {
+    let output = cli(&["slab", "--box", "0 0 0 1 1 1", "--ray", "-1 0.5 0 1 0 0"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_eq!(
+        stdout(&output),
+        "x: t_near = 1, t_far = 2\ny: t_near = -inf, t_far = inf\nz: t_near = -inf, t_far = inf\n\
+         t_enter = 1 (max of the nears)\nt_exit = 2 (min of the fars)\nHIT\n"
+    );
+    let output = cli(&["slab", "--box", "0 0 1 1", "--ray", "2 0.5 1 0", "--json"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = stdout(&output);
+    assert_eq!(
+        text.trim(),
+        r#"{"axes":[{"t_near":-2,"t_far":-1},{"t_near":-1e999,"t_far":1e999}],"t_enter":-2,"t_exit":-1,"hit":false}"#
+    );
+    let value: serde_json::Value = serde_json::from_str(text.trim()).unwrap_or_else(|_| {
+        // serde_json refuses 1e999; check the rest by replacing the infinities.
+        serde_json::from_str(&text.replace("1e999", "1e308")).unwrap()
+    });
+    assert_eq!(value["hit"], false);
+}
+
+#[test]
+fn bench_reports_one_json_object_per_spec() {
+    let output = cli(&[
+        "bench",
+        "--accel",
+        "brute,bvh:sah-binned:8,bvh:sah-sweep",
+        "--mesh",
+        "builtin:icosphere",
+        "--rays",
+        "500",
+        "--json",
+        "--threads",
+        "2",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let lines: Vec<serde_json::Value> = stdout(&output)
+        .lines()
+        .map(|line| serde_json::from_str(line).unwrap())
+        .collect();
+    assert_eq!(lines.len(), 3);
+    for key in [
+        "accel",
+        "triangles",
+        "build_ms",
+        "nodes",
+        "leaves",
+        "max_depth",
+        "sah_cost",
+        "rays",
+        "trace_ms",
+        "mrays_per_s",
+        "avg_nodes_visited",
+        "avg_prims_tested",
+        "hits",
+    ] {
+        assert!(
+            lines.iter().all(|line| !line[key].is_null()),
+            "missing {key}"
+        );
+    }
+    assert_eq!(lines[1]["accel"], "bvh:sah-binned:8");
+    assert_eq!(lines[0]["triangles"], 5120);
+    // Every structure finds the same hits as brute force.
+    assert_eq!(lines[0]["hits"], lines[1]["hits"]);
+    assert_eq!(lines[0]["hits"], lines[2]["hits"]);
+    assert_eq!(lines[0]["avg_prims_tested"], 5120.0);
+}
+
+#[test]
+fn bench_reads_a_ray_file() {
+    let mesh = file("square-bench.obj", SQUARE);
+    let rays = file("bench-rays.txt", "0.75 0.25 1 0 0 -1\n5 5 1 0 0 -1\n");
+    let output = cli(&[
+        "bench",
+        "--mesh",
+        &mesh,
+        "--accel",
+        "bvh:median",
+        "--rays-file",
+        &rays,
+        "--json",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let value: serde_json::Value = serde_json::from_str(stdout(&output).trim()).unwrap();
+    assert_eq!(
+        (value["rays"].as_u64(), value["hits"].as_u64()),
+        (Some(2), Some(1))
+    );
+}
+
+/// Runs a failing command: exit 2, nothing on stdout, one line on stderr containing `expected`.
+fn assert_fails(args: &[&str], expected: &str) {
+    let output = cli(args);
+    let message = stderr(&output);
+    assert_eq!(output.status.code(), Some(2), "{args:?}: {message}");
+    assert!(
+        output.stdout.is_empty(),
+        "{args:?}: partial output {:?}",
+        stdout(&output)
+    );
+    assert!(
+        message.contains(expected),
+        "{args:?}: {message:?} should contain {expected:?}"
+    );
+    assert!(!message.contains("panicked"), "{args:?}: {message}");
+}
+
+#[test]
+fn bad_input_fails_cleanly() {
+    let mesh = file("good.obj", SQUARE);
+    let rays = file("good-rays.txt", "0.5 0.5 1 0 0 -1\n");
+    let query = |mesh: &str, accel: &str, rays: &str| -> Vec<String> {
+        ["query", "--mesh", mesh, "--accel", accel, "--rays", rays]
+            .map(str::to_owned)
+            .to_vec()
+    };
+    let run = |args: Vec<String>, expected: &str| {
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        assert_fails(&args, expected);
+    };
+    // Files.
+    run(
+        query("/no/such/mesh.obj", "brute", &rays),
+        "/no/such/mesh.obj: cannot read the file",
+    );
+    run(
+        query(&mesh, "brute", "/no/such/rays.txt"),
+        "/no/such/rays.txt: cannot read the file",
+    );
+    let malformed = file("malformed.obj", "v 0 0 0\nv 1 0 0\nv 0 one 0\nf 1 2 3\n");
+    run(
+        query(&malformed, "brute", &rays),
+        "malformed.obj:3: 'one' is not a number",
+    );
+    let out_of_range = file("range.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\n");
+    run(
+        query(&out_of_range, "brute", &rays),
+        "range.obj:5: vertex index 9 is out of range",
+    );
+    let nan_mesh = file("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 NaN 0\nf 1 2 3\n");
+    run(
+        query(&nan_mesh, "brute", &rays),
+        "nan.obj:3: vertex coordinate is not finite",
+    );
+    let inf_mesh = file("inf.obj", "v 0 0 0\nv 1 0 0\nv 0 -inf 0\nf 1 2 3\n");
+    run(
+        query(&inf_mesh, "brute", &rays),
+        "inf.obj:3: vertex coordinate is not finite",
+    );
+    let binary = std::path::Path::new(&file("binary.obj", "")).to_owned();
+    std::fs::write(&binary, [0x76, 0x20, 0xff, 0xfe, 0x0a]).unwrap();
+    run(
+        query(binary.to_str().unwrap(), "brute", &rays),
+        "binary.obj:1: the file is not UTF-8 text",
+    );
+    // Rays.
+    let zero = file("zero.txt", "0.5 0.5 1 0 0 -1\n0 0 0 0 0 0\n");
+    run(
+        query(&mesh, "brute", &zero),
+        "zero.txt:2: bad ray: the direction is zero",
+    );
+    let nan_ray = file("nan-ray.txt", "# c\n0.5 nan 1 0 0 -1\n");
+    run(
+        query(&mesh, "brute", &nan_ray),
+        "nan-ray.txt:2: bad ray: the origin is not finite",
+    );
+    let short = file("short.txt", "0.5 0.5 1 0 0 -1\n1 2 3\n");
+    run(
+        query(&mesh, "brute", &short),
+        "short.txt:2: a ray is 'ox oy oz dx dy dz [tmin tmax]', found 3 values",
+    );
+    let inf_ray = file("inf-ray.txt", "0.5 0.5 1 inf 0 -1\n");
+    run(
+        query(&mesh, "brute", &inf_ray),
+        "inf-ray.txt:1: bad ray: the direction is not finite",
+    );
+    // Specs.
+    run(
+        query(&mesh, "bvh:octree", &rays),
+        "unknown accelerator 'bvh:octree'; valid ones are: brute, bvh:middle",
+    );
+    run(
+        query(&mesh, "bvh:sah-binned:1", &rays),
+        "the bin count must be a whole number from 2 to 4096",
+    );
+    assert_fails(
+        &["bench", "--accel", "bvh:median,kd:sah", "--rays", "10"],
+        "unknown accelerator 'kd:sah'",
+    );
+    assert_fails(
+        &["bench", "--accel", "bvh:median", "--mesh", "builtin:teapot"],
+        "unknown built-in mesh 'teapot'",
+    );
+    // Slab.
+    assert_fails(
+        &["slab", "--box", "0 0 0 1 1 1", "--ray", "0 0 0 0 0 0"],
+        "--ray: the direction is zero",
+    );
+    assert_fails(
+        &["slab", "--box", "0 0 0 1 1", "--ray", "0 0 0 1 0 0"],
+        "give 6 and 6 (3D) or 4 and 4 (2D)",
+    );
+    assert_fails(
+        &["slab", "--box", "0 0 0 1 nan 1", "--ray", "0 0 0 1 0 0"],
+        "--box: 'nan' is not a finite number",
+    );
+    // Usage errors exit 2 too (clap's convention).
+    assert_fails(&["query", "--mesh", &mesh], "--accel");
+}
+
+#[test]
+fn degenerate_triangles_keep_their_number_and_are_never_hit() {
+    // Triangle 0 is degenerate (a repeated corner) and lies where the ray passes.
+    let mesh = file(
+        "degenerate.obj",
+        "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 1 3\nf 1 2 3\n",
+    );
+    let rays = file("diagonal.txt", "0.5 0.5 1 0 0 -1\n0.75 0.25 1 0 0 -1\n");
+    for precision in ["f32", "f64"] {
+        for robust in [false, true] {
+            let mut args = vec![
+                "query",
+                "--mesh",
+                &mesh,
+                "--accel",
+                "bvh:sah-sweep",
+                "--rays",
+                &rays,
+                "--precision",
+                precision,
+            ];
+            if robust {
+                args.push("--robust");
+            }
+            let output = cli(&args);
+            let text = stdout(&output);
+            let lines: Vec<_> = text.lines().collect();
+            assert!(lines[0].starts_with("HIT 1 "), "{lines:?}");
+            assert!(lines[1].starts_with("HIT 1 "), "{lines:?}");
+        }
+    }
+}

@@ -1,0 +1,72 @@
+//! The shared test meshes (`../shared/meshes/`, beside the repository) load with the expected
+//! triangle counts, and every BVH agrees with brute force on a few thousand random rays.
+
+#![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
+
+use accelviz_core::bvh::{
+    BinnedSah, BuildParams, Builder, SweepSah, TraversalStack, traverse, validate,
+};
+use accelviz_core::{NoObserver, PrimitiveSet, TraceOptions, TriangleSet, Vector3, brute_force};
+use accelviz_scene::Mesh;
+use accelviz_scene::obj::load_obj;
+use accelviz_scene::rays::random_rays;
+use glam::{DVec3, Vec3};
+
+fn shared_mesh(name: &str) -> Mesh {
+    let path = format!(
+        "{}/../../../shared/meshes/{name}",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    load_obj(&path)
+        .unwrap_or_else(|error| panic!("the shared meshes sit beside the repository: {error}"))
+}
+
+fn agree<V: Vector3>(mesh: &Mesh, ray_count: usize, options: TraceOptions) -> usize {
+    let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
+    let bounds = triangles.all_bounds();
+    let trees = [
+        BinnedSah::default().build(&bounds, &BuildParams::default()),
+        SweepSah.build(&bounds, &BuildParams::default()),
+    ];
+    for bvh in &trees {
+        validate(bvh, &bounds).unwrap();
+    }
+    let mut stack = TraversalStack::new();
+    let mut hits = 0;
+    for spec in random_rays(&mesh.bounds(), ray_count, 3) {
+        let ray = spec.to_ray::<V>().unwrap();
+        let expected = brute_force(&triangles, &ray, &options, &mut NoObserver);
+        hits += expected.is_some() as usize;
+        for bvh in &trees {
+            let got = traverse(bvh, &triangles, &ray, &options, &mut stack, &mut NoObserver);
+            assert_eq!(got, expected, "{}: {ray:?}", mesh.name);
+        }
+    }
+    hits
+}
+
+#[test]
+fn shared_meshes_load_and_agree_with_brute_force() {
+    for (name, triangle_count, rays) in [
+        ("suzanne.obj", 968, 4000),
+        ("rocker-arm.obj", 20_088, 2000),
+        ("stanford-bunny.obj", 69_451, 1000),
+        ("ogre.obj", 124_008, 1000),
+    ] {
+        let mesh = shared_mesh(name);
+        assert_eq!(mesh.triangles.len(), triangle_count, "{name}");
+        let fast = agree::<Vec3>(&mesh, rays, TraceOptions::default());
+        let robust = agree::<DVec3>(&mesh, rays, TraceOptions::default().with_robust(true));
+        // Random rays aim inside the box: a good share hit the mesh.
+        assert!(
+            fast > rays / 10 && robust > rays / 10,
+            "{name}: {fast} and {robust} hits"
+        );
+    }
+    let ogre = TriangleSet::<Vec3>::from_f64(&shared_mesh("ogre.obj").triangles);
+    assert_eq!(
+        ogre.degenerate_count(),
+        4,
+        "the ogre's README lists 4 zero-area triangles"
+    );
+}
