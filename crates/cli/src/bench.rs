@@ -5,7 +5,7 @@ use std::time::Instant;
 use accelviz_core::bvh::TraversalStack;
 use accelviz_core::{Counters, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
-use accelviz_scene::rays::{RaySpec, random_rays};
+use accelviz_scene::rays::{RaySpec, camera_rays, parse_resolution, random_rays};
 use anyhow::{Result, bail};
 use clap::Args;
 
@@ -25,8 +25,12 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 100_000, conflicts_with = "rays_file")]
     rays: usize,
     /// Trace the rays of this file (the `query` format) instead.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "camera")]
     rays_file: Option<String>,
+    /// Trace the primary rays of a WIDTHxHEIGHT pinhole camera looking at the mesh instead
+    /// (coherent rays, as a renderer traces them).
+    #[arg(long)]
+    camera: Option<String>,
     /// Seed of the random rays.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -48,6 +52,7 @@ impl BenchArgs {
             accel: "bvh:middle,bvh:median,bvh:sah-binned,bvh:sah-sweep".into(),
             rays: 100_000,
             rays_file: None,
+            camera: None,
             seed: 1,
             trace: TraceArgs {
                 order: crate::OrderArg::NearFirst,
@@ -81,9 +86,16 @@ pub fn run(args: &BenchArgs) -> Result<String> {
         bail!("--threads must be at least 1");
     }
     let mesh = load_mesh(&args.mesh)?;
-    let (rays, ray_source) = match &args.rays_file {
-        Some(path) => (accelviz_scene::rays::load_rays(path)?, path.clone()),
-        None => (
+    let (rays, ray_source) = match (&args.rays_file, &args.camera) {
+        (Some(path), _) => (accelviz_scene::rays::load_rays(path)?, path.clone()),
+        (None, Some(camera)) => {
+            let (width, height) = parse_resolution(camera).map_err(|error| anyhow::anyhow!("--camera: {error}"))?;
+            (
+                camera_rays(&mesh.bounds(), width, height),
+                format!("camera:{width}x{height}"),
+            )
+        }
+        (None, None) => (
             random_rays(&mesh.bounds(), args.rays, args.seed),
             format!("random:{}:seed{}", args.rays, args.seed),
         ),

@@ -141,6 +141,17 @@ pub fn random_rays(bounds: &Aabb<DVec3>, count: usize, seed: u64) -> Vec<RaySpec
     rays
 }
 
+/// Parses a camera resolution `WIDTHxHEIGHT` (e.g. `512x512`).
+pub fn parse_resolution(text: &str) -> Result<(usize, usize), String> {
+    let parsed = text
+        .split_once('x')
+        .and_then(|(width, height)| Some((width.parse().ok()?, height.parse().ok()?)));
+    match parsed {
+        Some((width, height)) if width > 0 && height > 0 => Ok((width, height)),
+        _ => Err(format!("'{text}' is not WIDTHxHEIGHT, e.g. 512x512")),
+    }
+}
+
 /// Primary rays of a pinhole camera with a 45° vertical field of view, one through the centre
 /// of each of `width × height` pixels (row by row from the top left). The camera looks at the
 /// box's centre from the +z side, slightly raised, from far enough that the box fills the
