@@ -89,7 +89,8 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     let (rays, ray_source) = match (&args.rays_file, &args.camera) {
         (Some(path), _) => (accelviz_scene::rays::load_rays(path)?, path.clone()),
         (None, Some(camera)) => {
-            let (width, height) = parse_resolution(camera).map_err(|error| anyhow::anyhow!("--camera: {error}"))?;
+            let (width, height) =
+                parse_resolution(camera).map_err(|error| anyhow::anyhow!("--camera: {error}"))?;
             (
                 camera_rays(&mesh.bounds(), width, height),
                 format!("camera:{width}x{height}"),

@@ -1,0 +1,297 @@
+//! `accelviz-peers`: times established BVH libraries from crates.io on exactly the triangles
+//! and rays that `accelviz-cli bench` traces (same mesh loader, same seeded ray generator,
+//! same ray files), single-threaded, and prints the same figures. Benchmark only: the core,
+//! the scene crate and the app never depend on these libraries.
+//!
+//! - `obvhs` BVH2, built with PLOC (Meister & Bittner 2018) at its `medium_build` preset
+//!   (PLOC + reinsertion + leaf collapsing), traced with its BVH2 traversal; the triangle test
+//!   is obvhs's own, reached through `primitive_indices` as in its examples.
+//! - `bvh` (svenstaro): its SAH build; its nearest-first iterator yields the candidate
+//!   triangles, each tested with Möller–Trumbore (the library's own test culls back faces).
+//! - `parry3d`: `TriMesh::new` (builds its BVH) and `cast_local_ray_and_get_normal`.
+
+use std::time::{Duration, Instant};
+
+use accelviz_scene::Mesh;
+use accelviz_scene::rays::{RaySpec, camera_rays, parse_resolution, random_rays};
+use anyhow::{Context, Result, bail};
+use clap::Parser;
+
+/// Established BVH libraries on accelviz's triangles and rays.
+#[derive(Parser, Debug)]
+#[command(name = "accelviz-peers", version, about)]
+struct Args {
+    /// An OBJ file, or builtin:NAME.
+    #[arg(long, default_value = "builtin:lumpy-sphere")]
+    mesh: String,
+    /// How many random rays (the generator of `accelviz-cli bench`).
+    #[arg(long, default_value_t = 100_000)]
+    rays: usize,
+    /// Seed of the random rays.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Trace the rays of this file instead.
+    #[arg(long, conflicts_with = "camera")]
+    rays_file: Option<String>,
+    /// Trace the primary rays of a WIDTHxHEIGHT camera instead (as `accelviz-cli bench --camera`).
+    #[arg(long)]
+    camera: Option<String>,
+    /// Which peers, comma-separated: obvhs, bvh, parry3d.
+    #[arg(long, default_value = "obvhs,bvh,parry3d")]
+    peers: String,
+    /// One JSON object per peer, one per line.
+    #[arg(long)]
+    json: bool,
+}
+
+struct Figures {
+    name: &'static str,
+    build_ms: f64,
+    trace_ms: f64,
+    hits: usize,
+}
+
+fn load_mesh(mesh: &str) -> Result<Mesh> {
+    if let Some(name) = mesh.strip_prefix("builtin:") {
+        return accelviz_scene::builtin::by_name(name)
+            .with_context(|| format!("unknown built-in mesh '{name}'"));
+    }
+    Ok(accelviz_scene::obj::load_obj(mesh)?)
+}
+
+fn to_f32(v: [f64; 3]) -> [f32; 3] {
+    v.map(|x| x as f32)
+}
+
+fn moller_trumbore(origin: glam::Vec3, direction: glam::Vec3, [a, b, c]: &[glam::Vec3; 3]) -> f32 {
+    let edge1 = *b - *a;
+    let edge2 = *c - *a;
+    let p = direction.cross(edge2);
+    let det = edge1.dot(p);
+    if det == 0.0 {
+        return f32::INFINITY;
+    }
+    let inv_det = 1.0 / det;
+    let s = origin - *a;
+    let u = s.dot(p) * inv_det;
+    if !(0.0..=1.0).contains(&u) {
+        return f32::INFINITY;
+    }
+    let q = s.cross(edge1);
+    let v = direction.dot(q) * inv_det;
+    if v < 0.0 || u + v > 1.0 {
+        return f32::INFINITY;
+    }
+    let t = edge2.dot(q) * inv_det;
+    if t >= 0.0 { t } else { f32::INFINITY }
+}
+
+fn run_obvhs(mesh: &Mesh, rays: &[RaySpec]) -> Figures {
+    use obvhs::ray::{Ray, RayHit};
+    let triangles: Vec<obvhs::triangle::Triangle> = mesh
+        .triangles
+        .iter()
+        .map(|t| obvhs::triangle::Triangle {
+            v0: glam::Vec3A::from_array(to_f32(t[0])),
+            v1: glam::Vec3A::from_array(to_f32(t[1])),
+            v2: glam::Vec3A::from_array(to_f32(t[2])),
+        })
+        .collect();
+    let start = Instant::now();
+    let bvh = obvhs::bvh2::builder::build_bvh2_from_tris(
+        &triangles,
+        obvhs::BvhBuildParams::medium_build(),
+        &mut Duration::default(),
+    );
+    let build_ms = start.elapsed().as_secs_f64() * 1e3;
+    let rays: Vec<Ray> = rays
+        .iter()
+        .map(|r| {
+            Ray::new(
+                glam::Vec3A::from_array(to_f32(r.origin)),
+                glam::Vec3A::from_array(to_f32(r.direction)),
+                r.t_min as f32,
+                r.t_max as f32,
+            )
+        })
+        .collect();
+    let start = Instant::now();
+    let mut hits = 0;
+    for ray in &rays {
+        let mut hit = RayHit::none();
+        if bvh.ray_traverse(*ray, &mut hit, |ray, id| {
+            triangles[bvh.primitive_indices[id] as usize].intersect(ray)
+        }) {
+            hits += 1;
+        }
+    }
+    Figures {
+        name: "obvhs:bvh2-ploc-medium",
+        build_ms,
+        trace_ms: start.elapsed().as_secs_f64() * 1e3,
+        hits,
+    }
+}
+
+struct BvhShape {
+    corners: [glam::Vec3; 3],
+    node_index: usize,
+}
+
+impl bvh::aabb::Bounded<f32, 3> for BvhShape {
+    fn aabb(&self) -> bvh::aabb::Aabb<f32, 3> {
+        let min = self.corners[0].min(self.corners[1]).min(self.corners[2]);
+        let max = self.corners[0].max(self.corners[1]).max(self.corners[2]);
+        bvh::aabb::Aabb::with_bounds(
+            nalgebra::Point3::new(min.x, min.y, min.z),
+            nalgebra::Point3::new(max.x, max.y, max.z),
+        )
+    }
+}
+
+impl bvh::bounding_hierarchy::BHShape<f32, 3> for BvhShape {
+    fn set_bh_node_index(&mut self, index: usize) {
+        self.node_index = index;
+    }
+    fn bh_node_index(&self) -> usize {
+        self.node_index
+    }
+}
+
+fn run_bvh(mesh: &Mesh, rays: &[RaySpec]) -> Figures {
+    let mut shapes: Vec<BvhShape> = mesh
+        .triangles
+        .iter()
+        .map(|t| BvhShape {
+            corners: t.map(|c| glam::Vec3::from_array(to_f32(c))),
+            node_index: 0,
+        })
+        .collect();
+    let start = Instant::now();
+    let tree = bvh::bvh::Bvh::build(&mut shapes);
+    let build_ms = start.elapsed().as_secs_f64() * 1e3;
+    let start = Instant::now();
+    let mut hits = 0;
+    for r in rays {
+        let (o, d) = (to_f32(r.origin), to_f32(r.direction));
+        let ray = bvh::ray::Ray::new(
+            nalgebra::Point3::new(o[0], o[1], o[2]),
+            nalgebra::Vector3::new(d[0], d[1], d[2]),
+        );
+        let (origin, direction) = (glam::Vec3::from_array(o), glam::Vec3::from_array(d));
+        let mut closest = r.t_max as f32;
+        let mut found = false;
+        for shape in tree.nearest_traverse_iterator(&ray, &shapes) {
+            let t = moller_trumbore(origin, direction, &shape.corners);
+            if t.is_finite() && t <= closest {
+                closest = t;
+                found = true;
+            }
+        }
+        hits += found as usize;
+    }
+    Figures {
+        name: "bvh:sah",
+        build_ms,
+        trace_ms: start.elapsed().as_secs_f64() * 1e3,
+        hits,
+    }
+}
+
+fn run_parry(mesh: &Mesh, rays: &[RaySpec]) -> Result<Figures> {
+    use parry3d::query::RayCast;
+    let vertices: Vec<parry3d::math::Vector> = mesh
+        .triangles
+        .iter()
+        .flatten()
+        .map(|&c| {
+            let c = to_f32(c);
+            parry3d::math::Vector::new(c[0], c[1], c[2])
+        })
+        .collect();
+    let indices: Vec<[u32; 3]> = (0..mesh.triangles.len() as u32)
+        .map(|i| [3 * i, 3 * i + 1, 3 * i + 2])
+        .collect();
+    let start = Instant::now();
+    let trimesh = parry3d::shape::TriMesh::new(vertices, indices)
+        .map_err(|error| anyhow::anyhow!("parry3d refused the mesh: {error:?}"))?;
+    let build_ms = start.elapsed().as_secs_f64() * 1e3;
+    let start = Instant::now();
+    let mut hits = 0;
+    for r in rays {
+        let (o, d) = (to_f32(r.origin), to_f32(r.direction));
+        let ray = parry3d::query::Ray::new(
+            parry3d::math::Vector::new(o[0], o[1], o[2]),
+            parry3d::math::Vector::new(d[0], d[1], d[2]),
+        );
+        if trimesh
+            .cast_local_ray_and_get_normal(&ray, r.t_max.min(f32::MAX as f64) as f32, false)
+            .is_some()
+        {
+            hits += 1;
+        }
+    }
+    Ok(Figures {
+        name: "parry3d:trimesh",
+        build_ms,
+        trace_ms: start.elapsed().as_secs_f64() * 1e3,
+        hits,
+    })
+}
+
+fn main() -> std::process::ExitCode {
+    match run(Args::parse()) {
+        Ok(text) => {
+            print!("{text}");
+            std::process::ExitCode::SUCCESS
+        }
+        Err(error) => {
+            eprintln!("accelviz-peers: error: {error:#}");
+            std::process::ExitCode::from(2)
+        }
+    }
+}
+
+fn run(args: Args) -> Result<String> {
+    let mesh = load_mesh(&args.mesh)?;
+    let (rays, ray_source) = match (&args.rays_file, &args.camera) {
+        (Some(path), _) => (accelviz_scene::rays::load_rays(path)?, path.clone()),
+        (None, Some(camera)) => {
+            let (width, height) =
+                parse_resolution(camera).map_err(|error| anyhow::anyhow!("--camera: {error}"))?;
+            (
+                camera_rays(&mesh.bounds(), width, height),
+                format!("camera:{width}x{height}"),
+            )
+        }
+        (None, None) => (
+            random_rays(&mesh.bounds(), args.rays, args.seed),
+            format!("random:{}:seed{}", args.rays, args.seed),
+        ),
+    };
+    let mut figures = Vec::new();
+    for peer in args.peers.split(',') {
+        figures.push(match peer.trim() {
+            "obvhs" => run_obvhs(&mesh, &rays),
+            "bvh" => run_bvh(&mesh, &rays),
+            "parry3d" => run_parry(&mesh, &rays)?,
+            other => bail!("unknown peer '{other}'; peers are obvhs, bvh, parry3d"),
+        });
+    }
+    let mut out = String::new();
+    for f in &figures {
+        let mrays = rays.len() as f64 / (f.trace_ms * 1e3);
+        if args.json {
+            out.push_str(&format!(
+                "{{\"accel\":\"{}\",\"mesh\":\"{}\",\"triangles\":{},\"build_ms\":{},\"rays\":{},\"ray_source\":\"{ray_source}\",\"trace_ms\":{},\"mrays_per_s\":{mrays},\"hits\":{},\"threads\":1}}\n",
+                f.name, mesh.name, mesh.triangles.len(), f.build_ms, rays.len(), f.trace_ms, f.hits
+            ));
+        } else {
+            out.push_str(&format!(
+                "{:<24} build {:>9.2} ms  trace {:>9.2} ms  {:>7.3} Mrays/s  {} hits of {} rays ({ray_source})\n",
+                f.name, f.build_ms, f.trace_ms, mrays, f.hits, rays.len()
+            ));
+        }
+    }
+    Ok(out)
+}
