@@ -123,6 +123,18 @@ impl<V: Vector> Aabb<V> {
         }
     }
 
+    /// Half of [`Aabb::area`], without the check for the empty box: for the inner loops of
+    /// builders, on boxes known to hold something. Ratios of half areas are ratios of areas.
+    #[inline(always)]
+    pub fn half_area_nonempty(&self) -> V::Scalar {
+        let extent = self.extent();
+        if V::DIM == 2 {
+            extent[0] + extent[1]
+        } else {
+            extent[0] * extent[1] + extent[1] * extent[2] + extent[2] * extent[0]
+        }
+    }
+
     /// The area in 2D, the volume in 3D. Zero for the empty box.
     pub fn measure(&self) -> V::Scalar {
         if self.is_empty() {

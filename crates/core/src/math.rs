@@ -49,6 +49,10 @@ pub trait Real:
     fn to_f64(self) -> f64;
     /// Converts a count.
     fn from_usize(value: usize) -> Self;
+    /// Truncates towards zero to a small count: negative and NaN give 0, and values beyond
+    /// `i32::MAX` saturate there (a 32-bit conversion is a single instruction; bin indices
+    /// need no more).
+    fn to_small_usize(self) -> usize;
     /// |x|.
     fn abs(self) -> Self;
     /// √x.
@@ -96,6 +100,10 @@ macro_rules! impl_real {
             #[inline(always)]
             fn from_usize(value: usize) -> Self {
                 value as $t
+            }
+            #[inline(always)]
+            fn to_small_usize(self) -> usize {
+                (self as i32).max(0) as usize
             }
             #[inline(always)]
             fn abs(self) -> Self {
@@ -161,9 +169,10 @@ pub trait Vector:
     const DIM: usize;
     /// Every component set to `value`.
     fn splat(value: Self::Scalar) -> Self;
-    /// Component-wise minimum.
+    /// Component-wise minimum (unspecified where a component is NaN: one compare and select,
+    /// the inner loop of every box union).
     fn min(self, other: Self) -> Self;
-    /// Component-wise maximum.
+    /// Component-wise maximum (unspecified where a component is NaN).
     fn max(self, other: Self) -> Self;
     /// Dot product.
     fn dot(self, other: Self) -> Self::Scalar;
@@ -199,11 +208,11 @@ macro_rules! impl_vector {
             }
             #[inline(always)]
             fn min(self, other: Self) -> Self {
-                <$v>::min(self, other)
+                <$v>::select(self.cmplt(other), self, other)
             }
             #[inline(always)]
             fn max(self, other: Self) -> Self {
-                <$v>::max(self, other)
+                <$v>::select(self.cmpgt(other), self, other)
             }
             #[inline(always)]
             fn dot(self, other: Self) -> $s {

@@ -42,13 +42,26 @@ impl SahCost {
         right_area: f64,
         right_count: usize,
     ) -> f64 {
+        self.split_cost_weighted(
+            parent_area,
+            left_area * left_count as f64 + right_area * right_count as f64,
+            left_count + right_count,
+        )
+    }
+
+    /// The same cost from `A_L·N_L + A_R·N_R` (`area_weighted_count`): within one node only
+    /// this sum varies between candidates, so builders minimise it and cost the winner.
+    #[inline]
+    pub fn split_cost_weighted(
+        &self,
+        parent_area: f64,
+        area_weighted_count: f64,
+        count: usize,
+    ) -> f64 {
         if parent_area <= 0.0 {
             // A point-sized node: every ray that reaches it reaches both children.
-            return self.traversal_cost
-                + (left_count + right_count) as f64 * self.intersection_cost;
+            return self.traversal_cost + count as f64 * self.intersection_cost;
         }
-        self.traversal_cost
-            + (left_area * left_count as f64 + right_area * right_count as f64) / parent_area
-                * self.intersection_cost
+        self.traversal_cost + area_weighted_count / parent_area * self.intersection_cost
     }
 }

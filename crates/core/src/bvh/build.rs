@@ -34,15 +34,33 @@ pub trait Builder {
     fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> Bvh<V>;
 }
 
+/// A split of the range `begin..end` into `begin..mid` and `mid..end`, with what the
+/// splitter already knows of each child (its box, and its own per-node notes).
+pub(crate) struct Split<V: Vector, Info> {
+    pub(crate) mid: usize,
+    pub(crate) left: (Aabb<V>, Info),
+    pub(crate) right: (Aabb<V>, Info),
+}
+
 /// How a builder chooses splits. It owns the order of the primitives; a node is a range
 /// `begin..end` of that order.
 pub(crate) trait RangeSplitter<V: Vector> {
-    /// The box around the primitives in `begin..end`.
-    fn range_bounds(&self, begin: usize, end: usize) -> Aabb<V>;
+    /// What a splitter learns about a child while splitting its parent and wants back when it
+    /// splits the child (e.g. the box around the child's centroids).
+    type NodeInfo;
 
-    /// Reorders `begin..end` so that the left child is `begin..mid`, and returns `mid`
-    /// (`begin < mid < end`), or `None` to make a leaf.
-    fn split(&mut self, begin: usize, end: usize, node_bounds: &Aabb<V>) -> Option<usize>;
+    /// The root: the box around every primitive, and its notes.
+    fn root(&self) -> (Aabb<V>, Self::NodeInfo);
+
+    /// Reorders `begin..end` so that the left child is `begin..mid` (`begin < mid < end`), or
+    /// returns `None` to make a leaf.
+    fn split(
+        &mut self,
+        begin: usize,
+        end: usize,
+        node_bounds: &Aabb<V>,
+        info: &Self::NodeInfo,
+    ) -> Option<Split<V, Self::NodeInfo>>;
 
     /// The final order of the primitives: the BVH's `primitive_indices`.
     fn into_order(self) -> Vec<u32>;
@@ -58,18 +76,21 @@ pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>>(
         return Bvh::default();
     }
     let mut nodes = Vec::with_capacity(2 * primitive_count);
+    let (root_bounds, root_info) = splitter.root();
     nodes.push(BvhNode {
-        bounds: splitter.range_bounds(0, primitive_count),
+        bounds: root_bounds,
         first: 0,
         count: primitive_count as u32,
     });
-    let mut work = vec![(0usize, 0usize, primitive_count)];
-    while let Some((node_index, begin, end)) = work.pop() {
+    let mut work = vec![(0usize, 0usize, primitive_count, root_info)];
+    while let Some((node_index, begin, end, info)) = work.pop() {
         let node_bounds = nodes[node_index].bounds;
-        let Some(mid) = (end - begin > 1)
-            .then(|| splitter.split(begin, end, &node_bounds))
-            .flatten()
-        else {
+        let split = if end - begin > 1 {
+            splitter.split(begin, end, &node_bounds, &info)
+        } else {
+            None
+        };
+        let Some(Split { mid, left, right }) = split else {
             nodes[node_index].first = begin as u32;
             nodes[node_index].count = (end - begin) as u32;
             continue;
@@ -78,19 +99,19 @@ pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>>(
             begin < mid && mid < end,
             "a splitter returned an empty side"
         );
-        let left = nodes.len();
-        nodes[node_index].first = left as u32;
+        let left_index = nodes.len();
+        nodes[node_index].first = left_index as u32;
         nodes[node_index].count = 0;
-        for (child_begin, child_end) in [(begin, mid), (mid, end)] {
+        for (bounds, child_begin, child_end) in [(left.0, begin, mid), (right.0, mid, end)] {
             nodes.push(BvhNode {
-                bounds: splitter.range_bounds(child_begin, child_end),
+                bounds,
                 first: child_begin as u32,
                 count: (child_end - child_begin) as u32,
             });
         }
         // Right first on the work list, so the left subtree is built (and laid out) first.
-        work.push((left + 1, mid, end));
-        work.push((left, begin, mid));
+        work.push((left_index + 1, mid, end, right.1));
+        work.push((left_index, begin, mid, left.1));
     }
     Bvh {
         nodes,
@@ -130,6 +151,15 @@ impl<'a, V: Vector> IndexedBoxes<'a, V> {
             .fold(Aabb::empty(), |acc, &index| {
                 acc.grown(self.centroids[index as usize])
             })
+    }
+
+    /// A split at `mid` with both children's boxes computed from their primitives.
+    pub(crate) fn split_at(&self, begin: usize, mid: usize, end: usize) -> Split<V, ()> {
+        Split {
+            mid,
+            left: (self.range_bounds(begin, mid), ()),
+            right: (self.range_bounds(mid, end), ()),
+        }
     }
 
     /// Puts the primitives whose centroid satisfies `goes_left` first; returns where they end.

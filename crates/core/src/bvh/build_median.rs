@@ -2,7 +2,7 @@
 //! primitive counts (equal cost) and pays no attention to how likely they are to be hit.
 
 use crate::aabb::Aabb;
-use crate::bvh::build::{BuildParams, Builder, IndexedBoxes, RangeSplitter, build_top_down};
+use crate::bvh::build::{BuildParams, Builder, IndexedBoxes, RangeSplitter, Split, build_top_down};
 use crate::bvh::tree::Bvh;
 use crate::math::Vector;
 
@@ -17,17 +17,26 @@ struct Splitter<'a, V: Vector> {
 }
 
 impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
-    fn range_bounds(&self, begin: usize, end: usize) -> Aabb<V> {
-        self.boxes.range_bounds(begin, end)
+    type NodeInfo = ();
+
+    fn root(&self) -> (Aabb<V>, ()) {
+        (self.boxes.range_bounds(0, self.boxes.order.len()), ())
     }
 
-    fn split(&mut self, begin: usize, end: usize, _node_bounds: &Aabb<V>) -> Option<usize> {
+    fn split(
+        &mut self,
+        begin: usize,
+        end: usize,
+        _node_bounds: &Aabb<V>,
+        _info: &(),
+    ) -> Option<Split<V, ()>> {
         if end - begin <= self.max_leaf_size {
             return None;
         }
         // Partial sort (quickselect) puts the lower half first in linear time.
         let axis = self.boxes.centroid_bounds(begin, end).largest_axis();
-        Some(self.boxes.median_split(begin, end, axis))
+        let median = self.boxes.median_split(begin, end, axis);
+        Some(self.boxes.split_at(begin, median, end))
     }
 
     fn into_order(self) -> Vec<u32> {

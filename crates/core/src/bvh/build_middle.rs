@@ -2,7 +2,7 @@
 //! likely to be hit and pays no attention to what they cost.
 
 use crate::aabb::Aabb;
-use crate::bvh::build::{BuildParams, Builder, IndexedBoxes, RangeSplitter, build_top_down};
+use crate::bvh::build::{BuildParams, Builder, IndexedBoxes, RangeSplitter, Split, build_top_down};
 use crate::bvh::tree::Bvh;
 use crate::math::Vector;
 
@@ -20,11 +20,19 @@ struct Splitter<'a, V: Vector> {
 }
 
 impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
-    fn range_bounds(&self, begin: usize, end: usize) -> Aabb<V> {
-        self.boxes.range_bounds(begin, end)
+    type NodeInfo = ();
+
+    fn root(&self) -> (Aabb<V>, ()) {
+        (self.boxes.range_bounds(0, self.boxes.order.len()), ())
     }
 
-    fn split(&mut self, begin: usize, end: usize, _node_bounds: &Aabb<V>) -> Option<usize> {
+    fn split(
+        &mut self,
+        begin: usize,
+        end: usize,
+        _node_bounds: &Aabb<V>,
+        _info: &(),
+    ) -> Option<Split<V, ()>> {
         if end - begin <= self.max_leaf_size {
             return None;
         }
@@ -37,9 +45,10 @@ impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
             .partition(begin, end, |centroid| centroid[axis] < middle);
         if mid == begin || mid == end {
             // Every centroid is on one side of the middle: they coincide on this axis.
-            return Some(self.boxes.median_split(begin, end, axis));
+            let median = self.boxes.median_split(begin, end, axis);
+            return Some(self.boxes.split_at(begin, median, end));
         }
-        Some(mid)
+        Some(self.boxes.split_at(begin, mid, end))
     }
 
     fn into_order(self) -> Vec<u32> {

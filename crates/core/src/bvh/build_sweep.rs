@@ -8,7 +8,7 @@
 //! level.
 
 use crate::aabb::Aabb;
-use crate::bvh::build::{BuildParams, Builder, RangeSplitter, build_top_down};
+use crate::bvh::build::{BuildParams, Builder, RangeSplitter, Split, build_top_down};
 use crate::bvh::tree::Bvh;
 use crate::math::{Real, Vector};
 use crate::sah::SahCost;
@@ -28,16 +28,30 @@ struct Splitter<'a, V: Vector> {
     cost: SahCost,
 }
 
-impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
-    fn range_bounds(&self, begin: usize, end: usize) -> Aabb<V> {
-        self.sorted[0][begin..end]
+impl<V: Vector> Splitter<'_, V> {
+    fn range_bounds(&self, axis: usize, begin: usize, end: usize) -> Aabb<V> {
+        self.sorted[axis][begin..end]
             .iter()
             .fold(Aabb::empty(), |acc, &index| {
                 acc.union(self.bounds[index as usize])
             })
     }
+}
 
-    fn split(&mut self, begin: usize, end: usize, node_bounds: &Aabb<V>) -> Option<usize> {
+impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
+    type NodeInfo = ();
+
+    fn root(&self) -> (Aabb<V>, ()) {
+        (self.range_bounds(0, 0, self.bounds.len()), ())
+    }
+
+    fn split(
+        &mut self,
+        begin: usize,
+        end: usize,
+        node_bounds: &Aabb<V>,
+        _info: &(),
+    ) -> Option<Split<V, ()>> {
         let count = end - begin;
         let parent_area = node_bounds.area().to_f64();
         let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, left count)
@@ -93,7 +107,11 @@ impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
             }
             list[left_end..].copy_from_slice(&self.scratch);
         }
-        Some(mid)
+        Some(Split {
+            mid,
+            left: (self.range_bounds(axis, begin, mid), ()),
+            right: (self.range_bounds(axis, mid, end), ()),
+        })
     }
 
     fn into_order(mut self) -> Vec<u32> {

@@ -27,10 +27,10 @@ impl<S: Real> TraversalStack<S> {
 
 /// Traces `ray` through `bvh` over `primitives`.
 ///
-/// Test the root's box; then, from a stack of nodes the ray enters: skip a node that starts
-/// beyond the closest hit so far (a cull); test a leaf's primitives, shrinking the interval at
-/// each hit; test both children's boxes of an interior node and push the hit ones so that the
-/// child chosen by [`Order`] comes off the stack first.
+/// Test the root's box; then, node by node: skip a node that starts beyond the closest hit so
+/// far (a cull); test a leaf's primitives, shrinking the interval at each hit; test both
+/// children's boxes of an interior node, visit the one chosen by [`Order`] next and push the
+/// other. When a subtree is done, the next node comes off the stack.
 pub fn traverse<V, P, O>(
     bvh: &Bvh<V>,
     primitives: &P,
@@ -57,8 +57,9 @@ where
     let nodes = bvh.nodes.as_slice();
     let entries = &mut stack.entries;
     entries.clear();
-    entries.push((0, t_enter));
-    while let Some((node_index, t_enter)) = entries.pop() {
+    // The node being visited and where the ray enters it; the far children wait on the stack.
+    let mut current = Some((0u32, t_enter));
+    while let Some((node_index, t_enter)) = current.take().or_else(|| entries.pop()) {
         // A hit found since this node was pushed may already be nearer than its box.
         if t_enter > t_closest {
             observer.node_culled(node_index, t_enter, t_closest);
@@ -93,22 +94,22 @@ where
         let right_hit = right_enter <= right_exit;
         observer.box_tested(left, left_enter, left_exit, left_hit);
         observer.box_tested(right, right_enter, right_exit, right_hit);
-        match (left_hit, right_hit) {
+        current = match (left_hit, right_hit) {
             (true, true) => {
-                // Push the child to visit second first, so the other comes off the stack next.
+                // Visit one child next and keep the other on the stack for later.
                 let right_first = options.order == Order::NearFirst && right_enter < left_enter;
                 if right_first {
                     entries.push((left, left_enter));
-                    entries.push((right, right_enter));
+                    Some((right, right_enter))
                 } else {
                     entries.push((right, right_enter));
-                    entries.push((left, left_enter));
+                    Some((left, left_enter))
                 }
             }
-            (true, false) => entries.push((left, left_enter)),
-            (false, true) => entries.push((right, right_enter)),
-            (false, false) => {}
-        }
+            (true, false) => Some((left, left_enter)),
+            (false, true) => Some((right, right_enter)),
+            (false, false) => None,
+        };
     }
     closest
 }

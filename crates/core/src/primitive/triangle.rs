@@ -71,8 +71,19 @@ pub struct TriangleRay<V: Vector3> {
 }
 
 impl<V: Vector3> TriangleRay<V> {
-    /// Precomputes the ray's permutation and shear (Woop, Benthin, Wald 2013, §3).
+    /// Precomputes the ray's permutation and shear (Woop, Benthin, Wald 2013, §3) when the
+    /// test is watertight.
     pub fn new(ray: &Ray<V>, test: HitTest) -> Self {
+        if test == HitTest::Fast {
+            return Self {
+                ray: *ray,
+                test,
+                axis_z: 2,
+                axis_x: 0,
+                axis_y: 1,
+                shear: [V::Scalar::ZERO; 3],
+            };
+        }
         let d = ray.direction;
         let mut axis_z = 0;
         for axis in 1..3 {
