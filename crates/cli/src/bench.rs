@@ -2,7 +2,7 @@
 
 use std::time::Instant;
 
-use accelviz_core::bvh::TraversalStack;
+use accelviz_core::bvh::{BuildParams, TraversalStack};
 use accelviz_core::{Counters, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
 use accelviz_scene::rays::{RaySpec, camera_rays, parse_resolution, random_rays};
@@ -11,7 +11,7 @@ use clap::Args;
 
 use crate::json::JsonObject;
 use crate::spec::{Accel, AccelSpec};
-use crate::{Precision, TraceArgs, convert_rays, load_mesh};
+use crate::{BuildArgs, Precision, TraceArgs, convert_rays, load_mesh};
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
@@ -36,6 +36,8 @@ pub struct BenchArgs {
     seed: u64,
     #[command(flatten)]
     trace: TraceArgs,
+    #[command(flatten)]
+    build: BuildArgs,
     /// Build and trace this many times and report the fastest of each (the run least
     /// disturbed by the rest of the machine).
     #[arg(long, default_value_t = 1)]
@@ -64,6 +66,7 @@ impl BenchArgs {
                 precision: Precision::F32,
                 robust: false,
             },
+            build: BuildArgs::default(),
             threads: 1,
             json: false,
         }
@@ -87,6 +90,7 @@ struct Figures {
 
 pub fn run(args: &BenchArgs) -> Result<String> {
     let specs = AccelSpec::parse_list(&args.accel)?;
+    let params = args.build.params()?;
     if args.threads == 0 {
         bail!("--threads must be at least 1");
     }
@@ -107,8 +111,8 @@ pub fn run(args: &BenchArgs) -> Result<String> {
         ),
     };
     let figures = match args.trace.precision {
-        Precision::F32 => measure::<glam::Vec3>(&specs, &mesh, &rays, &ray_source, args)?,
-        Precision::F64 => measure::<glam::DVec3>(&specs, &mesh, &rays, &ray_source, args)?,
+        Precision::F32 => measure::<glam::Vec3>(&specs, &params, &mesh, &rays, &ray_source, args)?,
+        Precision::F64 => measure::<glam::DVec3>(&specs, &params, &mesh, &rays, &ray_source, args)?,
     };
     let options = args.trace.options();
     let mut output = String::new();
@@ -195,6 +199,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
 
 fn measure<V: Vector3>(
     specs: &[AccelSpec],
+    params: &BuildParams,
     mesh: &Mesh,
     ray_specs: &[RaySpec],
     ray_source: &str,
@@ -206,14 +211,14 @@ fn measure<V: Vector3>(
     let mut all = Vec::with_capacity(specs.len());
     let repeat = args.repeat.max(1);
     for spec in specs {
-        let (mut accel, mut build_ms) = spec.build(&triangles);
+        let (mut accel, mut build_ms) = spec.build(&triangles, params);
         for _ in 1..repeat {
-            let (again, again_ms) = spec.build(&triangles);
+            let (again, again_ms) = spec.build(&triangles, params);
             if again_ms < build_ms {
                 (accel, build_ms) = (again, again_ms);
             }
         }
-        let stats = accel.stats(triangles.triangles().len());
+        let stats = accel.stats(triangles.triangles().len(), &params.cost);
         // Time with the observer that does nothing; count in a second, untimed pass.
         let mut trace_ms = f64::INFINITY;
         let mut hits = 0;

@@ -11,7 +11,7 @@ mod spec;
 
 use std::process::ExitCode;
 
-use accelviz_core::bvh::TraversalStack;
+use accelviz_core::bvh::{BuildParams, TraversalStack};
 use accelviz_core::{NoObserver, Order, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
 use accelviz_scene::rays::RaySpec;
@@ -72,6 +72,51 @@ pub struct TraceArgs {
     robust: bool,
 }
 
+/// The build parameters shared by `query` and `bench`.
+#[derive(Args, Debug, Clone, Copy)]
+pub struct BuildArgs {
+    /// Nodes with more primitives are always split (SAH builders may stop earlier).
+    #[arg(long, default_value_t = BuildParams::default().max_leaf_size)]
+    max_leaf_size: usize,
+    /// SAH cost of visiting an interior node, C_trav.
+    #[arg(long, default_value_t = BuildParams::default().cost.traversal_cost)]
+    traversal_cost: f64,
+    /// SAH cost of one ray/triangle test, C_isect.
+    #[arg(long, default_value_t = BuildParams::default().cost.intersection_cost)]
+    intersection_cost: f64,
+}
+
+impl BuildArgs {
+    /// The core's parameters, checked.
+    pub fn params(&self) -> Result<BuildParams> {
+        let costs = [self.traversal_cost, self.intersection_cost];
+        if costs.iter().any(|cost| !cost.is_finite() || *cost <= 0.0) {
+            anyhow::bail!("--traversal-cost and --intersection-cost must be positive numbers");
+        }
+        if self.max_leaf_size == 0 {
+            anyhow::bail!("--max-leaf-size must be at least 1");
+        }
+        Ok(BuildParams {
+            max_leaf_size: self.max_leaf_size,
+            cost: accelviz_core::SahCost {
+                traversal_cost: self.traversal_cost,
+                intersection_cost: self.intersection_cost,
+            },
+        })
+    }
+}
+
+impl Default for BuildArgs {
+    fn default() -> Self {
+        let params = BuildParams::default();
+        Self {
+            max_leaf_size: params.max_leaf_size,
+            traversal_cost: params.cost.traversal_cost,
+            intersection_cost: params.cost.intersection_cost,
+        }
+    }
+}
+
 impl TraceArgs {
     /// The core's options for a closest-hit query.
     pub fn options(&self) -> TraceOptions {
@@ -99,6 +144,8 @@ struct QueryArgs {
     rays: String,
     #[command(flatten)]
     trace: TraceArgs,
+    #[command(flatten)]
+    build: BuildArgs,
 }
 
 /// Loads `--mesh`: a path, or `builtin:NAME`.
@@ -129,23 +176,25 @@ pub fn convert_rays<V: Vector3>(
 
 fn query(args: &QueryArgs) -> Result<String> {
     let spec = AccelSpec::parse(&args.accel)?;
+    let params = args.build.params()?;
     let mesh = load_mesh(&args.mesh)?;
     let rays = accelviz_scene::rays::load_rays(&args.rays)?;
     match args.trace.precision {
-        Precision::F32 => query_in::<glam::Vec3>(spec, &mesh, &rays, args),
-        Precision::F64 => query_in::<glam::DVec3>(spec, &mesh, &rays, args),
+        Precision::F32 => query_in::<glam::Vec3>(spec, &params, &mesh, &rays, args),
+        Precision::F64 => query_in::<glam::DVec3>(spec, &params, &mesh, &rays, args),
     }
 }
 
 fn query_in<V: Vector3>(
     spec: AccelSpec,
+    params: &BuildParams,
     mesh: &Mesh,
     rays: &[RaySpec],
     args: &QueryArgs,
 ) -> Result<String> {
     let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
     let rays = convert_rays::<V>(rays, &args.rays)?;
-    let (accel, _) = spec.build(&triangles);
+    let (accel, _) = spec.build(&triangles, params);
     let options = args.trace.options();
     let mut stack = TraversalStack::new();
     let mut output = String::with_capacity(rays.len() * 32);

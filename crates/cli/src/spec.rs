@@ -69,9 +69,13 @@ impl AccelSpec {
     }
 
     /// Builds the structure over `primitives`, timing the build (boxes included).
-    pub fn build<V: Vector, P: PrimitiveSet<V>>(&self, primitives: &P) -> (Accel<V>, f64) {
+    pub fn build<V: Vector, P: PrimitiveSet<V>>(
+        &self,
+        primitives: &P,
+        params: &BuildParams,
+    ) -> (Accel<V>, f64) {
         let start = Instant::now();
-        let params = BuildParams::default();
+        let params = *params;
         let bvh = |builder: &dyn Fn(&[accelviz_core::Aabb<V>]) -> Bvh<V>| {
             Accel::Bvh(builder(&primitives.all_bounds()))
         };
@@ -111,9 +115,10 @@ impl<V: Vector> Accel<V> {
         }
     }
 
-    /// The tree's statistics (for brute force: one leaf holding everything).
-    pub fn stats(&self, primitive_count: usize) -> BvhStats {
-        let cost = BuildParams::default().cost;
+    /// The tree's statistics with these cost constants (for brute force: one leaf holding
+    /// everything).
+    pub fn stats(&self, primitive_count: usize, cost: &accelviz_core::SahCost) -> BvhStats {
+        let cost = *cost;
         match self {
             Accel::Brute => BvhStats {
                 node_count: 0,

@@ -16,10 +16,12 @@ pub struct BuildParams {
     pub cost: SahCost,
 }
 
+/// At most 8 primitives a leaf (what one cache line of indices and a few triangle tests
+/// amortise), the default [`SahCost`].
 impl Default for BuildParams {
     fn default() -> Self {
         Self {
-            max_leaf_size: 4,
+            max_leaf_size: 8,
             cost: SahCost::default(),
         }
     }
