@@ -5,7 +5,7 @@ use std::time::Instant;
 use accelviz_core::bvh::{BuildParams, TraversalStack};
 use accelviz_core::{Counters, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
-use accelviz_scene::rays::{RaySpec, camera_rays, parse_resolution, random_rays};
+use accelviz_scene::rays::{RaySpec, camera_rays, parse_resolution, random_rays, surface_aim_rays};
 use anyhow::{Result, bail};
 use clap::Args;
 
@@ -25,8 +25,13 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 100_000, conflicts_with = "rays_file")]
     rays: usize,
     /// Trace the rays of this file (the `query` format) instead.
-    #[arg(long, conflicts_with = "camera")]
+    #[arg(long, conflicts_with_all = ["camera", "aimed"])]
     rays_file: Option<String>,
+    /// Trace rays aimed exactly at every triangle corner and edge instead (the watertightness
+    /// test's rays): on a closed mesh every one must hit, so `rays - hits` is the number of
+    /// rays that slipped through.
+    #[arg(long, conflicts_with = "camera")]
+    aimed: bool,
     /// Trace the primary rays of a WIDTHxHEIGHT pinhole camera looking at the mesh instead
     /// (coherent rays, as a renderer traces them).
     #[arg(long)]
@@ -59,6 +64,7 @@ impl BenchArgs {
             rays: 100_000,
             rays_file: None,
             camera: None,
+            aimed: false,
             repeat: 1,
             seed: 1,
             trace: TraceArgs {
@@ -97,6 +103,10 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     let mesh = load_mesh(&args.mesh)?;
     let (rays, ray_source) = match (&args.rays_file, &args.camera) {
         (Some(path), _) => (accelviz_scene::rays::load_rays(path)?, path.clone()),
+        (None, None) if args.aimed => (
+            surface_aim_rays(&mesh.triangles, args.seed),
+            format!("aimed:seed{}", args.seed),
+        ),
         (None, Some(camera)) => {
             let (width, height) =
                 parse_resolution(camera).map_err(|error| anyhow::anyhow!("--camera: {error}"))?;
@@ -165,6 +175,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .number("avg_box_tests", f.counters.box_tests as f64 / rays)
                 .number("avg_prims_tested", avg_prims)
                 .integer("hits", f.hits as u64)
+                .integer("misses", (f.rays - f.hits) as u64)
                 .string(
                     "order",
                     if options.order == accelviz_core::Order::NearFirst {

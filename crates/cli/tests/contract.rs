@@ -152,6 +152,54 @@ fn bench_reports_one_json_object_per_spec() {
 }
 
 #[test]
+fn bench_aimed_rays_never_slip_through_in_robust_mode() {
+    let output = cli(&[
+        "bench",
+        "--mesh",
+        "builtin:icosphere",
+        "--aimed",
+        "--accel",
+        "bvh:sah-binned",
+        "--robust",
+        "--json",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let value: serde_json::Value = serde_json::from_str(stdout(&output).trim()).unwrap();
+    assert_eq!(value["misses"], 0);
+    assert_eq!(value["rays"], 5120 * 18);
+}
+
+#[test]
+fn bench_camera_rays_and_their_errors() {
+    let output = cli(&[
+        "bench",
+        "--accel",
+        "bvh:median",
+        "--camera",
+        "16x8",
+        "--json",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let value: serde_json::Value = serde_json::from_str(stdout(&output).trim()).unwrap();
+    assert_eq!(
+        (value["rays"].as_u64(), value["ray_source"].as_str()),
+        (Some(128), Some("camera:16x8"))
+    );
+    assert_fails(
+        &["bench", "--accel", "bvh:median", "--camera", "0x8"],
+        "--camera: '0x8' is not WIDTHxHEIGHT",
+    );
+    assert_fails(
+        &["bench", "--accel", "bvh:median", "--threads", "0"],
+        "--threads must be at least 1",
+    );
+    assert_fails(
+        &["bench", "--accel", "bvh:median", "--traversal-cost=-1"],
+        "must be positive numbers",
+    );
+}
+
+#[test]
 fn bench_reads_a_ray_file() {
     let mesh = file("square-bench.obj", SQUARE);
     let rays = file("bench-rays.txt", "0.75 0.25 1 0 0 -1\n5 5 1 0 0 -1\n");

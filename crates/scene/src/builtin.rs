@@ -164,12 +164,24 @@ pub fn by_name(name: &str) -> Option<Mesh> {
         "lumpy-sphere" => Some(lumpy_sphere()),
         "icosphere" => Some(icosphere(4)),
         "cube" => Some(subdivided_cube(16)),
+        "icosphere-far" => Some(icosphere(4).translated(FAR_AWAY)),
+        "cube-far" => Some(subdivided_cube(16).translated(FAR_AWAY)),
         _ => None,
     }
 }
 
+/// Where the `-far` meshes are moved: far enough from the origin that f32 keeps only about
+/// three decimal digits of a unit-sized mesh's coordinates.
+pub const FAR_AWAY: [f64; 3] = [1.0e4, -3.0e4, 2.0e4];
+
 /// The names [`by_name`] knows.
-pub const BUILTIN_NAMES: [&str; 3] = ["lumpy-sphere", "icosphere", "cube"];
+pub const BUILTIN_NAMES: [&str; 5] = [
+    "lumpy-sphere",
+    "icosphere",
+    "cube",
+    "icosphere-far",
+    "cube-far",
+];
 
 #[cfg(test)]
 mod tests {

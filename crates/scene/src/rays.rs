@@ -191,13 +191,14 @@ pub fn camera_rays(bounds: &Aabb<DVec3>, width: usize, height: usize) -> Vec<Ray
 /// each ray comes from a distance `2r` off the surface, from a seeded random direction within
 /// about 30° of the radial direction through its target, so that it crosses the surface there.
 /// (A ray grazing a silhouette edge may truly miss: after rounding it passes a hair outside.)
-/// The direction is `target − origin`, so the aim point is at `t = 1`.
+/// The oblique rays' direction is `target − origin`, so the aim point is at `t = 1`; each
+/// target also gets a ray along the coordinate axis nearest its radial direction.
 pub fn surface_aim_rays(triangles: &[[[f64; 3]; 3]], seed: u64) -> Vec<RaySpec> {
     let bounds = Aabb::from_points(triangles.iter().flatten().map(|&c| DVec3::from_array(c)));
     let center = bounds.center();
     let radius = 2.0 * (bounds.extent().length() * 0.5).max(f64::MIN_POSITIVE);
     let mut rng = SplitMix64::new(seed);
-    let mut rays = Vec::with_capacity(triangles.len() * 9);
+    let mut rays = Vec::with_capacity(triangles.len() * 18);
     for triangle in triangles {
         for corner in 0..3 {
             let a = DVec3::from_array(triangle[corner]);
@@ -206,14 +207,25 @@ pub fn surface_aim_rays(triangles: &[[[f64; 3]; 3]], seed: u64) -> Vec<RaySpec> 
             for target in [a, (a + b) * 0.5, a + (b - a) * along] {
                 let radial = (target - center).normalize_or(DVec3::Z);
                 let approach = (radial + DVec3::from_array(rng.unit_vector()) * 0.5).normalize();
-                let origin = target + approach * radius;
-                rays.push(RaySpec {
-                    line: 0,
-                    origin: origin.to_array(),
-                    direction: (target - origin).to_array(),
-                    t_min: 0.0,
-                    t_max: f64::INFINITY,
-                });
+                // An oblique ray, and one along the axis nearest the radial direction: the
+                // second keeps the target's other two coordinates exactly, so at a corner the
+                // edge functions are exactly zero, the case a watertight test must get right.
+                let axis = radial.abs().max_position();
+                let mut along_axis = DVec3::ZERO;
+                along_axis[axis] = radial[axis].signum();
+                let oblique_origin = target + approach * radius;
+                for (origin, direction) in [
+                    (oblique_origin, target - oblique_origin),
+                    (target + along_axis * radius, -along_axis),
+                ] {
+                    rays.push(RaySpec {
+                        line: 0,
+                        origin: origin.to_array(),
+                        direction: direction.to_array(),
+                        t_min: 0.0,
+                        t_max: f64::INFINITY,
+                    });
+                }
             }
         }
     }

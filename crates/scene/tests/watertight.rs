@@ -41,7 +41,7 @@ fn meshes() -> Vec<Mesh> {
     let near = [icosphere(3), subdivided_cube(8)];
     let far = near
         .iter()
-        .map(|mesh| mesh.translated([1.0e4, -3.0e4, 2.0e4]))
+        .map(|mesh| mesh.translated(accelviz_scene::builtin::FAR_AWAY))
         .collect::<Vec<_>>();
     near.into_iter().chain(far).collect()
 }
