@@ -49,6 +49,8 @@ pub trait Real:
     fn to_f64(self) -> f64;
     /// Converts a count.
     fn from_usize(value: usize) -> Self;
+    /// Converts a 32-bit count (one instruction, where a 64-bit unsigned one takes several).
+    fn from_u32(value: u32) -> Self;
     /// Truncates towards zero to a small count: negative and NaN give 0, and values beyond
     /// `i32::MAX` saturate there (a 32-bit conversion is a single instruction; bin indices
     /// need no more).
@@ -99,6 +101,10 @@ macro_rules! impl_real {
             }
             #[inline(always)]
             fn from_usize(value: usize) -> Self {
+                value as $t
+            }
+            #[inline(always)]
+            fn from_u32(value: u32) -> Self {
                 value as $t
             }
             #[inline(always)]

@@ -35,6 +35,14 @@ impl SahCost {
         count as f64 * self.intersection_cost
     }
 
+    /// True when a node of `count` primitives is cheaper as a leaf than any split can be: a
+    /// split costs at least `C_trav`, so with `N·C_isect <= C_trav` the search can be skipped
+    /// without changing the tree.
+    #[inline]
+    pub fn leaf_beats_any_split(&self, count: usize) -> bool {
+        self.leaf_cost(count) <= self.traversal_cost
+    }
+
     /// The cost of splitting a node of area `parent_area` into children with these areas and
     /// primitive counts.
     #[inline]

@@ -29,7 +29,7 @@ impl Default for BinnedSah {
 #[derive(Clone, Copy)]
 struct Bin<V: Vector> {
     bounds: Aabb<V>,
-    count: usize,
+    count: u32,
 }
 
 /// A primitive's box with its number, moved as one through partitioning so that every pass
@@ -88,6 +88,9 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
         centroid_bounds: &Aabb<V>,
     ) -> Option<Split<V, Aabb<V>>> {
         let count = end - begin;
+        if count <= self.max_leaf_size && self.cost.leaf_beats_any_split(count) {
+            return None;
+        }
         let bin_count = self.bin_count;
         // Bin along the longest axis of the centroids' box.
         let axis = centroid_bounds.largest_axis();
@@ -132,7 +135,7 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
             right = right.union(self.bins[plane].bounds);
             right_count += self.bins[plane].count;
             self.right_weighted[plane] = if right_count > 0 {
-                right.half_area_nonempty() * V::Scalar::from_usize(right_count)
+                right.half_area_nonempty() * V::Scalar::from_u32(right_count)
             } else {
                 V::Scalar::ZERO
             };
@@ -143,10 +146,10 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
         for plane in 1..bin_count {
             left = left.union(self.bins[plane - 1].bounds);
             left_count += self.bins[plane - 1].count;
-            if left_count == 0 || left_count == count {
+            if left_count == 0 || left_count as usize == count {
                 continue;
             }
-            let weighted = left.half_area_nonempty() * V::Scalar::from_usize(left_count)
+            let weighted = left.half_area_nonempty() * V::Scalar::from_u32(left_count)
                 + self.right_weighted[plane];
             if best.is_none_or(|(best_weighted, _)| weighted < best_weighted) {
                 best = Some((weighted, plane));

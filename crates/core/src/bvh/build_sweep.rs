@@ -53,6 +53,9 @@ impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
         _info: &(),
     ) -> Option<Split<V, ()>> {
         let count = end - begin;
+        if count <= self.max_leaf_size && self.cost.leaf_beats_any_split(count) {
+            return None;
+        }
         let parent_area = node_bounds.area().to_f64();
         let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, left count)
         for axis in 0..V::DIM {
