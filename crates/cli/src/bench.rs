@@ -235,13 +235,13 @@ fn measure<V: Vector3>(
         let mut hits = 0;
         for _ in 0..repeat {
             let start = Instant::now();
-            hits = trace_all(&accel, &triangles, &rays, &options, args.threads);
+            hits = trace_all(&accel, &rays, &options, args.threads);
             trace_ms = trace_ms.min(start.elapsed().as_secs_f64() * 1e3);
         }
         let mut counters = Counters::default();
         let mut stack = TraversalStack::new();
         for ray in &rays {
-            accel.trace(&triangles, ray, &options, &mut stack, &mut counters);
+            accel.trace(ray, &options, &mut stack, &mut counters);
         }
         all.push(Figures {
             accel: spec.name(),
@@ -262,8 +262,7 @@ fn measure<V: Vector3>(
 
 /// Traces every ray, on `threads` threads; returns the number of hits.
 fn trace_all<V: Vector3>(
-    accel: &Accel<V>,
-    triangles: &TriangleSet<V>,
+    accel: &Accel<V, TriangleSet<V>>,
     rays: &[Ray<V>],
     options: &TraceOptions,
     threads: usize,
@@ -274,7 +273,7 @@ fn trace_all<V: Vector3>(
             .iter()
             .filter(|ray| {
                 accel
-                    .trace(triangles, ray, options, &mut stack, &mut NoObserver)
+                    .trace(ray, options, &mut stack, &mut NoObserver)
                     .is_some()
             })
             .count()

@@ -199,7 +199,7 @@ fn query_in<V: Vector3>(
     let mut stack = TraversalStack::new();
     let mut output = String::with_capacity(rays.len() * 32);
     for ray in &rays {
-        match accel.trace(&triangles, ray, &options, &mut stack, &mut NoObserver) {
+        match accel.trace(ray, &options, &mut stack, &mut NoObserver) {
             // f32 needs 9 significant digits to round-trip, f64 17.
             Some(hit) => {
                 let digits = if size_of::<V::Scalar>() == 4 { 8 } else { 16 };

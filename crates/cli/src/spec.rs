@@ -6,7 +6,9 @@ use accelviz_core::bvh::{
     BinnedSah, BuildParams, Builder, Bvh, BvhStats, MedianSplit, MiddleSplit, SweepSah,
     TraversalStack, traverse,
 };
-use accelviz_core::{Hit, Observer, PrimitiveSet, Ray, TraceOptions, Vector, brute_force};
+use accelviz_core::{
+    Aabb, Hit, LeafOrdered, Observer, PrimitiveSet, Ray, TraceOptions, Vector, brute_force,
+};
 use anyhow::{Result, bail};
 
 /// The specs the CLI accepts, for messages.
@@ -68,50 +70,51 @@ impl AccelSpec {
         }
     }
 
-    /// Builds the structure over `primitives`, timing the build (boxes included).
-    pub fn build<V: Vector, P: PrimitiveSet<V>>(
+    /// Builds the structure over `primitives`, timing the build: the boxes, the tree, and the
+    /// copy of the primitives in the tree's leaf order that traversal reads.
+    pub fn build<'a, V: Vector, P: PrimitiveSet<V>>(
         &self,
-        primitives: &P,
+        primitives: &'a P,
         params: &BuildParams,
-    ) -> (Accel<V>, f64) {
+    ) -> (Accel<'a, V, P>, f64) {
         let start = Instant::now();
-        let params = *params;
-        let bvh = |builder: &dyn Fn(&[accelviz_core::Aabb<V>]) -> Bvh<V>| {
-            Accel::Bvh(builder(&primitives.all_bounds()))
+        let bvh = |builder: &dyn Fn(&[Aabb<V>]) -> Bvh<V>| {
+            let bvh = builder(&primitives.all_bounds());
+            let leaf_ordered = bvh.leaf_ordered(primitives);
+            Accel::Bvh(bvh, leaf_ordered)
         };
         let accel = match self {
-            Self::Brute => Accel::Brute,
-            Self::Middle => bvh(&|bounds| MiddleSplit.build(bounds, &params)),
-            Self::Median => bvh(&|bounds| MedianSplit.build(bounds, &params)),
-            Self::Binned(bins) => bvh(&|bounds| BinnedSah { bins: *bins }.build(bounds, &params)),
-            Self::Sweep => bvh(&|bounds| SweepSah.build(bounds, &params)),
+            Self::Brute => Accel::Brute(primitives),
+            Self::Middle => bvh(&|bounds| MiddleSplit.build(bounds, params)),
+            Self::Median => bvh(&|bounds| MedianSplit.build(bounds, params)),
+            Self::Binned(bins) => bvh(&|bounds| BinnedSah { bins: *bins }.build(bounds, params)),
+            Self::Sweep => bvh(&|bounds| SweepSah.build(bounds, params)),
         };
         (accel, start.elapsed().as_secs_f64() * 1e3)
     }
 }
 
-/// A built structure.
-pub enum Accel<V: Vector> {
-    /// No structure: brute force.
-    Brute,
-    /// A BVH.
-    Bvh(Bvh<V>),
+/// A built structure with the primitives it traces.
+pub enum Accel<'a, V: Vector, P> {
+    /// No structure: brute force over the primitives in their own order.
+    Brute(&'a P),
+    /// A BVH and the primitives in its leaf order.
+    Bvh(Bvh<V>, LeafOrdered<P>),
 }
 
-impl<V: Vector> Accel<V> {
+impl<V: Vector, P: PrimitiveSet<V>> Accel<'_, V, P> {
     /// Traces one ray.
     #[inline]
-    pub fn trace<P: PrimitiveSet<V>, O: Observer<V::Scalar>>(
+    pub fn trace<O: Observer<V::Scalar>>(
         &self,
-        primitives: &P,
         ray: &Ray<V>,
         options: &TraceOptions,
         stack: &mut TraversalStack<V::Scalar>,
         observer: &mut O,
     ) -> Option<Hit<V::Scalar>> {
         match self {
-            Accel::Brute => brute_force(primitives, ray, options, observer),
-            Accel::Bvh(bvh) => traverse(bvh, primitives, ray, options, stack, observer),
+            Accel::Brute(primitives) => brute_force(*primitives, ray, options, observer),
+            Accel::Bvh(bvh, primitives) => traverse(bvh, primitives, ray, options, stack, observer),
         }
     }
 
@@ -120,7 +123,7 @@ impl<V: Vector> Accel<V> {
     pub fn stats(&self, primitive_count: usize, cost: &accelviz_core::SahCost) -> BvhStats {
         let cost = *cost;
         match self {
-            Accel::Brute => BvhStats {
+            Accel::Brute(_) => BvhStats {
                 node_count: 0,
                 leaf_count: 0,
                 max_depth: 0,
@@ -129,7 +132,7 @@ impl<V: Vector> Accel<V> {
                 mean_leaf_size: primitive_count as f64,
                 sah_cost: cost.leaf_cost(primitive_count),
             },
-            Accel::Bvh(bvh) => BvhStats::of(bvh, &cost),
+            Accel::Bvh(bvh, _) => BvhStats::of(bvh, &cost),
         }
     }
 }

@@ -35,7 +35,9 @@ pub use aabb::{Aabb, Aabb2, Aabb3};
 pub use brute::brute_force;
 pub use math::{Real, Vector, Vector3};
 pub use observer::{Counters, NoObserver, Observer, Recorder, Step};
-pub use primitive::{HitTest, PrimitiveSet, Shape, ShapeSet, Sphere, TriangleSet};
+pub use primitive::{
+    HitTest, LeafOrdered, LeafPrimitives, PrimitiveSet, Shape, ShapeSet, Sphere, TriangleSet,
+};
 pub use query::{Hit, Order, Query, TraceOptions};
 pub use ray::{Ray, Ray2, Ray3, RayError};
 pub use sah::SahCost;

@@ -29,7 +29,16 @@ impl Default for BinnedSah {
 #[derive(Clone, Copy)]
 struct Bin<V: Vector> {
     bounds: Aabb<V>,
+    centroid_bounds: Aabb<V>,
     count: u32,
+}
+
+impl<V: Vector> Bin<V> {
+    const EMPTY: fn() -> Self = || Self {
+        bounds: Aabb::empty(),
+        centroid_bounds: Aabb::empty(),
+        count: 0,
+    };
 }
 
 /// A primitive's box with its number, moved as one through partitioning so that every pass
@@ -47,6 +56,8 @@ struct Splitter<V: Vector> {
     cost: SahCost,
     /// The bins of the node being split.
     bins: Vec<Bin<V>>,
+    /// The bin of each primitive of the node being split, by position in `refs`.
+    bin_of: Vec<u16>,
     /// For each plane of the axis being costed: `A_R·N_R` of its right side.
     right_weighted: Vec<V::Scalar>,
 }
@@ -117,14 +128,18 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
             bins_per_unit: V::Scalar::from_usize(bin_count) / extent,
             last_bin: bin_count - 1,
         };
-        // Drop every centroid into its bin.
-        self.bins.fill(Bin {
-            bounds: Aabb::empty(),
-            count: 0,
-        });
-        for primitive in &self.refs[begin..end] {
-            let bin = &mut self.bins[binning.bin(primitive.bounds.center()[axis])];
+        // Drop every centroid into its bin, remembering the bin for the partition.
+        self.bins.fill(Bin::EMPTY());
+        for (primitive, bin_of) in self.refs[begin..end]
+            .iter()
+            .zip(&mut self.bin_of[begin..end])
+        {
+            let centroid = primitive.bounds.center();
+            let index = binning.bin(centroid[axis]);
+            *bin_of = index as u16;
+            let bin = &mut self.bins[index];
             bin.bounds = bin.bounds.union(primitive.bounds);
+            bin.centroid_bounds = bin.centroid_bounds.grown(centroid);
             bin.count += 1;
         }
         // Sweep from the right to know each plane's right side, then from the left to cost
@@ -167,51 +182,44 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
         if count <= self.max_leaf_size && self.cost.leaf_cost(count) <= best_cost {
             return None;
         }
-        // Partition by bin (Hoare's two-ended scheme: only misplaced pairs move), gathering
-        // each side's centroid box for its children's binning.
+        // Partition by bin (Hoare's two-ended scheme: only misplaced pairs move).
         let range = &mut self.refs[begin..end];
-        let goes_left = |primitive: &PrimitiveRef<V>| {
-            let centroid = primitive.bounds.center();
-            (binning.bin(centroid[axis]) < plane, centroid)
-        };
-        let (mut left_centroids, mut right_centroids) = (Aabb::empty(), Aabb::empty());
+        let bin_of = &self.bin_of[begin..end];
+        let plane = plane as u16;
         let (mut low, mut high) = (0, range.len());
         loop {
-            while low < high {
-                let (left, centroid) = goes_left(&range[low]);
-                if !left {
-                    break;
-                }
-                left_centroids = left_centroids.grown(centroid);
+            while low < high && bin_of[low] < plane {
                 low += 1;
             }
-            while low < high {
-                let (left, centroid) = goes_left(&range[high - 1]);
-                if left {
-                    break;
-                }
-                right_centroids = right_centroids.grown(centroid);
+            while low < high && bin_of[high - 1] >= plane {
                 high -= 1;
             }
             if low >= high {
                 break;
             }
-            // range[low] belongs right and range[high - 1] left: swap them into place.
+            // range[low] belongs right and range[high - 1] left. Their bins are not read again.
             range.swap(low, high - 1);
-            left_centroids = left_centroids.grown(range[low].bounds.center());
-            right_centroids = right_centroids.grown(range[high - 1].bounds.center());
             low += 1;
             high -= 1;
         }
+        let plane = plane as usize;
         let left_end = low;
-        let side_bounds = |side: &[Bin<V>]| {
-            side.iter()
-                .fold(Aabb::empty(), |acc, bin| acc.union(bin.bounds))
+        // Each side's box and centroid box are the unions of its bins'.
+        let side = |bins: &[Bin<V>]| {
+            bins.iter().fold(
+                (Aabb::empty(), Aabb::empty()),
+                |(bounds, centroids), bin| {
+                    (
+                        bounds.union(bin.bounds),
+                        centroids.union(bin.centroid_bounds),
+                    )
+                },
+            )
         };
         Some(Split {
             mid: begin + left_end,
-            left: (side_bounds(&self.bins[..plane]), left_centroids),
-            right: (side_bounds(&self.bins[plane..]), right_centroids),
+            left: side(&self.bins[..plane]),
+            right: side(&self.bins[plane..]),
         })
     }
 
@@ -226,7 +234,8 @@ impl Builder for BinnedSah {
     }
 
     fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> Bvh<V> {
-        let bin_count = self.bins.max(2);
+        // Bin indices are kept in 16 bits.
+        let bin_count = self.bins.clamp(2, u16::MAX as usize);
         let splitter = Splitter {
             refs: primitive_bounds
                 .iter()
@@ -239,13 +248,8 @@ impl Builder for BinnedSah {
             bin_count,
             max_leaf_size: params.max_leaf_size.max(1),
             cost: params.cost,
-            bins: vec![
-                Bin {
-                    bounds: Aabb::empty(),
-                    count: 0
-                };
-                bin_count
-            ],
+            bins: vec![Bin::EMPTY(); bin_count],
+            bin_of: vec![0; primitive_bounds.len()],
             right_weighted: vec![V::Scalar::ZERO; bin_count],
         };
         build_top_down(splitter, primitive_bounds.len())

@@ -3,7 +3,7 @@
 use crate::bvh::tree::Bvh;
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
-use crate::primitive::PrimitiveSet;
+use crate::primitive::{LeafPrimitives, PrimitiveSet};
 use crate::query::{Hit, Order, Query, TraceOptions};
 use crate::ray::Ray;
 use crate::slab::{SlabRay, slab_clip};
@@ -25,7 +25,8 @@ impl<S: Real> TraversalStack<S> {
     }
 }
 
-/// Traces `ray` through `bvh` over `primitives`.
+/// Traces `ray` through `bvh` over `primitives` (a [`PrimitiveSet`] in its own numbering, or
+/// the tree's [`leaf_ordered`](Bvh::leaf_ordered) copy of one).
 ///
 /// Test the root's box; then, node by node: skip a node that starts beyond the closest hit so
 /// far (a cull); test a leaf's primitives, shrinking the interval at each hit; test both
@@ -41,7 +42,7 @@ pub fn traverse<V, P, O>(
 ) -> Option<Hit<V::Scalar>>
 where
     V: Vector,
-    P: PrimitiveSet<V>,
+    P: LeafPrimitives<V>,
     O: Observer<V::Scalar>,
 {
     let root = bvh.nodes.first()?;
@@ -51,7 +52,7 @@ where
     if t_enter > t_exit {
         return None;
     }
-    let primitive_ray = primitives.prepare(ray, options.hit_test);
+    let primitive_ray = primitives.stored().prepare(ray, options.hit_test);
     let mut closest: Option<Hit<V::Scalar>> = None;
     let mut t_closest = ray.t_max;
     let nodes = bvh.nodes.as_slice();
@@ -69,9 +70,13 @@ where
         let node = &nodes[node_index as usize];
         if node.is_leaf() {
             // Test the leaf's primitives, shrinking the interval with every closer hit.
-            for &primitive in bvh.leaf_primitives(node) {
+            let first = node.first as usize;
+            for (slot, &primitive) in (first..).zip(bvh.leaf_primitives(node)) {
+                let stored = primitives.storage_index(slot, primitive);
                 let t_hit =
-                    primitives.intersect(&primitive_ray, primitive as usize, ray.t_min, t_closest);
+                    primitives
+                        .stored()
+                        .intersect(&primitive_ray, stored, ray.t_min, t_closest);
                 observer.primitive_tested(primitive, t_hit);
                 let Some(t) = t_hit else { continue };
                 if closest.is_none_or(|hit| hit.is_beaten_by(primitive, t)) {

@@ -2,6 +2,7 @@
 
 use crate::aabb::Aabb;
 use crate::math::Vector;
+use crate::primitive::{LeafOrdered, PrimitiveSet};
 
 /// One node: its box, and either two children or a run of primitives.
 ///
@@ -56,6 +57,12 @@ impl<V: Vector> Bvh<V> {
         self.nodes
             .first()
             .map_or_else(Aabb::empty, |root| root.bounds)
+    }
+
+    /// A copy of `primitives` stored in this tree's leaf order, for faster traversal (the
+    /// hits keep their numbers).
+    pub fn leaf_ordered<P: PrimitiveSet<V>>(&self, primitives: &P) -> LeafOrdered<P> {
+        LeafOrdered::new(primitives.permuted(&self.primitive_indices))
     }
 
     /// The primitives of a leaf.

@@ -11,7 +11,7 @@ pub use shape::{Shape, ShapeSet, Sphere};
 pub use triangle::{TriangleRay, TriangleSet};
 
 use crate::aabb::Aabb;
-use crate::math::Vector;
+use crate::math::{Vector, Vector3};
 use crate::ray::Ray;
 
 /// Which ray/primitive test to run where there is a choice (triangles).
@@ -57,5 +57,76 @@ pub trait PrimitiveSet<V: Vector> {
     /// Every primitive's box, in order: what a builder takes.
     fn all_bounds(&self) -> Vec<Aabb<V>> {
         (0..self.len()).map(|index| self.bounds(index)).collect()
+    }
+
+    /// The same primitives stored in another order: element `k` of the result is primitive
+    /// `order[k]` of this set.
+    fn permuted(&self, order: &[u32]) -> Self
+    where
+        Self: Sized;
+}
+
+/// How traversal reaches the primitive in a leaf slot: a plain [`PrimitiveSet`] is stored in
+/// its own numbering; a [`LeafOrdered`] set is stored in the tree's leaf order, so a leaf's
+/// primitives sit side by side in memory. Hits are numbered the same way either way.
+pub trait LeafPrimitives<V: Vector> {
+    /// The set the primitives are stored in.
+    type Set: PrimitiveSet<V>;
+    /// The stored set.
+    fn stored(&self) -> &Self::Set;
+    /// Where the primitive of leaf slot `slot`, numbered `primitive`, is stored.
+    fn storage_index(&self, slot: usize, primitive: u32) -> usize;
+}
+
+/// Implements [`LeafPrimitives`] for a set stored in its own numbering. (A blanket impl over
+/// every `PrimitiveSet` would collide with the one for [`LeafOrdered`].)
+macro_rules! stored_in_own_order {
+    ($set:ident, $bound:ident) => {
+        impl<V: $bound> LeafPrimitives<V> for $set<V> {
+            type Set = Self;
+
+            #[inline(always)]
+            fn stored(&self) -> &Self {
+                self
+            }
+
+            #[inline(always)]
+            fn storage_index(&self, _slot: usize, primitive: u32) -> usize {
+                primitive as usize
+            }
+        }
+    };
+}
+stored_in_own_order!(TriangleSet, Vector3);
+stored_in_own_order!(ShapeSet, Vector);
+
+/// A copy of a primitive set in one BVH's leaf order (see
+/// [`Bvh::leaf_ordered`](crate::bvh::Bvh::leaf_ordered)): traversal then reads each leaf's
+/// primitives from consecutive memory instead of jumping through the index list. Use it only
+/// with the tree it was made for.
+#[derive(Clone, Debug)]
+pub struct LeafOrdered<P> {
+    stored: P,
+}
+
+impl<P> LeafOrdered<P> {
+    /// Wraps `stored`, which must hold the primitives in the leaf order of the tree it is
+    /// traversed with.
+    pub(crate) fn new(stored: P) -> Self {
+        Self { stored }
+    }
+}
+
+impl<V: Vector, P: PrimitiveSet<V>> LeafPrimitives<V> for LeafOrdered<P> {
+    type Set = P;
+
+    #[inline(always)]
+    fn stored(&self) -> &P {
+        &self.stored
+    }
+
+    #[inline(always)]
+    fn storage_index(&self, slot: usize, _primitive: u32) -> usize {
+        slot
     }
 }

@@ -145,6 +145,15 @@ impl<V: Vector> PrimitiveSet<V> for ShapeSet<V> {
         *ray
     }
 
+    fn permuted(&self, order: &[u32]) -> Self {
+        Self {
+            shapes: order
+                .iter()
+                .map(|&index| self.shapes[index as usize])
+                .collect(),
+        }
+    }
+
     fn intersect(
         &self,
         ray: &Ray<V>,

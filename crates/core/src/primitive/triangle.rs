@@ -225,6 +225,16 @@ impl<V: Vector3> PrimitiveSet<V> for TriangleSet<V> {
         TriangleRay::new(ray, test)
     }
 
+    fn permuted(&self, order: &[u32]) -> Self {
+        Self {
+            triangles: order
+                .iter()
+                .map(|&index| self.triangles[index as usize])
+                .collect(),
+            degenerate_count: self.degenerate_count,
+        }
+    }
+
     #[inline(always)]
     fn intersect(
         &self,

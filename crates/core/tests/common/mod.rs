@@ -9,8 +9,8 @@ use accelviz_core::bvh::{
     traverse, validate,
 };
 use accelviz_core::{
-    Counters, Hit, NoObserver, Order, PrimitiveSet, Query, Ray, Real, TraceOptions, Vector,
-    brute_force,
+    Counters, Hit, LeafPrimitives, NoObserver, Order, PrimitiveSet, Query, Ray, Real, TraceOptions,
+    Vector, brute_force,
 };
 
 /// Builds with every builder (and a few bin counts), validating each tree.
@@ -60,11 +60,18 @@ pub fn all_options() -> Vec<TraceOptions> {
 /// Asserts that every tree and every option gives brute force's answer for every ray:
 /// the same closest primitive (or, at a tie, the same t within a relative 1e-5), and for
 /// any-hit queries a hit exactly when brute force has one.
-pub fn assert_agrees_with_brute_force<V: Vector, P: PrimitiveSet<V>>(
+pub fn assert_agrees_with_brute_force<
+    V: Vector,
+    P: PrimitiveSet<V> + LeafPrimitives<V, Set = P>,
+>(
     primitives: &P,
     rays: &[Ray<V>],
 ) {
     let trees = all_trees(primitives);
+    let leaf_ordered: Vec<_> = trees
+        .iter()
+        .map(|(_, bvh)| bvh.leaf_ordered(primitives))
+        .collect();
     let mut stack = TraversalStack::new();
     for options in all_options() {
         for (index, ray) in rays.iter().enumerate() {
@@ -73,10 +80,25 @@ pub fn assert_agrees_with_brute_force<V: Vector, P: PrimitiveSet<V>>(
                 ..options
             };
             let expected = brute_force(primitives, ray, &closest_options, &mut NoObserver);
-            for (name, bvh) in &trees {
+            for ((name, bvh), leaf_ordered) in trees.iter().zip(&leaf_ordered) {
                 let mut counters = Counters::default();
                 let got = traverse(bvh, primitives, ray, &options, &mut stack, &mut counters);
                 let context = format!("{name}, {options:?}, ray {index} {ray:?}");
+                // The leaf-ordered copy takes exactly the same steps to the same hit.
+                let mut counters_ordered = Counters::default();
+                let got_ordered = traverse(
+                    bvh,
+                    leaf_ordered,
+                    ray,
+                    &options,
+                    &mut stack,
+                    &mut counters_ordered,
+                );
+                assert_eq!(
+                    (got, counters),
+                    (got_ordered, counters_ordered),
+                    "{context}: leaf order"
+                );
                 match options.query {
                     Query::Closest => assert_same_hit(got, expected, &context),
                     Query::Any => assert_eq!(got.is_some(), expected.is_some(), "{context}"),
