@@ -65,8 +65,8 @@ impl<V: Vector> SlabRay<V> {
     }
 }
 
-/// `t_near` and `t_far` of one axis's slab. A NaN means "unconstrained": −∞ for `t_near`,
-/// +∞ for `t_far` (see the module docs).
+/// `t_near` and `t_far` of one axis's slab, before robust widening. A NaN means
+/// "unconstrained": −∞ for `t_near`, +∞ for `t_far` (see the module docs).
 #[inline(always)]
 pub fn axis_interval<V: Vector>(
     bounds: &Aabb<V>,
@@ -81,7 +81,7 @@ pub fn axis_interval<V: Vector>(
     let origin = ray.origin[axis];
     let inverse = ray.inv_direction[axis];
     let t_near = (near_plane - origin) * inverse;
-    let t_far = (far_plane - origin) * inverse * ray.far_scale;
+    let t_far = (far_plane - origin) * inverse;
     (t_near, t_far)
 }
 
@@ -106,13 +106,15 @@ pub fn slab_clip<V: Vector>(
     t_max: V::Scalar,
 ) -> (V::Scalar, V::Scalar) {
     let mut t_enter = ray.t_min;
-    let mut t_exit = t_max;
+    let mut t_exit_unscaled = V::Scalar::INFINITY;
     for axis in 0..V::DIM {
         let (t_near, t_far) = axis_interval(bounds, ray, axis);
         t_enter = later(t_enter, t_near);
-        t_exit = earlier(t_exit, t_far);
+        t_exit_unscaled = earlier(t_exit_unscaled, t_far);
     }
-    (t_enter, t_exit)
+    // Scaling by a positive constant commutes with the minimum (rounding is monotonic), so
+    // robust mode widens once per box rather than once per axis.
+    (t_enter, earlier(t_max, t_exit_unscaled * ray.far_scale))
 }
 
 /// Everything the slab test computes, as the lecture's table shows it.
@@ -140,6 +142,7 @@ pub fn slab_record<V: Vector>(bounds: &Aabb<V>, ray: &Ray<V>, robust: bool) -> S
     let mut t_exit = V::Scalar::INFINITY;
     for axis in 0..V::DIM {
         let (t_near, t_far) = axis_interval(bounds, &slab_ray, axis);
+        let t_far = t_far * slab_ray.far_scale;
         t_near_per_axis[axis] = later(V::Scalar::NEG_INFINITY, t_near);
         t_far_per_axis[axis] = earlier(V::Scalar::INFINITY, t_far);
         t_enter = later(t_enter, t_near);

@@ -70,3 +70,17 @@ fn shared_meshes_load_and_agree_with_brute_force() {
         "the ogre's README lists 4 zero-area triangles"
     );
 }
+
+#[test]
+fn a_file_over_the_size_limit_is_refused_before_reading() {
+    // A sparse file: it takes no disk space, but its length is over the limit.
+    let path = std::env::temp_dir().join(format!("accelviz-huge-{}.obj", std::process::id()));
+    let file = std::fs::File::create(&path).unwrap();
+    file.set_len(accelviz_scene::error::MAX_FILE_BYTES + 1)
+        .unwrap();
+    let path_text = path.to_string_lossy().into_owned();
+    let message = load_obj(&path_text).unwrap_err().to_string();
+    std::fs::remove_file(&path).unwrap();
+    assert!(message.starts_with(&path_text), "{message}");
+    assert!(message.contains("the limit is 1073741824"), "{message}");
+}
