@@ -87,6 +87,8 @@ struct Figures {
     nodes: usize,
     leaves: usize,
     max_depth: usize,
+    mean_leaf_size: f64,
+    max_leaf_size: usize,
     sah_cost: f64,
     rays: usize,
     trace_ms: f64,
@@ -166,6 +168,8 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .integer("nodes", f.nodes as u64)
                 .integer("leaves", f.leaves as u64)
                 .integer("max_depth", f.max_depth as u64)
+                .number("mean_leaf_size", f.mean_leaf_size)
+                .integer("max_leaf_size", f.max_leaf_size as u64)
                 .number("sah_cost", f.sah_cost)
                 .integer("rays", f.rays as u64)
                 .string("ray_source", &ray_source)
@@ -250,6 +254,8 @@ fn measure<V: Vector3>(
             nodes: stats.node_count,
             leaves: stats.leaf_count,
             max_depth: stats.max_depth,
+            mean_leaf_size: stats.mean_leaf_size,
+            max_leaf_size: stats.max_leaf_size,
             sah_cost: stats.sah_cost,
             rays: rays.len(),
             trace_ms,
