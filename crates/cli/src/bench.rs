@@ -5,7 +5,7 @@ use std::time::Instant;
 use accelviz_core::bvh::{BuildParams, TraversalStack};
 use accelviz_core::{Counters, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
-use accelviz_scene::rays::{RaySpec, camera_rays, parse_resolution, random_rays, surface_aim_rays};
+use accelviz_scene::rays::{RaySource, RaySpec};
 use anyhow::{Result, bail};
 use clap::Args;
 
@@ -103,25 +103,16 @@ pub fn run(args: &BenchArgs) -> Result<String> {
         bail!("--threads must be at least 1");
     }
     let mesh = load_mesh(&args.mesh)?;
-    let (rays, ray_source) = match (&args.rays_file, &args.camera) {
-        (Some(path), _) => (accelviz_scene::rays::load_rays(path)?, path.clone()),
-        (None, None) if args.aimed => (
-            surface_aim_rays(&mesh.triangles, args.seed),
-            format!("aimed:seed{}", args.seed),
-        ),
-        (None, Some(camera)) => {
-            let (width, height) =
-                parse_resolution(camera).map_err(|error| anyhow::anyhow!("--camera: {error}"))?;
-            (
-                camera_rays(&mesh.bounds(), width, height),
-                format!("camera:{width}x{height}"),
-            )
-        }
-        (None, None) => (
-            random_rays(&mesh.bounds(), args.rays, args.seed),
-            format!("random:{}:seed{}", args.rays, args.seed),
-        ),
-    };
+    let source = RaySource::from_options(
+        args.rays_file.as_deref(),
+        args.camera.as_deref(),
+        args.aimed,
+        args.rays,
+        args.seed,
+    )
+    .map_err(anyhow::Error::msg)?;
+    let rays = source.rays(&mesh)?;
+    let ray_source = source.label();
     let figures = match args.trace.precision {
         Precision::F32 => measure::<glam::Vec3>(&specs, &params, &mesh, &rays, &ray_source, args)?,
         Precision::F64 => measure::<glam::DVec3>(&specs, &params, &mesh, &rays, &ray_source, args)?,

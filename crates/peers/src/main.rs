@@ -13,7 +13,7 @@
 use std::time::{Duration, Instant};
 
 use accelviz_scene::Mesh;
-use accelviz_scene::rays::{RaySpec, camera_rays, parse_resolution, random_rays};
+use accelviz_scene::rays::{RaySource, RaySpec};
 use anyhow::{Context, Result, bail};
 use clap::Parser;
 
@@ -257,21 +257,16 @@ fn main() -> std::process::ExitCode {
 
 fn run(args: Args) -> Result<String> {
     let mesh = load_mesh(&args.mesh)?;
-    let (rays, ray_source) = match (&args.rays_file, &args.camera) {
-        (Some(path), _) => (accelviz_scene::rays::load_rays(path)?, path.clone()),
-        (None, Some(camera)) => {
-            let (width, height) =
-                parse_resolution(camera).map_err(|error| anyhow::anyhow!("--camera: {error}"))?;
-            (
-                camera_rays(&mesh.bounds(), width, height),
-                format!("camera:{width}x{height}"),
-            )
-        }
-        (None, None) => (
-            random_rays(&mesh.bounds(), args.rays, args.seed),
-            format!("random:{}:seed{}", args.rays, args.seed),
-        ),
-    };
+    let source = RaySource::from_options(
+        args.rays_file.as_deref(),
+        args.camera.as_deref(),
+        false,
+        args.rays,
+        args.seed,
+    )
+    .map_err(anyhow::Error::msg)?;
+    let rays = source.rays(&mesh)?;
+    let ray_source = source.label();
     let mut figures = Vec::new();
     for peer in args.peers.split(',') {
         let mut best: Option<Figures> = None;

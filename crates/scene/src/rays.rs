@@ -108,6 +108,15 @@ pub fn parse_rays(text: &str, path: &str) -> Result<Vec<RaySpec>, LoadError> {
     Ok(rays)
 }
 
+/// The centre of `bounds` and half its diagonal (never zero, so a point-sized mesh still gets
+/// rays from outside).
+fn bounding_sphere_of_box(bounds: &Aabb<DVec3>) -> (DVec3, f64) {
+    (
+        bounds.center(),
+        (bounds.extent().length() * 0.5).max(f64::MIN_POSITIVE),
+    )
+}
+
 /// `count` random rays around `bounds`, the same for the same seed on every machine.
 ///
 /// Each ray starts on the sphere of radius `2r` around the box's centre (`r` half the box's
@@ -116,8 +125,8 @@ pub fn parse_rays(text: &str, path: &str) -> Result<Vec<RaySpec>, LoadError> {
 /// so `t = 1` is the aim point); its interval is `[0, +inf)`.
 pub fn random_rays(bounds: &Aabb<DVec3>, count: usize, seed: u64) -> Vec<RaySpec> {
     let mut rng = SplitMix64::new(seed);
-    let center = bounds.center();
-    let radius = 2.0 * (bounds.extent().length() * 0.5).max(f64::MIN_POSITIVE);
+    let (center, radius) = bounding_sphere_of_box(bounds);
+    let radius = 2.0 * radius;
     let mut rays = Vec::with_capacity(count);
     while rays.len() < count {
         let origin = center + DVec3::from_array(rng.unit_vector()) * radius;
@@ -141,6 +150,77 @@ pub fn random_rays(bounds: &Aabb<DVec3>, count: usize, seed: u64) -> Vec<RaySpec
     rays
 }
 
+/// Where a benchmark's rays come from: the same choices for `accelviz-cli bench` and for the
+/// peer benchmark, so both trace exactly the same rays.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum RaySource {
+    /// [`random_rays`] with this count and seed.
+    Random {
+        /// How many rays.
+        count: usize,
+        /// The generator's seed.
+        seed: u64,
+    },
+    /// [`camera_rays`] at this resolution.
+    Camera {
+        /// Pixels across.
+        width: usize,
+        /// Pixels down.
+        height: usize,
+    },
+    /// [`surface_aim_rays`] with this seed.
+    Aimed {
+        /// The generator's seed.
+        seed: u64,
+    },
+    /// A ray file.
+    File(String),
+}
+
+impl RaySource {
+    /// Chooses from command-line options: a file, else a camera (`WIDTHxHEIGHT`), else aimed
+    /// rays, else random ones.
+    pub fn from_options(
+        file: Option<&str>,
+        camera: Option<&str>,
+        aimed: bool,
+        count: usize,
+        seed: u64,
+    ) -> Result<Self, String> {
+        Ok(match (file, camera) {
+            (Some(path), _) => Self::File(path.to_owned()),
+            (None, Some(camera)) => {
+                let (width, height) =
+                    parse_resolution(camera).map_err(|error| format!("--camera: {error}"))?;
+                Self::Camera { width, height }
+            }
+            (None, None) if aimed => Self::Aimed { seed },
+            (None, None) => Self::Random { count, seed },
+        })
+    }
+
+    /// The rays, for `mesh`.
+    pub fn rays(&self, mesh: &crate::Mesh) -> Result<Vec<RaySpec>, LoadError> {
+        Ok(match self {
+            Self::Random { count, seed } => random_rays(&mesh.bounds(), *count, *seed),
+            Self::Camera { width, height } => camera_rays(&mesh.bounds(), *width, *height),
+            Self::Aimed { seed } => surface_aim_rays(&mesh.triangles, *seed),
+            Self::File(path) => load_rays(path)?,
+        })
+    }
+
+    /// A short label for reports: `random:100000:seed1`, `camera:512x512`, `aimed:seed1`, or
+    /// the file's path.
+    pub fn label(&self) -> String {
+        match self {
+            Self::Random { count, seed } => format!("random:{count}:seed{seed}"),
+            Self::Camera { width, height } => format!("camera:{width}x{height}"),
+            Self::Aimed { seed } => format!("aimed:seed{seed}"),
+            Self::File(path) => path.clone(),
+        }
+    }
+}
+
 /// Parses a camera resolution `WIDTHxHEIGHT` (e.g. `512x512`).
 pub fn parse_resolution(text: &str) -> Result<(usize, usize), String> {
     let parsed = text
@@ -157,8 +237,7 @@ pub fn parse_resolution(text: &str) -> Result<(usize, usize), String> {
 /// box's centre from the +z side, slightly raised, from far enough that the box fills the
 /// frame: coherent rays, as a renderer traces them.
 pub fn camera_rays(bounds: &Aabb<DVec3>, width: usize, height: usize) -> Vec<RaySpec> {
-    let center = bounds.center();
-    let radius = (bounds.extent().length() * 0.5).max(f64::MIN_POSITIVE);
+    let (center, radius) = bounding_sphere_of_box(bounds);
     let half_fov = 22.5f64.to_radians();
     let distance = radius / half_fov.sin();
     let eye = center + DVec3::new(0.25, 0.35, 1.0).normalize() * distance;
@@ -195,8 +274,8 @@ pub fn camera_rays(bounds: &Aabb<DVec3>, width: usize, height: usize) -> Vec<Ray
 /// target also gets a ray along the coordinate axis nearest its radial direction.
 pub fn surface_aim_rays(triangles: &[[[f64; 3]; 3]], seed: u64) -> Vec<RaySpec> {
     let bounds = Aabb::from_points(triangles.iter().flatten().map(|&c| DVec3::from_array(c)));
-    let center = bounds.center();
-    let radius = 2.0 * (bounds.extent().length() * 0.5).max(f64::MIN_POSITIVE);
+    let (center, radius) = bounding_sphere_of_box(&bounds);
+    let radius = 2.0 * radius;
     let mut rng = SplitMix64::new(seed);
     let mut rays = Vec::with_capacity(triangles.len() * 18);
     for triangle in triangles {

@@ -121,6 +121,56 @@ pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>>(
     }
 }
 
+/// Builds with a fixed rule (middle, median): every node with more than `max_leaf_size`
+/// primitives is split; `rule` reorders the node's range `begin..end` of `boxes.order` and
+/// returns where the left child ends (strictly inside the range).
+pub(crate) fn build_by_rule<V: Vector>(
+    primitive_bounds: &[Aabb<V>],
+    max_leaf_size: usize,
+    rule: impl FnMut(&mut IndexedBoxes<'_, V>, usize, usize) -> usize,
+) -> Bvh<V> {
+    struct RuleSplitter<'a, V: Vector, R> {
+        boxes: IndexedBoxes<'a, V>,
+        max_leaf_size: usize,
+        rule: R,
+    }
+
+    impl<V: Vector, R: FnMut(&mut IndexedBoxes<'_, V>, usize, usize) -> usize> RangeSplitter<V>
+        for RuleSplitter<'_, V, R>
+    {
+        type NodeInfo = ();
+
+        fn root(&self) -> (Aabb<V>, ()) {
+            (self.boxes.range_bounds(0, self.boxes.order.len()), ())
+        }
+
+        fn split(
+            &mut self,
+            begin: usize,
+            end: usize,
+            _node_bounds: &Aabb<V>,
+            _info: &(),
+        ) -> Option<Split<V, ()>> {
+            if end - begin <= self.max_leaf_size {
+                return None;
+            }
+            let mid = (self.rule)(&mut self.boxes, begin, end);
+            Some(self.boxes.split_at(begin, mid, end))
+        }
+
+        fn into_order(self) -> Vec<u32> {
+            self.boxes.order
+        }
+    }
+
+    let splitter = RuleSplitter {
+        boxes: IndexedBoxes::new(primitive_bounds),
+        max_leaf_size: max_leaf_size.max(1),
+        rule,
+    };
+    build_top_down(splitter, primitive_bounds.len())
+}
+
 /// Primitive boxes, their centroids and a working order: the state of the splitters that
 /// reorder one index list (middle, median, binned).
 pub(crate) struct IndexedBoxes<'a, V: Vector> {
