@@ -47,6 +47,8 @@ pub trait Real:
     fn from_f64(value: f64) -> Self;
     /// Widens to f64 (exact).
     fn to_f64(self) -> f64;
+    /// Converts from f32 (exact).
+    fn from_f32(value: f32) -> Self;
     /// Converts a count.
     fn from_usize(value: usize) -> Self;
     /// Converts a 32-bit count (one instruction, where a 64-bit unsigned one takes several).
@@ -98,6 +100,10 @@ macro_rules! impl_real {
             #[inline(always)]
             fn to_f64(self) -> f64 {
                 self as f64
+            }
+            #[inline(always)]
+            fn from_f32(value: f32) -> Self {
+                value as $t
             }
             #[inline(always)]
             fn from_usize(value: usize) -> Self {

@@ -88,8 +88,8 @@ impl<V: Vector> Shape<V> {
         let (t_enter, t_exit) = match self {
             Shape::Sphere(sphere) => sphere.interval(ray)?,
             Shape::Box(bounds) => {
-                let slab_ray = SlabRay::new(ray, false);
-                slab_clip(bounds, &SlabRay { t_min, ..slab_ray }, t_max)
+                let slab_ray = SlabRay::new(&Ray { t_min, ..*ray }, false);
+                slab_clip(bounds, &slab_ray, t_max)
             }
             Shape::Segment(ends) => segment_interval(ray, ends)?,
         };
