@@ -136,7 +136,8 @@ struct QueryArgs {
     /// The mesh: an OBJ file, or builtin:NAME (lumpy-sphere, icosphere, cube).
     #[arg(long)]
     mesh: String,
-    /// The structure: brute, bvh:middle, bvh:median, bvh:sah-binned[:BINS], bvh:sah-sweep.
+    /// The structure: `brute`, `bvh:middle`, `bvh:median`, `bvh:sah-binned[:BINS]` (16 bins by
+    /// default), `bvh:sah-sweep`.
     #[arg(long)]
     accel: String,
     /// Ray file: `ox oy oz dx dy dz [tmin tmax]` per line, `#` starts a comment.
