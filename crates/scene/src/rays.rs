@@ -26,6 +26,17 @@ pub struct RaySpec {
 }
 
 impl RaySpec {
+    /// A generated ray (no file line) over `[0, +inf)`.
+    pub fn generated(origin: DVec3, direction: DVec3) -> Self {
+        Self {
+            line: 0,
+            origin: origin.to_array(),
+            direction: direction.to_array(),
+            t_min: 0.0,
+            t_max: f64::INFINITY,
+        }
+    }
+
     /// The ray in the precision of `V` (checked again after rounding).
     pub fn to_ray<V: Vector>(&self) -> Result<Ray<V>, RayError> {
         Ray::<DVec3> {
@@ -139,13 +150,7 @@ pub fn random_rays(bounds: &Aabb<DVec3>, count: usize, seed: u64) -> Vec<RaySpec
         if direction == DVec3::ZERO {
             continue;
         }
-        rays.push(RaySpec {
-            line: 0,
-            origin: origin.to_array(),
-            direction: direction.to_array(),
-            t_min: 0.0,
-            t_max: f64::INFINITY,
-        });
+        rays.push(RaySpec::generated(origin, direction));
     }
     rays
 }
@@ -251,13 +256,7 @@ pub fn camera_rays(bounds: &Aabb<DVec3>, width: usize, height: usize) -> Vec<Ray
         for column in 0..width {
             let x = ((column as f64 + 0.5) / width as f64 * 2.0 - 1.0) * half_width;
             let y = (1.0 - (row as f64 + 0.5) / height as f64 * 2.0) * half_height;
-            rays.push(RaySpec {
-                line: 0,
-                origin: eye.to_array(),
-                direction: (forward + right * x + up * y).to_array(),
-                t_min: 0.0,
-                t_max: f64::INFINITY,
-            });
+            rays.push(RaySpec::generated(eye, forward + right * x + up * y));
         }
     }
     rays
@@ -297,13 +296,7 @@ pub fn surface_aim_rays(triangles: &[[[f64; 3]; 3]], seed: u64) -> Vec<RaySpec> 
                     (oblique_origin, target - oblique_origin),
                     (target + along_axis * radius, -along_axis),
                 ] {
-                    rays.push(RaySpec {
-                        line: 0,
-                        origin: origin.to_array(),
-                        direction: direction.to_array(),
-                        t_min: 0.0,
-                        t_max: f64::INFINITY,
-                    });
+                    rays.push(RaySpec::generated(origin, direction));
                 }
             }
         }
