@@ -79,6 +79,22 @@ impl BenchArgs {
     }
 }
 
+/// The order as the command line spells it.
+fn order_name(order: accelviz_core::Order) -> &'static str {
+    match order {
+        accelviz_core::Order::NearFirst => "near-first",
+        accelviz_core::Order::FileOrder => "file-order",
+    }
+}
+
+/// The precision as the command line spells it.
+fn precision_name(precision: Precision) -> &'static str {
+    match precision {
+        Precision::F32 => "f32",
+        Precision::F64 => "f64",
+    }
+}
+
 /// The figures of one structure.
 struct Figures {
     accel: String,
@@ -121,12 +137,12 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     let mut output = String::new();
     if !args.json {
         output.push_str(&format!(
-            "mesh {} ({} triangles), {} rays ({ray_source}), {:?} order, {:?}, {}, {} thread(s)\n",
+            "mesh {} ({} triangles), {} rays ({ray_source}), {} order, {}, {}, {} thread(s)\n",
             mesh.name,
             mesh.triangles.len(),
             rays.len(),
-            options.order,
-            args.trace.precision,
+            order_name(options.order),
+            precision_name(args.trace.precision),
             if args.trace.robust { "robust" } else { "fast" },
             args.threads
         ));
@@ -171,21 +187,8 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .number("avg_prims_tested", avg_prims)
                 .integer("hits", f.hits as u64)
                 .integer("misses", (f.rays - f.hits) as u64)
-                .string(
-                    "order",
-                    if options.order == accelviz_core::Order::NearFirst {
-                        "near-first"
-                    } else {
-                        "file-order"
-                    },
-                )
-                .string(
-                    "precision",
-                    match args.trace.precision {
-                        Precision::F32 => "f32",
-                        Precision::F64 => "f64",
-                    },
-                )
+                .string("order", order_name(options.order))
+                .string("precision", precision_name(args.trace.precision))
                 .boolean("robust", args.trace.robust)
                 .integer("threads", args.threads as u64)
                 .integer("repeat", args.repeat.max(1) as u64)
