@@ -2,7 +2,7 @@
 
 use std::time::Instant;
 
-use accelviz_core::bvh::{BuildParams, TraversalStack};
+use accelviz_core::bvh::BuildParams;
 use accelviz_core::{Counters, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
 use accelviz_scene::rays::{RaySource, RaySpec};
@@ -10,7 +10,7 @@ use anyhow::{Result, bail};
 use clap::Args;
 
 use crate::json::JsonObject;
-use crate::spec::{Accel, AccelSpec};
+use crate::spec::{Accel, AccelSpec, Stacks};
 use crate::{BuildArgs, Precision, TraceArgs, convert_rays, load_mesh};
 
 #[derive(Args, Debug)]
@@ -237,7 +237,7 @@ fn measure<V: Vector3>(
             trace_ms = trace_ms.min(start.elapsed().as_secs_f64() * 1e3);
         }
         let mut counters = Counters::default();
-        let mut stack = TraversalStack::new();
+        let mut stack = Stacks::default();
         for ray in &rays {
             accel.trace(ray, &options, &mut stack, &mut counters);
         }
@@ -268,7 +268,7 @@ fn trace_all<V: Vector3>(
     threads: usize,
 ) -> usize {
     let trace_chunk = |chunk: &[Ray<V>]| {
-        let mut stack = TraversalStack::new();
+        let mut stack = Stacks::default();
         chunk
             .iter()
             .filter(|ray| {

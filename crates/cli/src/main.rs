@@ -11,14 +11,14 @@ mod spec;
 
 use std::process::ExitCode;
 
-use accelviz_core::bvh::{BuildParams, TraversalStack};
+use accelviz_core::bvh::BuildParams;
 use accelviz_core::{NoObserver, Order, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
 use accelviz_scene::rays::RaySpec;
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::spec::AccelSpec;
+use crate::spec::{AccelSpec, Stacks};
 
 /// Ray-tracing acceleration structures, measured.
 #[derive(Parser, Debug)]
@@ -197,7 +197,7 @@ fn query_in<V: Vector3>(
     let rays = convert_rays::<V>(rays, &args.rays)?;
     let (accel, _) = spec.build(&triangles, params);
     let options = args.trace.options();
-    let mut stack = TraversalStack::new();
+    let mut stack = Stacks::default();
     let mut output = String::with_capacity(rays.len() * 32);
     for ray in &rays {
         match accel.trace(ray, &options, &mut stack, &mut NoObserver) {

@@ -2,18 +2,19 @@
 
 use std::time::Instant;
 
+use accelviz_core::TreeStats;
 use accelviz_core::bvh::{
-    BinnedSah, BuildParams, Builder, Bvh, BvhStats, MedianSplit, MiddleSplit, SweepSah,
-    TraversalStack, traverse,
+    BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, SweepSah, TraversalStack,
+    traverse,
 };
+use accelviz_core::kd::{self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdTraversalStack, KdTree};
 use accelviz_core::{
     Aabb, Hit, LeafOrdered, Observer, PrimitiveSet, Ray, TraceOptions, Vector, brute_force,
 };
 use anyhow::{Result, bail};
 
 /// The specs the CLI accepts, for messages.
-pub const VALID_SPECS: &str =
-    "brute, bvh:middle, bvh:median, bvh:sah-binned[:BINS] (default 16 bins), bvh:sah-sweep";
+pub const VALID_SPECS: &str = "brute, bvh:middle, bvh:median, bvh:sah-binned[:BINS] (default 16 bins), bvh:sah-sweep, kd:middle, kd:median";
 
 /// A parsed spec.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -28,6 +29,10 @@ pub enum AccelSpec {
     Binned(usize),
     /// Full-sweep SAH.
     Sweep,
+    /// kD-tree cut in the middle of each cell.
+    KdMiddle,
+    /// kD-tree cut at the median of the primitives' bounds.
+    KdMedian,
 }
 
 impl AccelSpec {
@@ -39,6 +44,8 @@ impl AccelSpec {
             "bvh:median" => Self::Median,
             "bvh:sah-binned" => Self::Binned(16),
             "bvh:sah-sweep" => Self::Sweep,
+            "kd:middle" => Self::KdMiddle,
+            "kd:median" => Self::KdMedian,
             _ => match text.strip_prefix("bvh:sah-binned:") {
                 Some(bins) => match bins.parse::<usize>() {
                     Ok(bins) if (2..=4096).contains(&bins) => Self::Binned(bins),
@@ -67,6 +74,8 @@ impl AccelSpec {
             Self::Median => "bvh:median".into(),
             Self::Binned(bins) => format!("bvh:sah-binned:{bins}"),
             Self::Sweep => "bvh:sah-sweep".into(),
+            Self::KdMiddle => "kd:middle".into(),
+            Self::KdMedian => "kd:median".into(),
         }
     }
 
@@ -83,8 +92,15 @@ impl AccelSpec {
             let leaf_ordered = bvh.leaf_ordered(primitives);
             Accel::Bvh(bvh, leaf_ordered)
         };
+        let kd = |builder: &dyn Fn(&[Aabb<V>]) -> KdTree<V>| {
+            let tree = builder(&primitives.all_bounds());
+            let leaf_ordered = tree.leaf_ordered(primitives);
+            Accel::Kd(tree, leaf_ordered)
+        };
         let accel = match self {
             Self::Brute => Accel::Brute(primitives),
+            Self::KdMiddle => kd(&|bounds| KdMiddleSplit.build(bounds, params)),
+            Self::KdMedian => kd(&|bounds| KdMedianSplit.build(bounds, params)),
             Self::Middle => bvh(&|bounds| MiddleSplit.build(bounds, params)),
             Self::Median => bvh(&|bounds| MedianSplit.build(bounds, params)),
             Self::Binned(bins) => bvh(&|bounds| BinnedSah { bins: *bins }.build(bounds, params)),
@@ -94,12 +110,21 @@ impl AccelSpec {
     }
 }
 
+/// One traversal stack per kind of tree, kept per thread.
+#[derive(Default)]
+pub struct Stacks<S: accelviz_core::Real> {
+    bvh: TraversalStack<S>,
+    kd: KdTraversalStack<S>,
+}
+
 /// A built structure with the primitives it traces.
 pub enum Accel<'a, V: Vector, P> {
     /// No structure: brute force over the primitives in their own order.
     Brute(&'a P),
     /// A BVH and the primitives in its leaf order.
     Bvh(Bvh<V>, LeafOrdered<P>),
+    /// A kD-tree and the primitives in its leaf order.
+    Kd(KdTree<V>, LeafOrdered<P>),
 }
 
 impl<V: Vector, P: PrimitiveSet<V>> Accel<'_, V, P> {
@@ -109,21 +134,26 @@ impl<V: Vector, P: PrimitiveSet<V>> Accel<'_, V, P> {
         &self,
         ray: &Ray<V>,
         options: &TraceOptions,
-        stack: &mut TraversalStack<V::Scalar>,
+        stacks: &mut Stacks<V::Scalar>,
         observer: &mut O,
     ) -> Option<Hit<V::Scalar>> {
         match self {
             Accel::Brute(primitives) => brute_force(*primitives, ray, options, observer),
-            Accel::Bvh(bvh, primitives) => traverse(bvh, primitives, ray, options, stack, observer),
+            Accel::Bvh(bvh, primitives) => {
+                traverse(bvh, primitives, ray, options, &mut stacks.bvh, observer)
+            }
+            Accel::Kd(tree, primitives) => {
+                kd::traverse(tree, primitives, ray, options, &mut stacks.kd, observer)
+            }
         }
     }
 
     /// The tree's statistics with these cost constants (for brute force: one leaf holding
     /// everything).
-    pub fn stats(&self, primitive_count: usize, cost: &accelviz_core::SahCost) -> BvhStats {
+    pub fn stats(&self, primitive_count: usize, cost: &accelviz_core::SahCost) -> TreeStats {
         let cost = *cost;
         match self {
-            Accel::Brute(_) => BvhStats {
+            Accel::Brute(_) => TreeStats {
                 node_count: 0,
                 leaf_count: 0,
                 max_depth: 0,
@@ -132,7 +162,8 @@ impl<V: Vector, P: PrimitiveSet<V>> Accel<'_, V, P> {
                 mean_leaf_size: primitive_count as f64,
                 sah_cost: cost.leaf_cost(primitive_count),
             },
-            Accel::Bvh(bvh, _) => BvhStats::of(bvh, &cost),
+            Accel::Bvh(bvh, _) => TreeStats::of_bvh(bvh, &cost),
+            Accel::Kd(tree, _) => TreeStats::of_kd(tree, &cost),
         }
     }
 }

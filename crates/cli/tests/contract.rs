@@ -47,6 +47,8 @@ fn query_prints_one_line_per_ray_in_order() {
         "bvh:sah-binned",
         "bvh:sah-binned:4",
         "bvh:sah-sweep",
+        "kd:middle",
+        "kd:median",
     ] {
         for extra in [
             &[][..],

@@ -13,6 +13,8 @@
 //!
 //! - [`slab`]: the slab test, with the record a lesson shows and the hot path traversal runs.
 //! - [`bounding`]: bounding box and sphere of an object, their reject tests and void.
+//! - [`kd`]: kD-trees (middle and median cuts), the lecture's near-side-first traversal, a
+//!   validator.
 //! - [`bvh`]: four builders ([`bvh::MiddleSplit`], [`bvh::MedianSplit`], [`bvh::BinnedSah`],
 //!   [`bvh::SweepSah`]) sharing one [`SahCost`], one traversal, a validator and statistics.
 //! - [`observer`]: how traversal reports each step (nothing, counts, or a full record).
@@ -23,6 +25,7 @@ pub mod aabb;
 pub mod bounding;
 pub mod brute;
 pub mod bvh;
+pub mod kd;
 pub mod math;
 pub mod observer;
 pub mod primitive;
@@ -30,6 +33,7 @@ pub mod query;
 pub mod ray;
 pub mod sah;
 pub mod slab;
+pub mod stats;
 
 pub use aabb::{Aabb, Aabb2, Aabb3};
 pub use brute::brute_force;
@@ -42,3 +46,4 @@ pub use query::{Hit, Order, Query, TraceOptions};
 pub use ray::{Ray, Ray2, Ray3, RayError};
 pub use sah::SahCost;
 pub use slab::{SlabRay, SlabRecord, slab_clip, slab_record};
+pub use stats::TreeStats;

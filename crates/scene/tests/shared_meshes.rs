@@ -6,6 +6,7 @@
 use accelviz_core::bvh::{
     BinnedSah, BuildParams, Builder, SweepSah, TraversalStack, traverse, validate,
 };
+use accelviz_core::kd::{self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdTraversalStack};
 use accelviz_core::{NoObserver, PrimitiveSet, TraceOptions, TriangleSet, Vector3, brute_force};
 use accelviz_scene::Mesh;
 use accelviz_scene::obj::load_obj;
@@ -31,7 +32,12 @@ fn agree<V: Vector3>(mesh: &Mesh, ray_count: usize, options: TraceOptions) -> us
     for bvh in &trees {
         validate(bvh, &bounds).unwrap();
     }
+    let kd_trees = [
+        KdMiddleSplit.build(&bounds, &BuildParams::default()),
+        KdMedianSplit.build(&bounds, &BuildParams::default()),
+    ];
     let mut stack = TraversalStack::new();
+    let mut kd_stack = KdTraversalStack::new();
     let mut hits = 0;
     for spec in random_rays(&mesh.bounds(), ray_count, 3) {
         let ray = spec.to_ray::<V>().unwrap();
@@ -40,6 +46,17 @@ fn agree<V: Vector3>(mesh: &Mesh, ray_count: usize, options: TraceOptions) -> us
         for bvh in &trees {
             let got = traverse(bvh, &triangles, &ray, &options, &mut stack, &mut NoObserver);
             assert_eq!(got, expected, "{}: {ray:?}", mesh.name);
+        }
+        for tree in &kd_trees {
+            let got = kd::traverse(
+                tree,
+                &triangles,
+                &ray,
+                &options,
+                &mut kd_stack,
+                &mut NoObserver,
+            );
+            assert_eq!(got, expected, "{} kD: {ray:?}", mesh.name);
         }
     }
     hits

@@ -2,14 +2,13 @@
 //!
 //! Boxes → a builder (`build_*`) → [`Bvh`] (flat nodes, index children) → [`traverse`] told
 //! about each step by an [`Observer`](crate::observer::Observer). [`validate`] checks any tree;
-//! [`BvhStats`] measures it.
+//! [`TreeStats`](crate::stats::TreeStats) measures it.
 
 mod build;
 mod build_binned;
 mod build_median;
 mod build_middle;
 mod build_sweep;
-mod stats;
 mod traverse;
 mod tree;
 mod validate;
@@ -19,7 +18,6 @@ pub use build_binned::BinnedSah;
 pub use build_median::MedianSplit;
 pub use build_middle::MiddleSplit;
 pub use build_sweep::SweepSah;
-pub use stats::BvhStats;
 pub use traverse::{TraversalStack, traverse};
 pub use tree::{Bvh, BvhNode};
 pub use validate::{ValidationError, validate};

@@ -8,6 +8,7 @@ use accelviz_core::bvh::{
     BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, SweepSah, TraversalStack,
     traverse, validate,
 };
+use accelviz_core::kd::{self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdTraversalStack, KdTree};
 use accelviz_core::{
     Counters, Hit, LeafPrimitives, NoObserver, Order, PrimitiveSet, Query, Ray, Real, TraceOptions,
     Vector, brute_force,
@@ -33,6 +34,26 @@ pub fn all_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(String, 
             add(builder.name(), builder.build(&bounds, &params));
         }
         add(SweepSah.name(), SweepSah.build(&bounds, &params));
+    }
+    trees
+}
+
+/// Builds a kD-tree with every kD builder (two leaf sizes), validating each.
+pub fn all_kd_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(String, KdTree<V>)> {
+    let bounds = primitives.all_bounds();
+    let mut trees = Vec::new();
+    for max_leaf_size in [1, 4] {
+        let params = BuildParams {
+            max_leaf_size,
+            ..BuildParams::default()
+        };
+        for (name, tree) in [
+            ("kd:middle", KdMiddleSplit.build(&bounds, &params)),
+            ("kd:median", KdMedianSplit.build(&bounds, &params)),
+        ] {
+            kd::validate(&tree, &bounds).unwrap_or_else(|error| panic!("{name}: {error}"));
+            trees.push((format!("{name} leaf {max_leaf_size}"), tree));
+        }
     }
     trees
 }
@@ -72,7 +93,13 @@ pub fn assert_agrees_with_brute_force<
         .iter()
         .map(|(_, bvh)| bvh.leaf_ordered(primitives))
         .collect();
+    let kd_trees = all_kd_trees(primitives);
+    let kd_leaf_ordered: Vec<_> = kd_trees
+        .iter()
+        .map(|(_, tree)| tree.leaf_ordered(primitives))
+        .collect();
     let mut stack = TraversalStack::new();
+    let mut kd_stack = KdTraversalStack::new();
     for options in all_options() {
         for (index, ray) in rays.iter().enumerate() {
             let closest_options = TraceOptions {
@@ -114,6 +141,36 @@ pub fn assert_agrees_with_brute_force<
                     );
                 }
                 assert!(counters.primitive_tests <= primitives.len() as u64 * 2 + 1);
+            }
+            for ((name, tree), leaf_ordered) in kd_trees.iter().zip(&kd_leaf_ordered) {
+                let context = format!("{name}, {options:?}, ray {index} {ray:?}");
+                let mut counters = Counters::default();
+                let got = kd::traverse(
+                    tree,
+                    primitives,
+                    ray,
+                    &options,
+                    &mut kd_stack,
+                    &mut counters,
+                );
+                let mut counters_ordered = Counters::default();
+                let got_ordered = kd::traverse(
+                    tree,
+                    leaf_ordered,
+                    ray,
+                    &options,
+                    &mut kd_stack,
+                    &mut counters_ordered,
+                );
+                assert_eq!(
+                    (got, counters),
+                    (got_ordered, counters_ordered),
+                    "{context}: leaf order"
+                );
+                match options.query {
+                    Query::Closest => assert_same_hit(got, expected, &context),
+                    Query::Any => assert_eq!(got.is_some(), expected.is_some(), "{context}"),
+                }
             }
         }
     }

@@ -1,0 +1,46 @@
+//! Split at the median: the lecture's second strategy. The plane goes through the median of
+//! the primitives' bounds, so both children hold about as many primitives; how likely each is
+//! to be entered is ignored.
+
+use crate::aabb::Aabb;
+use crate::bvh::BuildParams;
+use crate::kd::build::{KdBuilder, build_by_rule};
+use crate::kd::tree::KdTree;
+use crate::math::{Real, Vector};
+
+/// Cuts each cell across its longest axis at the median of its primitives' box ends (each
+/// primitive's lower and upper bound on that axis, clipped to the cell); if that falls on the
+/// cell's boundary, in the middle instead.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct KdMedianSplit;
+
+impl KdBuilder for KdMedianSplit {
+    fn name(&self) -> String {
+        "median".into()
+    }
+
+    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> KdTree<V> {
+        let mut ends: Vec<V::Scalar> = Vec::new();
+        build_by_rule(primitive_bounds, params, |cell, primitives, bounds| {
+            let axis = cell.largest_axis();
+            let (low, high) = (cell.min[axis], cell.max[axis]);
+            // Gather both ends of every box, clipped to the cell, and take the middle one.
+            ends.clear();
+            for &primitive in primitives {
+                let bounds = &bounds[primitive as usize];
+                ends.push(bounds.min[axis].max(low));
+                ends.push(bounds.max[axis].min(high));
+            }
+            let half = ends.len() / 2;
+            let (_, &mut median, _) = ends.select_nth_unstable_by(half, |a, b| {
+                a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal)
+            });
+            let split = if low < median && median < high {
+                median
+            } else {
+                (low + high) * (V::Scalar::ONE / V::Scalar::TWO)
+            };
+            Some((axis, split))
+        })
+    }
+}

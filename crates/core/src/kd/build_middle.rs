@@ -1,0 +1,26 @@
+//! Split in the middle of the cell: the lecture's first strategy. The two children are equally
+//! likely to be entered; what they contain is ignored.
+
+use crate::aabb::Aabb;
+use crate::bvh::BuildParams;
+use crate::kd::build::{KdBuilder, build_by_rule};
+use crate::kd::tree::KdTree;
+use crate::math::{Real, Vector};
+
+/// Cuts each cell in half across its longest axis.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct KdMiddleSplit;
+
+impl KdBuilder for KdMiddleSplit {
+    fn name(&self) -> String {
+        "middle".into()
+    }
+
+    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> KdTree<V> {
+        build_by_rule(primitive_bounds, params, |cell, _, _| {
+            let axis = cell.largest_axis();
+            let half = V::Scalar::ONE / V::Scalar::TWO;
+            Some((axis, (cell.min[axis] + cell.max[axis]) * half))
+        })
+    }
+}

@@ -1,0 +1,19 @@
+//! kD-trees: space cut by axis-aligned planes, straddling primitives listed on both sides.
+//!
+//! Boxes → a builder (`build_*`) → [`KdTree`] (flat nodes, index children) → [`traverse`]
+//! (the lecture's near-side-first recursion, with an explicit stack) told about each step by an
+//! [`Observer`](crate::observer::Observer). [`validate`] checks any tree.
+
+mod build;
+mod build_median;
+mod build_middle;
+mod traverse;
+mod tree;
+mod validate;
+
+pub use build::KdBuilder;
+pub use build_median::KdMedianSplit;
+pub use build_middle::KdMiddleSplit;
+pub use traverse::{KdTraversalStack, traverse};
+pub use tree::{KdNode, KdTree};
+pub use validate::{KdValidationError, validate};

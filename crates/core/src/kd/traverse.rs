@@ -1,0 +1,137 @@
+//! kD-tree traversal, the lecture's pseudo-code with an explicit stack:
+//!
+//! ```text
+//! intersectKDTree(ray, node)
+//!   if empty(ray) return
+//!   if isLeaf(node) intersectObjects(node.objects, ray)
+//!   else
+//!     rayNear = clip ray to near side of the split;  intersectKDTree(rayNear, nearChild)
+//!     if (no intersection) rayFar = clip ray to far side;  intersectKDTree(rayFar, farChild)
+//! ```
+//!
+//! "No intersection" means none nearer than where the far part starts: a primitive that
+//! straddles the plane can be hit beyond the near cell, and that hit must not end the search.
+
+use crate::kd::tree::KdTree;
+use crate::math::{Real, Vector};
+use crate::observer::Observer;
+use crate::primitive::{LeafPrimitives, PrimitiveSet};
+use crate::query::{Hit, Order, Query, TraceOptions};
+use crate::ray::Ray;
+use crate::slab::{SlabRay, slab_clip};
+
+/// Reusable stack of far sides still to visit: one per thread, so tracing allocates nothing
+/// per ray.
+#[derive(Clone, Debug, Default)]
+pub struct KdTraversalStack<S: Real> {
+    entries: Vec<(u32, S, S)>,
+}
+
+impl<S: Real> KdTraversalStack<S> {
+    /// An empty stack.
+    pub fn new() -> Self {
+        Self {
+            entries: Vec::with_capacity(64),
+        }
+    }
+}
+
+/// Traces `ray` through `tree` over `primitives` (in their own numbering, or the tree's
+/// [`leaf_ordered`](KdTree::leaf_ordered) copy). With [`Order::FileOrder`] the child below the
+/// plane is always visited first, whatever the ray's direction.
+pub fn traverse<V, P, O>(
+    tree: &KdTree<V>,
+    primitives: &P,
+    ray: &Ray<V>,
+    options: &TraceOptions,
+    stack: &mut KdTraversalStack<V::Scalar>,
+    observer: &mut O,
+) -> Option<Hit<V::Scalar>>
+where
+    V: Vector,
+    P: LeafPrimitives<V>,
+    O: Observer<V::Scalar>,
+{
+    // Clip the ray to the root cell.
+    let slab_ray = SlabRay::new(ray, options.robust_traversal);
+    let (t_enter, t_exit) = slab_clip(&tree.bounds, &slab_ray, ray.t_max);
+    observer.box_tested(0, t_enter, t_exit, t_enter <= t_exit);
+    if t_enter > t_exit || tree.nodes.is_empty() {
+        return None;
+    }
+    let primitive_ray = primitives.stored().prepare(ray, options.hit_test);
+    let mut closest: Option<Hit<V::Scalar>> = None;
+    let mut t_closest = ray.t_max;
+    let entries = &mut stack.entries;
+    entries.clear();
+    let mut current = Some((0u32, t_enter, t_exit));
+    while let Some((node_index, t_near, t_far)) = current.take().or_else(|| entries.pop()) {
+        // The part of the ray in this cell starts beyond the closest hit: nothing here is nearer.
+        if t_near > t_closest {
+            observer.node_culled(node_index, t_near, t_closest);
+            continue;
+        }
+        observer.node_entered(node_index);
+        let node = &tree.nodes[node_index as usize];
+        if node.is_leaf() {
+            let first = node.first as usize;
+            for (slot, &primitive) in (first..).zip(tree.leaf_primitives(node)) {
+                let stored = primitives.storage_index(slot, primitive);
+                let t_hit =
+                    primitives
+                        .stored()
+                        .intersect(&primitive_ray, stored, ray.t_min, t_closest);
+                observer.primitive_tested(primitive, t_hit);
+                let Some(t) = t_hit else { continue };
+                if closest.is_none_or(|hit| hit.is_beaten_by(primitive, t)) {
+                    closest = Some(Hit { primitive, t });
+                    t_closest = t;
+                    observer.closest_hit_updated(primitive, t);
+                    if options.query == Query::Any {
+                        return closest;
+                    }
+                }
+            }
+            continue;
+        }
+        // Which side holds the origin (the near side), and where the ray crosses the plane.
+        let axis = node.axis as usize;
+        let origin = ray.origin[axis];
+        let direction = ray.direction[axis];
+        let [below, above] = node.children();
+        let below_is_near =
+            origin < node.split || (origin == node.split && direction <= V::Scalar::ZERO);
+        let (near, far) = if below_is_near {
+            (below, above)
+        } else {
+            (above, below)
+        };
+        if direction == V::Scalar::ZERO {
+            // Parallel to the plane: the ray stays on the near side. (A ray in the plane meets
+            // only primitives that touch the plane, and those are on both sides.)
+            current = Some((near, t_near, t_far));
+            continue;
+        }
+        let t_plane = (node.split - origin) * slab_ray.inv_direction[axis];
+        let near_part = (near, t_near, t_far.min(t_plane));
+        let far_part = (far, t_near.max(t_plane), t_far);
+        current = if origin == node.split || t_plane < V::Scalar::ZERO || t_plane > t_far {
+            // The ray leaves the plane into the near side, moves away from it, or leaves the
+            // cell before reaching it: only the near side.
+            Some((near, t_near, t_far))
+        } else if t_plane < t_near {
+            // It crossed the plane before entering the cell.
+            Some((far, t_near, t_far))
+        } else {
+            // Both parts: visit one now, keep the other for when this subtree is done.
+            let (first, second) = if options.order == Order::FileOrder && near != below {
+                (far_part, near_part)
+            } else {
+                (near_part, far_part)
+            };
+            entries.push(second);
+            Some(first)
+        };
+    }
+    closest
+}

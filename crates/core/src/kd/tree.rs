@@ -1,0 +1,73 @@
+//! The kD-tree's memory layout.
+
+use crate::aabb::Aabb;
+use crate::math::{Real, Vector};
+use crate::primitive::{LeafOrdered, PrimitiveSet};
+
+/// One node: a split plane with two children, or a leaf with a run of primitives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KdNode<S: Real> {
+    /// Interior: where the plane cuts its axis. Leaf: unused (0).
+    pub split: S,
+    /// Interior: the split axis (0, 1, 2). Leaf: [`KdNode::LEAF`].
+    pub axis: u32,
+    /// Interior: the left (below the plane) child; the right child is `first + 1`.
+    /// Leaf: the first slot in `primitive_indices`.
+    pub first: u32,
+    /// Leaf: how many primitives (may be 0: an empty cell). Interior: 0.
+    pub count: u32,
+}
+
+impl<S: Real> KdNode<S> {
+    /// The `axis` value that marks a leaf.
+    pub const LEAF: u32 = u32::MAX;
+
+    /// True for a leaf.
+    #[inline(always)]
+    pub fn is_leaf(&self) -> bool {
+        self.axis == Self::LEAF
+    }
+
+    /// The two children (below and above the plane), for an interior node.
+    #[inline(always)]
+    pub fn children(&self) -> [u32; 2] {
+        [self.first, self.first + 1]
+    }
+}
+
+/// A kD-tree over primitives numbered `0..n`. Node 0 is the root, whose cell is `bounds`. A
+/// primitive whose box straddles a plane is listed in both children, so a primitive number can
+/// appear in several leaves.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KdTree<V: Vector> {
+    /// The root cell: the box around every primitive.
+    pub bounds: Aabb<V>,
+    /// The nodes; `nodes[0]` is the root.
+    pub nodes: Vec<KdNode<V::Scalar>>,
+    /// Primitive numbers in leaf order (with repeats for straddling primitives).
+    pub primitive_indices: Vec<u32>,
+}
+
+impl<V: Vector> KdTree<V> {
+    /// The primitives of a leaf.
+    pub fn leaf_primitives(&self, node: &KdNode<V::Scalar>) -> &[u32] {
+        let first = node.first as usize;
+        &self.primitive_indices[first..first + node.count as usize]
+    }
+
+    /// The cells of a node's two children: the node's cell cut at its plane.
+    pub fn child_cells(node: &KdNode<V::Scalar>, cell: &Aabb<V>) -> [Aabb<V>; 2] {
+        let axis = node.axis as usize;
+        let mut below = *cell;
+        let mut above = *cell;
+        below.max[axis] = node.split;
+        above.min[axis] = node.split;
+        [below, above]
+    }
+
+    /// A copy of `primitives` in this tree's leaf order (straddling primitives are copied once
+    /// per leaf), for faster traversal; hits keep their numbers.
+    pub fn leaf_ordered<P: PrimitiveSet<V>>(&self, primitives: &P) -> LeafOrdered<P> {
+        LeafOrdered::new(primitives.permuted(&self.primitive_indices))
+    }
+}

@@ -1,0 +1,151 @@
+//! The kD-tree validator every test runs after every build.
+
+use crate::aabb::Aabb;
+use crate::kd::build::sides;
+use crate::kd::tree::KdTree;
+use crate::math::Vector;
+
+/// What is wrong with a kD-tree.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum KdValidationError {
+    /// The root cell does not hold every primitive's box.
+    #[error("the root cell does not contain primitive {primitive}")]
+    RootTooSmall {
+        /// The primitive.
+        primitive: usize,
+    },
+    /// An index points outside its array, or an axis is not one of the scene's.
+    #[error("node {node}: {what} out of range")]
+    OutOfRange {
+        /// The node.
+        node: usize,
+        /// Which index.
+        what: &'static str,
+    },
+    /// A split plane lies outside its node's cell, so the children would not tile it.
+    #[error("node {node}: the split plane is outside the cell")]
+    PlaneOutsideCell {
+        /// The node.
+        node: usize,
+    },
+    /// A node is reached twice, or never.
+    #[error("node {node} is reached {times} times from the root")]
+    NodeReach {
+        /// The node.
+        node: usize,
+        /// How often.
+        times: usize,
+    },
+    /// A primitive overlapping a leaf's cell is not listed in it.
+    #[error("leaf {node} misses primitive {primitive}, which overlaps its cell")]
+    MissingPrimitive {
+        /// The leaf.
+        node: usize,
+        /// The primitive.
+        primitive: usize,
+    },
+    /// A leaf lists a primitive that does not reach its cell, or lists one twice.
+    #[error("leaf {node} lists primitive {primitive}, which does not belong there")]
+    ExtraPrimitive {
+        /// The leaf.
+        node: usize,
+        /// The primitive.
+        primitive: usize,
+    },
+}
+
+/// Checks that the root cell holds every primitive, that each split lies within its cell (so
+/// the two child cells tile the parent), that every node is reached once, and that each leaf
+/// lists exactly the primitives whose boxes reach its cell. O(leaves × primitives): for tests.
+pub fn validate<V: Vector>(
+    tree: &KdTree<V>,
+    primitive_bounds: &[Aabb<V>],
+) -> Result<(), KdValidationError> {
+    if let Some(primitive) = primitive_bounds
+        .iter()
+        .position(|bounds| !tree.bounds.contains(bounds))
+    {
+        return Err(KdValidationError::RootTooSmall { primitive });
+    }
+    let node_count = tree.nodes.len();
+    let mut reached = vec![0usize; node_count];
+    let mut pending = vec![(0usize, tree.bounds)];
+    while let Some((index, cell)) = pending.pop() {
+        let Some(node) = tree.nodes.get(index) else {
+            return Err(KdValidationError::OutOfRange {
+                node: index,
+                what: "child",
+            });
+        };
+        reached[index] += 1;
+        if reached[index] > 1 {
+            return Err(KdValidationError::NodeReach {
+                node: index,
+                times: reached[index],
+            });
+        }
+        if node.is_leaf() {
+            let first = node.first as usize;
+            let Some(listed) = tree
+                .primitive_indices
+                .get(first..first + node.count as usize)
+            else {
+                return Err(KdValidationError::OutOfRange {
+                    node: index,
+                    what: "primitive range",
+                });
+            };
+            let mut listed_flags = vec![false; primitive_bounds.len()];
+            for &primitive in listed {
+                let primitive = primitive as usize;
+                let reaches = primitive_bounds
+                    .get(primitive)
+                    .is_some_and(|bounds| overlaps(bounds, &cell));
+                if !reaches || listed_flags[primitive] {
+                    return Err(KdValidationError::ExtraPrimitive {
+                        node: index,
+                        primitive,
+                    });
+                }
+                listed_flags[primitive] = true;
+            }
+            if let Some(primitive) = (0..primitive_bounds.len())
+                .find(|&p| !listed_flags[p] && overlaps(&primitive_bounds[p], &cell))
+            {
+                return Err(KdValidationError::MissingPrimitive {
+                    node: index,
+                    primitive,
+                });
+            }
+            continue;
+        }
+        let axis = node.axis as usize;
+        if axis >= V::DIM {
+            return Err(KdValidationError::OutOfRange {
+                node: index,
+                what: "axis",
+            });
+        }
+        if !(cell.min[axis] <= node.split && node.split <= cell.max[axis]) {
+            return Err(KdValidationError::PlaneOutsideCell { node: index });
+        }
+        let [below, above] = KdTree::child_cells(node, &cell);
+        let [left, right] = node.children();
+        pending.push((left as usize, below));
+        pending.push((right as usize, above));
+    }
+    if let Some((node, &times)) = reached.iter().enumerate().find(|(_, t)| **t != 1) {
+        return Err(KdValidationError::NodeReach { node, times });
+    }
+    Ok(())
+}
+
+/// Whether a primitive box reaches a closed cell: on every axis, the same rule the builders
+/// use for each plane.
+fn overlaps<V: Vector>(bounds: &Aabb<V>, cell: &Aabb<V>) -> bool {
+    (0..V::DIM).all(|axis| {
+        let (below_max, _) = sides(bounds, axis, cell.max[axis]);
+        let (_, above_min) = sides(bounds, axis, cell.min[axis]);
+        below_max && above_min
+    })
+}
