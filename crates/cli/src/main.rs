@@ -84,6 +84,9 @@ pub struct BuildArgs {
     /// SAH cost of one ray/triangle test, C_isect.
     #[arg(long, default_value_t = BuildParams::default().cost.intersection_cost)]
     intersection_cost: f64,
+    /// kD SAH: the share by which a cut leaving one side empty is made cheaper (0 to 1).
+    #[arg(long, default_value_t = BuildParams::default().cost.empty_bonus)]
+    empty_bonus: f64,
 }
 
 impl BuildArgs {
@@ -93,6 +96,9 @@ impl BuildArgs {
         if costs.iter().any(|cost| !cost.is_finite() || *cost <= 0.0) {
             anyhow::bail!("--traversal-cost and --intersection-cost must be positive numbers");
         }
+        if !(0.0..=1.0).contains(&self.empty_bonus) {
+            anyhow::bail!("--empty-bonus must be a number from 0 to 1");
+        }
         if self.max_leaf_size == 0 {
             anyhow::bail!("--max-leaf-size must be at least 1");
         }
@@ -101,6 +107,7 @@ impl BuildArgs {
             cost: accelviz_core::SahCost {
                 traversal_cost: self.traversal_cost,
                 intersection_cost: self.intersection_cost,
+                empty_bonus: self.empty_bonus,
             },
         })
     }
@@ -113,6 +120,7 @@ impl Default for BuildArgs {
             max_leaf_size: params.max_leaf_size,
             traversal_cost: params.cost.traversal_cost,
             intersection_cost: params.cost.intersection_cost,
+            empty_bonus: params.cost.empty_bonus,
         }
     }
 }

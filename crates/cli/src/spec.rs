@@ -7,14 +7,16 @@ use accelviz_core::bvh::{
     BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, SweepSah, TraversalStack,
     traverse,
 };
-use accelviz_core::kd::{self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdTraversalStack, KdTree};
+use accelviz_core::kd::{
+    self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdSah, KdTraversalStack, KdTree,
+};
 use accelviz_core::{
     Aabb, Hit, LeafOrdered, Observer, PrimitiveSet, Ray, TraceOptions, Vector, brute_force,
 };
 use anyhow::{Result, bail};
 
 /// The specs the CLI accepts, for messages.
-pub const VALID_SPECS: &str = "brute, bvh:middle, bvh:median, bvh:sah-binned[:BINS] (default 16 bins), bvh:sah-sweep, kd:middle, kd:median";
+pub const VALID_SPECS: &str = "brute, bvh:middle, bvh:median, bvh:sah-binned[:BINS] (default 16 bins), bvh:sah-sweep, kd:middle, kd:median, kd:sah";
 
 /// A parsed spec.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -33,6 +35,8 @@ pub enum AccelSpec {
     KdMiddle,
     /// kD-tree cut at the median of the primitives' bounds.
     KdMedian,
+    /// SAH kD-tree.
+    KdSah,
 }
 
 impl AccelSpec {
@@ -46,6 +50,7 @@ impl AccelSpec {
             "bvh:sah-sweep" => Self::Sweep,
             "kd:middle" => Self::KdMiddle,
             "kd:median" => Self::KdMedian,
+            "kd:sah" => Self::KdSah,
             _ => match text.strip_prefix("bvh:sah-binned:") {
                 Some(bins) => match bins.parse::<usize>() {
                     Ok(bins) if (2..=4096).contains(&bins) => Self::Binned(bins),
@@ -76,6 +81,7 @@ impl AccelSpec {
             Self::Sweep => "bvh:sah-sweep".into(),
             Self::KdMiddle => "kd:middle".into(),
             Self::KdMedian => "kd:median".into(),
+            Self::KdSah => "kd:sah".into(),
         }
     }
 
@@ -101,6 +107,7 @@ impl AccelSpec {
             Self::Brute => Accel::Brute(primitives),
             Self::KdMiddle => kd(&|bounds| KdMiddleSplit.build(bounds, params)),
             Self::KdMedian => kd(&|bounds| KdMedianSplit.build(bounds, params)),
+            Self::KdSah => kd(&|bounds| KdSah.build(bounds, params)),
             Self::Middle => bvh(&|bounds| MiddleSplit.build(bounds, params)),
             Self::Median => bvh(&|bounds| MedianSplit.build(bounds, params)),
             Self::Binned(bins) => bvh(&|bounds| BinnedSah { bins: *bins }.build(bounds, params)),

@@ -1,4 +1,5 @@
 //! kD-trees: space cut by axis-aligned planes, straddling primitives listed on both sides.
+//! Three ways to place the planes: the cell's middle, the primitives' median, and the SAH.
 //!
 //! Boxes → a builder (`build_*`) → [`KdTree`] (flat nodes, index children) → [`traverse`]
 //! (the lecture's near-side-first recursion, with an explicit stack) told about each step by an
@@ -7,6 +8,7 @@
 mod build;
 mod build_median;
 mod build_middle;
+mod build_sah;
 mod traverse;
 mod tree;
 mod validate;
@@ -14,6 +16,7 @@ mod validate;
 pub use build::KdBuilder;
 pub use build_median::KdMedianSplit;
 pub use build_middle::KdMiddleSplit;
+pub use build_sah::KdSah;
 pub use traverse::{KdTraversalStack, traverse};
 pub use tree::{KdNode, KdTree};
 pub use validate::{KdValidationError, validate};

@@ -8,7 +8,9 @@ use accelviz_core::bvh::{
     BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, SweepSah, TraversalStack,
     traverse, validate,
 };
-use accelviz_core::kd::{self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdTraversalStack, KdTree};
+use accelviz_core::kd::{
+    self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdSah, KdTraversalStack, KdTree,
+};
 use accelviz_core::{
     Counters, Hit, LeafPrimitives, NoObserver, Order, PrimitiveSet, Query, Ray, Real, TraceOptions,
     Vector, brute_force,
@@ -50,6 +52,7 @@ pub fn all_kd_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(Strin
         for (name, tree) in [
             ("kd:middle", KdMiddleSplit.build(&bounds, &params)),
             ("kd:median", KdMedianSplit.build(&bounds, &params)),
+            ("kd:sah", KdSah.build(&bounds, &params)),
         ] {
             kd::validate(&tree, &bounds).unwrap_or_else(|error| panic!("{name}: {error}"));
             trees.push((format!("{name} leaf {max_leaf_size}"), tree));
