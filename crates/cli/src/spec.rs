@@ -8,7 +8,7 @@ use accelviz_core::bvh::{
     traverse,
 };
 use accelviz_core::kd::{
-    self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdSah, KdTraversalStack, KdTree,
+    self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdSah, KdSahPresorted, KdTraversalStack, KdTree,
 };
 use accelviz_core::{
     Aabb, Hit, LeafOrdered, Observer, PrimitiveSet, Ray, TraceOptions, Vector, brute_force,
@@ -16,7 +16,7 @@ use accelviz_core::{
 use anyhow::{Result, bail};
 
 /// The specs the CLI accepts, for messages.
-pub const VALID_SPECS: &str = "brute, bvh:middle, bvh:median, bvh:sah-binned[:BINS] (default 16 bins), bvh:sah-sweep, kd:middle, kd:median, kd:sah";
+pub const VALID_SPECS: &str = "brute, bvh:middle, bvh:median, bvh:sah-binned[:BINS] (default 16 bins), bvh:sah-sweep, kd:middle, kd:median, kd:sah, kd:sah-per-node";
 
 /// A parsed spec.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,8 +35,10 @@ pub enum AccelSpec {
     KdMiddle,
     /// kD-tree cut at the median of the primitives' bounds.
     KdMedian,
-    /// SAH kD-tree.
+    /// SAH kD-tree, events sorted once (O(n log n)).
     KdSah,
+    /// SAH kD-tree, events sorted at every node (O(n log² n)); the same tree.
+    KdSahPerNode,
 }
 
 impl AccelSpec {
@@ -51,6 +53,7 @@ impl AccelSpec {
             "kd:middle" => Self::KdMiddle,
             "kd:median" => Self::KdMedian,
             "kd:sah" => Self::KdSah,
+            "kd:sah-per-node" => Self::KdSahPerNode,
             _ => match text.strip_prefix("bvh:sah-binned:") {
                 Some(bins) => match bins.parse::<usize>() {
                     Ok(bins) if (2..=4096).contains(&bins) => Self::Binned(bins),
@@ -82,6 +85,7 @@ impl AccelSpec {
             Self::KdMiddle => "kd:middle".into(),
             Self::KdMedian => "kd:median".into(),
             Self::KdSah => "kd:sah".into(),
+            Self::KdSahPerNode => "kd:sah-per-node".into(),
         }
     }
 
@@ -107,7 +111,8 @@ impl AccelSpec {
             Self::Brute => Accel::Brute(primitives),
             Self::KdMiddle => kd(&|bounds| KdMiddleSplit.build(bounds, params)),
             Self::KdMedian => kd(&|bounds| KdMedianSplit.build(bounds, params)),
-            Self::KdSah => kd(&|bounds| KdSah.build(bounds, params)),
+            Self::KdSah => kd(&|bounds| KdSahPresorted.build(bounds, params)),
+            Self::KdSahPerNode => kd(&|bounds| KdSah.build(bounds, params)),
             Self::Middle => bvh(&|bounds| MiddleSplit.build(bounds, params)),
             Self::Median => bvh(&|bounds| MedianSplit.build(bounds, params)),
             Self::Binned(bins) => bvh(&|bounds| BinnedSah { bins: *bins }.build(bounds, params)),

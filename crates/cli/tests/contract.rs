@@ -50,6 +50,7 @@ fn query_prints_one_line_per_ray_in_order() {
         "kd:middle",
         "kd:median",
         "kd:sah",
+        "kd:sah-per-node",
     ] {
         for extra in [
             &[][..],

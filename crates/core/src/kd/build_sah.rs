@@ -32,13 +32,29 @@ pub(crate) enum EventKind {
     Start,
 }
 
+/// One event: a primitive's clipped box starts, ends, or lies flat at `position`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Event<S> {
+    pub(crate) position: S,
+    pub(crate) kind: EventKind,
+    pub(crate) primitive: u32,
+}
+
+/// The order events are swept in: by position, then ends before flats before starts.
+pub(crate) fn event_order<S: Real>(a: &Event<S>, b: &Event<S>) -> std::cmp::Ordering {
+    a.position
+        .partial_cmp(&b.position)
+        .unwrap_or(std::cmp::Ordering::Equal)
+        .then(a.kind.cmp(&b.kind))
+}
+
 /// The cheapest cut of `cell` by a plane through an event position, if any lies strictly
 /// inside the cell: `(cost, axis, position)`. `events_per_axis[axis]` must be sorted by
 /// position. A primitive touching the plane counts on both sides, as the builders place it.
 /// Ties go to the lower axis, then the lower position.
 pub(crate) fn cheapest_cut<V: Vector>(
     cell: &Aabb<V>,
-    events_per_axis: &[Vec<(V::Scalar, EventKind)>],
+    events_per_axis: &[Vec<Event<V::Scalar>>],
     primitive_count: usize,
     cost: &SahCost,
 ) -> Option<(f64, usize, V::Scalar)> {
@@ -50,10 +66,10 @@ pub(crate) fn cheapest_cut<V: Vector>(
         let mut index = 0;
         while index < events.len() {
             // Gather every event at this position.
-            let position = events[index].0;
+            let position = events[index].position;
             let (mut starts, mut planars, mut ends) = (0, 0, 0);
-            while index < events.len() && events[index].0 == position {
-                match events[index].1 {
+            while index < events.len() && events[index].position == position {
+                match events[index].kind {
                     EventKind::Start => starts += 1,
                     EventKind::Planar => planars += 1,
                     EventKind::End => ends += 1,
@@ -86,20 +102,26 @@ pub(crate) fn cheapest_cut<V: Vector>(
     best
 }
 
-/// The events of one primitive box on one axis, clipped to the cell.
+/// The events of primitive `primitive`'s box on one axis, clipped to the cell.
 pub(crate) fn push_events<V: Vector>(
-    events: &mut Vec<(V::Scalar, EventKind)>,
+    events: &mut Vec<Event<V::Scalar>>,
+    primitive: u32,
     bounds: &Aabb<V>,
     cell: &Aabb<V>,
     axis: usize,
 ) {
     let low = bounds.min[axis].max(cell.min[axis]);
     let high = bounds.max[axis].min(cell.max[axis]);
+    let event = |position, kind| Event {
+        position,
+        kind,
+        primitive,
+    };
     if low == high {
-        events.push((low, EventKind::Planar));
+        events.push(event(low, EventKind::Planar));
     } else {
-        events.push((low, EventKind::Start));
-        events.push((high, EventKind::End));
+        events.push(event(low, EventKind::Start));
+        events.push(event(high, EventKind::End));
     }
 }
 
@@ -112,7 +134,7 @@ impl KdBuilder for KdSah {
     /// `params.max_leaf_size` is not used.
     fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> KdTree<V> {
         let cost = params.cost;
-        let mut events_per_axis: Vec<Vec<(V::Scalar, EventKind)>> = vec![Vec::new(); V::DIM];
+        let mut events_per_axis: Vec<Vec<Event<V::Scalar>>> = vec![Vec::new(); V::DIM];
         let params = BuildParams {
             max_leaf_size: 1,
             ..*params
@@ -122,13 +144,9 @@ impl KdBuilder for KdSah {
             for (axis, events) in events_per_axis.iter_mut().enumerate() {
                 events.clear();
                 for &primitive in primitives {
-                    push_events(events, &bounds[primitive as usize], cell, axis);
+                    push_events(events, primitive, &bounds[primitive as usize], cell, axis);
                 }
-                events.sort_unstable_by(|a, b| {
-                    a.0.partial_cmp(&b.0)
-                        .unwrap_or(std::cmp::Ordering::Equal)
-                        .then(a.1.cmp(&b.1))
-                });
+                events.sort_unstable_by(event_order);
             }
             let (split_cost, axis, position) =
                 cheapest_cut(cell, &events_per_axis, primitives.len(), &cost)?;
@@ -206,10 +224,10 @@ mod tests {
             let cost = SahCost::default();
             let mut events = vec![Vec::new(); 3];
             for (axis, events) in events.iter_mut().enumerate() {
-                for bounds in &boxes {
-                    push_events(events, bounds, &cell, axis);
+                for (primitive, bounds) in boxes.iter().enumerate() {
+                    push_events(events, primitive as u32, bounds, &cell, axis);
                 }
-                events.sort_by(|a: &(f64, EventKind), b| a.partial_cmp(b).unwrap());
+                events.sort_by(event_order);
             }
             let swept = cheapest_cut(&cell, &events, boxes.len(), &cost).map(|(c, _, _)| c);
             prop_assert_eq!(swept, brute_force_cut(&cell, &boxes, &cost));

@@ -9,7 +9,7 @@ use accelviz_core::bvh::{
     traverse, validate,
 };
 use accelviz_core::kd::{
-    self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdSah, KdTraversalStack, KdTree,
+    self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdSah, KdSahPresorted, KdTraversalStack, KdTree,
 };
 use accelviz_core::{
     Counters, Hit, LeafPrimitives, NoObserver, Order, PrimitiveSet, Query, Ray, Real, TraceOptions,
@@ -49,10 +49,17 @@ pub fn all_kd_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(Strin
             max_leaf_size,
             ..BuildParams::default()
         };
+        // Sorting at every node and sorting once build the same tree.
+        assert_eq!(
+            KdSah.build(&bounds, &params),
+            KdSahPresorted.build(&bounds, &params),
+            "kd:sah and kd:sah-presorted differ"
+        );
         for (name, tree) in [
             ("kd:middle", KdMiddleSplit.build(&bounds, &params)),
             ("kd:median", KdMedianSplit.build(&bounds, &params)),
             ("kd:sah", KdSah.build(&bounds, &params)),
+            ("kd:sah-presorted", KdSahPresorted.build(&bounds, &params)),
         ] {
             kd::validate(&tree, &bounds).unwrap_or_else(|error| panic!("{name}: {error}"));
             trees.push((format!("{name} leaf {max_leaf_size}"), tree));
