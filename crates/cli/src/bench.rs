@@ -71,6 +71,7 @@ impl BenchArgs {
                 order: crate::OrderArg::NearFirst,
                 precision: Precision::F32,
                 robust: false,
+                mailbox: false,
             },
             build: BuildArgs::default(),
             threads: 1,
@@ -185,11 +186,13 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .number("avg_nodes_visited", avg_nodes)
                 .number("avg_box_tests", f.counters.box_tests as f64 / rays)
                 .number("avg_prims_tested", avg_prims)
+                .number("avg_mailbox_skips", f.counters.mailbox_skips as f64 / rays)
                 .integer("hits", f.hits as u64)
                 .integer("misses", (f.rays - f.hits) as u64)
                 .string("order", order_name(options.order))
                 .string("precision", precision_name(args.trace.precision))
                 .boolean("robust", args.trace.robust)
+                .boolean("mailbox", args.trace.mailbox)
                 .integer("threads", args.threads as u64)
                 .integer("repeat", args.repeat.max(1) as u64)
                 .finish();

@@ -70,6 +70,9 @@ pub struct TraceArgs {
     /// Watertight triangle test (Woop et al. 2013) and conservative box test (Ize 2013).
     #[arg(long)]
     robust: bool,
+    /// kD-trees: test a primitive listed in several leaves once per ray (a mailbox).
+    #[arg(long)]
+    mailbox: bool,
 }
 
 /// The build parameters shared by `query` and `bench`.
@@ -133,6 +136,7 @@ impl TraceArgs {
                 OrderArg::NearFirst => Order::NearFirst,
                 OrderArg::FileOrder => Order::FileOrder,
             },
+            mailboxing: self.mailbox,
             ..TraceOptions::default()
         }
         .with_robust(self.robust)

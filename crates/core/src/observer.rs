@@ -23,6 +23,9 @@ pub trait Observer<S: Real> {
     /// `primitive` at `t` became the closest hit so far.
     #[inline(always)]
     fn closest_hit_updated(&mut self, _primitive: u32, _t: S) {}
+    /// `primitive` was not tested again: the mailbox shows it was tested for this ray.
+    #[inline(always)]
+    fn primitive_skipped(&mut self, _primitive: u32) {}
 }
 
 /// Observes nothing, at no cost: what benchmarks pass.
@@ -42,6 +45,8 @@ pub struct Counters {
     pub primitive_tests: u64,
     /// Nodes skipped because they start beyond the closest hit.
     pub nodes_culled: u64,
+    /// Primitive tests the mailbox saved.
+    pub mailbox_skips: u64,
 }
 
 impl std::ops::AddAssign for Counters {
@@ -50,6 +55,7 @@ impl std::ops::AddAssign for Counters {
         self.box_tests += other.box_tests;
         self.primitive_tests += other.primitive_tests;
         self.nodes_culled += other.nodes_culled;
+        self.mailbox_skips += other.mailbox_skips;
     }
 }
 
@@ -69,6 +75,10 @@ impl<S: Real> Observer<S> for Counters {
     #[inline(always)]
     fn primitive_tested(&mut self, _primitive: u32, _t_hit: Option<S>) {
         self.primitive_tests += 1;
+    }
+    #[inline(always)]
+    fn primitive_skipped(&mut self, _primitive: u32) {
+        self.mailbox_skips += 1;
     }
 }
 
@@ -114,6 +124,11 @@ pub enum Step<S: Real> {
         /// Its `t`.
         t: S,
     },
+    /// See [`Observer::primitive_skipped`].
+    PrimitiveSkipped {
+        /// The primitive.
+        primitive: u32,
+    },
 }
 
 /// Records every step, in order.
@@ -148,6 +163,9 @@ impl<S: Real> Observer<S> for Recorder<S> {
     fn closest_hit_updated(&mut self, primitive: u32, t: S) {
         self.steps.push(Step::ClosestHitUpdated { primitive, t });
     }
+    fn primitive_skipped(&mut self, primitive: u32) {
+        self.steps.push(Step::PrimitiveSkipped { primitive });
+    }
 }
 
 /// Forwards every step to two observers (e.g. count and record at once).
@@ -176,5 +194,10 @@ impl<S: Real, A: Observer<S>, B: Observer<S>> Observer<S> for (A, B) {
     fn closest_hit_updated(&mut self, primitive: u32, t: S) {
         self.0.closest_hit_updated(primitive, t);
         self.1.closest_hit_updated(primitive, t);
+    }
+    #[inline(always)]
+    fn primitive_skipped(&mut self, primitive: u32) {
+        self.0.primitive_skipped(primitive);
+        self.1.primitive_skipped(primitive);
     }
 }

@@ -52,6 +52,9 @@ pub struct TraceOptions {
     pub robust_traversal: bool,
     /// Ray/triangle test.
     pub hit_test: HitTest,
+    /// kD-trees: remember the last few primitives tested, so that one listed in several
+    /// leaves along the ray is tested once (Amanatides & Woo 1987's mailbox, per ray).
+    pub mailboxing: bool,
 }
 
 impl TraceOptions {

@@ -36,6 +36,28 @@ impl<S: Real> KdTraversalStack<S> {
     }
 }
 
+/// The primitives tested most recently for one ray: a primitive listed in several leaves along
+/// the ray usually meets the ray in consecutive leaves, so a few slots catch most repeats.
+#[derive(Default)]
+struct Mailbox {
+    slots: [u32; 8],
+    used: usize,
+}
+
+impl Mailbox {
+    /// Records `primitive`; false if it was already there (so its test can be skipped).
+    #[inline(always)]
+    fn post(&mut self, primitive: u32) -> bool {
+        let filled = self.used.min(self.slots.len());
+        if self.slots[..filled].contains(&primitive) {
+            return false;
+        }
+        self.slots[self.used % self.slots.len()] = primitive;
+        self.used += 1;
+        true
+    }
+}
+
 /// Traces `ray` through `tree` over `primitives` (in their own numbering, or the tree's
 /// [`leaf_ordered`](KdTree::leaf_ordered) copy). With [`Order::FileOrder`] the child below the
 /// plane is always visited first, whatever the ray's direction.
@@ -64,6 +86,7 @@ where
     let mut t_closest = ray.t_max;
     let entries = &mut stack.entries;
     entries.clear();
+    let mut mailbox = Mailbox::default();
     let mut current = Some((0u32, t_enter, t_exit));
     while let Some((node_index, t_near, t_far)) = current.take().or_else(|| entries.pop()) {
         // The part of the ray in this cell starts beyond the closest hit: nothing here is nearer.
@@ -76,6 +99,10 @@ where
         if node.is_leaf() {
             let first = node.first as usize;
             for (slot, &primitive) in (first..).zip(tree.leaf_primitives(node)) {
+                if options.mailboxing && !mailbox.post(primitive) {
+                    observer.primitive_skipped(primitive);
+                    continue;
+                }
                 let stored = primitives.storage_index(slot, primitive);
                 let t_hit =
                     primitives

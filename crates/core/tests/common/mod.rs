@@ -177,6 +177,26 @@ pub fn assert_agrees_with_brute_force<
                     (got_ordered, counters_ordered),
                     "{context}: leaf order"
                 );
+                // The mailbox skips repeated tests and changes nothing else.
+                let mailbox = TraceOptions {
+                    mailboxing: true,
+                    ..options
+                };
+                let mut counters_mailbox = Counters::default();
+                let got_mailbox = kd::traverse(
+                    tree,
+                    primitives,
+                    ray,
+                    &mailbox,
+                    &mut kd_stack,
+                    &mut counters_mailbox,
+                );
+                assert_eq!(got_mailbox, got, "{context}: mailbox");
+                assert_eq!(
+                    counters_mailbox.primitive_tests + counters_mailbox.mailbox_skips,
+                    counters.primitive_tests,
+                    "{context}: mailbox"
+                );
                 match options.query {
                     Query::Closest => assert_same_hit(got, expected, &context),
                     Query::Any => assert_eq!(got.is_some(), expected.is_some(), "{context}"),
