@@ -58,7 +58,8 @@ pub(crate) fn cheapest_cut<V: Vector>(
     primitive_count: usize,
     cost: &SahCost,
 ) -> Option<(f64, usize, V::Scalar)> {
-    let parent_area = cell.area().to_f64();
+    // Half areas: the cost needs only their ratios, and cells here are never empty.
+    let parent_area = cell.half_area_nonempty().to_f64();
     let mut best: Option<(f64, usize, V::Scalar)> = None;
     for (axis, events) in events_per_axis.iter().enumerate().take(V::DIM) {
         // Counts of events strictly before the current position.
@@ -85,9 +86,9 @@ pub(crate) fn cheapest_cut<V: Vector>(
                 right.min[axis] = position;
                 let split_cost = cost.kd_split_cost(
                     parent_area,
-                    left.area().to_f64(),
+                    left.half_area_nonempty().to_f64(),
                     left_count,
-                    right.area().to_f64(),
+                    right.half_area_nonempty().to_f64(),
                     right_count,
                 );
                 if best.is_none_or(|(best_cost, _, _)| split_cost < best_cost) {

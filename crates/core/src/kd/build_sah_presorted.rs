@@ -22,7 +22,9 @@ pub struct KdSahPresorted;
 struct Splitter<'a, V: Vector> {
     bounds: &'a [Aabb<V>],
     cost: SahCost,
-    /// Scratch: primitives whose split-axis events were already regenerated at this node.
+    /// Scratch, by primitive: which sides of the current cut it reaches (bit 0 below, bit 1
+    /// above), and whether its split-axis events were already regenerated.
+    side: Vec<u8>,
     regenerated: Vec<bool>,
     new_below: Vec<Event<V::Scalar>>,
     new_above: Vec<Event<V::Scalar>>,
@@ -91,17 +93,25 @@ impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
         below: &Aabb<V>,
         above: &Aabb<V>,
     ) -> (Self::NodeData, Self::NodeData) {
+        // Classify each primitive once (every one has an event on every axis).
+        for event in &events[0] {
+            let (is_below, is_above) =
+                sides(&self.bounds[event.primitive as usize], split_axis, split);
+            self.side[event.primitive as usize] = is_below as u8 | (is_above as u8) << 1;
+        }
         let mut below_lists = Vec::with_capacity(V::DIM);
         let mut above_lists = Vec::with_capacity(V::DIM);
         for (axis, list) in events.into_iter().enumerate() {
             // Events of primitives on one side keep their order in that side's list.
-            let (mut below_list, mut above_list) = (Vec::new(), Vec::new());
+            let mut below_list = Vec::with_capacity(list.len());
+            let mut above_list = Vec::with_capacity(list.len());
             self.new_below.clear();
             self.new_above.clear();
             for event in &list {
-                let bounds = &self.bounds[event.primitive as usize];
-                let (is_below, is_above) = sides(bounds, split_axis, split);
+                let side = self.side[event.primitive as usize];
+                let (is_below, is_above) = (side & 1 != 0, side & 2 != 0);
                 if axis == split_axis && is_below && is_above {
+                    let bounds = &self.bounds[event.primitive as usize];
                     // Cut by the plane: new events on this axis, clipped to each child.
                     let primitive = event.primitive as usize;
                     if !self.regenerated[primitive] {
@@ -146,6 +156,7 @@ impl KdBuilder for KdSahPresorted {
         let splitter = Splitter {
             bounds: primitive_bounds,
             cost: params.cost,
+            side: vec![0; primitive_bounds.len()],
             regenerated: vec![false; primitive_bounds.len()],
             new_below: Vec::new(),
             new_above: Vec::new(),
