@@ -32,6 +32,7 @@ pub mod primitive;
 pub mod query;
 pub mod ray;
 pub mod sah;
+mod search;
 pub mod slab;
 pub mod stats;
 

@@ -4,8 +4,9 @@ use crate::bvh::tree::Bvh;
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
 use crate::primitive::{LeafPrimitives, PrimitiveSet};
-use crate::query::{Hit, Order, Query, TraceOptions};
+use crate::query::{Hit, Order, TraceOptions};
 use crate::ray::Ray;
+use crate::search::HitSearch;
 use crate::slab::{SlabRay, slab_clip};
 
 /// Reusable traversal stack: make one per thread and pass it to every [`traverse`] call, so
@@ -53,8 +54,7 @@ where
         return None;
     }
     let primitive_ray = primitives.stored().prepare(ray, options.hit_test);
-    let mut closest: Option<Hit<V::Scalar>> = None;
-    let mut t_closest = ray.t_max;
+    let mut search = HitSearch::new(ray.t_max, options.query);
     let nodes = bvh.nodes.as_slice();
     let entries = &mut stack.entries;
     entries.clear();
@@ -62,39 +62,35 @@ where
     let mut current = Some((0u32, t_enter));
     while let Some((node_index, t_enter)) = current.take().or_else(|| entries.pop()) {
         // A hit found since this node was pushed may already be nearer than its box.
-        if t_enter > t_closest {
-            observer.node_culled(node_index, t_enter, t_closest);
+        if t_enter > search.t_closest {
+            observer.node_culled(node_index, t_enter, search.t_closest);
             continue;
         }
         observer.node_entered(node_index);
         let node = &nodes[node_index as usize];
         if node.is_leaf() {
             // Test the leaf's primitives, shrinking the interval with every closer hit.
+            let numbers = bvh.leaf_primitives(node);
             let first = node.first as usize;
-            for (slot, &primitive) in (first..).zip(bvh.leaf_primitives(node)) {
-                let stored = primitives.storage_index(slot, primitive);
-                let t_hit =
-                    primitives
-                        .stored()
-                        .intersect(&primitive_ray, stored, ray.t_min, t_closest);
-                observer.primitive_tested(primitive, t_hit);
-                let Some(t) = t_hit else { continue };
-                if closest.is_none_or(|hit| hit.is_beaten_by(primitive, t)) {
-                    closest = Some(Hit { primitive, t });
-                    t_closest = t;
-                    observer.closest_hit_updated(primitive, t);
-                    if options.query == Query::Any {
-                        return closest;
-                    }
-                }
+            if search.test_leaf(
+                primitives,
+                &primitive_ray,
+                ray.t_min,
+                first,
+                numbers,
+                |_| false,
+                observer,
+            ) {
+                return search.closest;
             }
             continue;
         }
         // Test both children's boxes against what is left of the interval.
         let [left, right] = node.children();
-        let (left_enter, left_exit) = slab_clip(&nodes[left as usize].bounds, &slab_ray, t_closest);
+        let (left_enter, left_exit) =
+            slab_clip(&nodes[left as usize].bounds, &slab_ray, search.t_closest);
         let (right_enter, right_exit) =
-            slab_clip(&nodes[right as usize].bounds, &slab_ray, t_closest);
+            slab_clip(&nodes[right as usize].bounds, &slab_ray, search.t_closest);
         let left_hit = left_enter <= left_exit;
         let right_hit = right_enter <= right_exit;
         observer.box_tested(left, left_enter, left_exit, left_hit);
@@ -116,5 +112,5 @@ where
             (false, false) => None,
         };
     }
-    closest
+    search.closest
 }

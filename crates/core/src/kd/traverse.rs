@@ -16,8 +16,9 @@ use crate::kd::tree::KdTree;
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
 use crate::primitive::{LeafPrimitives, PrimitiveSet};
-use crate::query::{Hit, Order, Query, TraceOptions};
+use crate::query::{Hit, Order, TraceOptions};
 use crate::ray::Ray;
+use crate::search::HitSearch;
 use crate::slab::{SlabRay, slab_clip};
 
 /// Reusable stack of far sides still to visit: one per thread, so tracing allocates nothing
@@ -82,42 +83,34 @@ where
         return None;
     }
     let primitive_ray = primitives.stored().prepare(ray, options.hit_test);
-    let mut closest: Option<Hit<V::Scalar>> = None;
-    let mut t_closest = ray.t_max;
+    let mut search = HitSearch::new(ray.t_max, options.query);
     let entries = &mut stack.entries;
     entries.clear();
     let mut mailbox = Mailbox::default();
     let mut current = Some((0u32, t_enter, t_exit));
     while let Some((node_index, t_near, t_far)) = current.take().or_else(|| entries.pop()) {
         // The part of the ray in this cell starts beyond the closest hit: nothing here is nearer.
-        if t_near > t_closest {
-            observer.node_culled(node_index, t_near, t_closest);
+        if t_near > search.t_closest {
+            observer.node_culled(node_index, t_near, search.t_closest);
             continue;
         }
         observer.node_entered(node_index);
         let node = &tree.nodes[node_index as usize];
         if node.is_leaf() {
+            // Test the leaf's primitives (once per ray with the mailbox).
+            let numbers = tree.leaf_primitives(node);
             let first = node.first as usize;
-            for (slot, &primitive) in (first..).zip(tree.leaf_primitives(node)) {
-                if options.mailboxing && !mailbox.post(primitive) {
-                    observer.primitive_skipped(primitive);
-                    continue;
-                }
-                let stored = primitives.storage_index(slot, primitive);
-                let t_hit =
-                    primitives
-                        .stored()
-                        .intersect(&primitive_ray, stored, ray.t_min, t_closest);
-                observer.primitive_tested(primitive, t_hit);
-                let Some(t) = t_hit else { continue };
-                if closest.is_none_or(|hit| hit.is_beaten_by(primitive, t)) {
-                    closest = Some(Hit { primitive, t });
-                    t_closest = t;
-                    observer.closest_hit_updated(primitive, t);
-                    if options.query == Query::Any {
-                        return closest;
-                    }
-                }
+            let skip = |primitive| options.mailboxing && !mailbox.post(primitive);
+            if search.test_leaf(
+                primitives,
+                &primitive_ray,
+                ray.t_min,
+                first,
+                numbers,
+                skip,
+                observer,
+            ) {
+                return search.closest;
             }
             continue;
         }
@@ -160,5 +153,5 @@ where
             Some(first)
         };
     }
-    closest
+    search.closest
 }

@@ -1,0 +1,73 @@
+//! What every traversal does in a leaf, written once: test the listed primitives, keep the
+//! closest hit (ties to the lower number), shrink the interval, and stop an any-hit query at
+//! the first hit.
+
+use crate::math::{Real, Vector};
+use crate::observer::Observer;
+use crate::primitive::{LeafPrimitives, PrimitiveSet};
+use crate::query::{Hit, Query};
+
+/// A closest- or any-hit search under way.
+pub(crate) struct HitSearch<S: Real> {
+    /// The best hit so far.
+    pub(crate) closest: Option<Hit<S>>,
+    /// Where the search interval now ends: the closest hit, or the ray's `t_max`.
+    pub(crate) t_closest: S,
+    query: Query,
+}
+
+impl<S: Real> HitSearch<S> {
+    /// A search over a ray's interval ending at `t_max`.
+    pub(crate) fn new(t_max: S, query: Query) -> Self {
+        Self {
+            closest: None,
+            t_closest: t_max,
+            query,
+        }
+    }
+
+    /// Tests a leaf's primitives (`numbers`, stored from leaf slot `first` on), unless `skip`
+    /// says one was tested already. Returns true when an any-hit query has its answer.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn test_leaf<V, P, O>(
+        &mut self,
+        primitives: &P,
+        prepared: &<P::Set as PrimitiveSet<V>>::RayData,
+        t_min: S,
+        first: usize,
+        numbers: &[u32],
+        mut skip: impl FnMut(u32) -> bool,
+        observer: &mut O,
+    ) -> bool
+    where
+        V: Vector<Scalar = S>,
+        P: LeafPrimitives<V>,
+        O: Observer<S>,
+    {
+        for (slot, &primitive) in (first..).zip(numbers) {
+            if skip(primitive) {
+                observer.primitive_skipped(primitive);
+                continue;
+            }
+            let stored = primitives.storage_index(slot, primitive);
+            let t_hit = primitives
+                .stored()
+                .intersect(prepared, stored, t_min, self.t_closest);
+            observer.primitive_tested(primitive, t_hit);
+            let Some(t) = t_hit else { continue };
+            if self
+                .closest
+                .is_none_or(|hit| hit.is_beaten_by(primitive, t))
+            {
+                self.closest = Some(Hit { primitive, t });
+                self.t_closest = t;
+                observer.closest_hit_updated(primitive, t);
+                if self.query == Query::Any {
+                    return true;
+                }
+            }
+        }
+        false
+    }
+}
