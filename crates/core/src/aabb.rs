@@ -162,14 +162,6 @@ impl<V: Vector> Aabb<V> {
     pub fn is_finite(&self) -> bool {
         self.min.is_finite() && self.max.is_finite()
     }
-
-    /// Converts between precisions and vector types of the same dimension.
-    pub fn cast<W: Vector>(&self) -> Aabb<W> {
-        Aabb {
-            min: W::from_f64_slice(&self.min.to_f64_array()),
-            max: W::from_f64_slice(&self.max.to_f64_array()),
-        }
-    }
 }
 
 #[cfg(test)]

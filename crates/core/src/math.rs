@@ -69,10 +69,6 @@ pub trait Real:
     fn min(self, other: Self) -> Self;
     /// The larger of two numbers; if one is NaN, the other.
     fn max(self, other: Self) -> Self;
-    /// The next representable value towards +∞ (finite inputs).
-    fn next_up(self) -> Self;
-    /// The next representable value towards −∞ (finite inputs).
-    fn next_down(self) -> Self;
 
     /// pbrt's γ(n) = nε/(1 − nε): the relative error bound of n chained roundings
     /// (Pharr, Jakob, Humphreys, "Physically Based Rendering", 3rd ed., §3.9).
@@ -140,14 +136,6 @@ macro_rules! impl_real {
             #[inline(always)]
             fn max(self, other: Self) -> Self {
                 <$t>::max(self, other)
-            }
-            #[inline(always)]
-            fn next_up(self) -> Self {
-                <$t>::next_up(self)
-            }
-            #[inline(always)]
-            fn next_down(self) -> Self {
-                <$t>::next_down(self)
             }
         }
     };
