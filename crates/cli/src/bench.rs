@@ -263,7 +263,9 @@ fn measure<V: Vector3>(
     Ok(all)
 }
 
-/// Traces every ray, on `threads` threads; returns the number of hits.
+/// Traces every ray, on `threads` threads; returns the number of hits. (Kept out of line so
+/// profiles can single it out.)
+#[inline(never)]
 fn trace_all<V: Vector3>(
     accel: &Accel<V, TriangleSet<V>>,
     rays: &[Ray<V>],

@@ -25,6 +25,7 @@ pub mod aabb;
 pub mod bounding;
 pub mod brute;
 pub mod bvh;
+pub mod curve;
 pub mod kd;
 pub mod math;
 pub mod observer;

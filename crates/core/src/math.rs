@@ -69,6 +69,11 @@ pub trait Real:
     fn min(self, other: Self) -> Self;
     /// The larger of two numbers; if one is NaN, the other.
     fn max(self, other: Self) -> Self;
+    /// How many of the low bytes of [`order_key`](Self::order_key) can be non-zero.
+    const KEY_BYTES: usize;
+    /// An integer in the same order as the number (for radix sorting; not for NaN): the sign
+    /// bit flipped for positive numbers, every bit for negative ones.
+    fn order_key(self) -> u64;
 
     /// pbrt's γ(n) = nε/(1 − nε): the relative error bound of n chained roundings
     /// (Pharr, Jakob, Humphreys, "Physically Based Rendering", 3rd ed., §3.9).
@@ -89,6 +94,13 @@ macro_rules! impl_real {
             const NEG_INFINITY: Self = <$t>::NEG_INFINITY;
             const UNIT_ROUNDOFF: Self = <$t>::EPSILON * 0.5;
             const MAX: Self = <$t>::MAX;
+            const KEY_BYTES: usize = std::mem::size_of::<$t>();
+            #[inline(always)]
+            fn order_key(self) -> u64 {
+                let bits = self.to_bits();
+                let sign = 1 << (8 * Self::KEY_BYTES - 1);
+                (if bits & sign != 0 { !bits } else { bits | sign }) as u64
+            }
             #[inline(always)]
             fn from_f64(value: f64) -> Self {
                 value as $t

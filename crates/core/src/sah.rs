@@ -48,6 +48,13 @@ impl SahCost {
         self.leaf_cost(count) <= self.traversal_cost
     }
 
+    /// The kD form of [`leaf_beats_any_split`](Self::leaf_beats_any_split): a kD cut costs at
+    /// least `C_trav·(1 − empty_bonus)`.
+    #[inline]
+    pub fn kd_leaf_beats_any_split(&self, count: usize) -> bool {
+        self.leaf_cost(count) <= self.traversal_cost * (1.0 - self.empty_bonus)
+    }
+
     /// The cost of splitting a node of area `parent_area` into children with these areas and
     /// primitive counts.
     #[inline]

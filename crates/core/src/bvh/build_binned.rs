@@ -26,19 +26,69 @@ impl Default for BinnedSah {
     }
 }
 
+/// One bin: the primitives whose centroids fall in it.
 #[derive(Clone, Copy)]
-struct Bin<V: Vector> {
-    bounds: Aabb<V>,
-    centroid_bounds: Aabb<V>,
-    count: u32,
+pub(crate) struct Bin<V: Vector> {
+    pub(crate) bounds: Aabb<V>,
+    pub(crate) centroid_bounds: Aabb<V>,
+    pub(crate) count: u32,
 }
 
 impl<V: Vector> Bin<V> {
-    const EMPTY: fn() -> Self = || Self {
+    pub(crate) const EMPTY: fn() -> Self = || Self {
         bounds: Aabb::empty(),
         centroid_bounds: Aabb::empty(),
         count: 0,
     };
+
+    /// Puts a primitive with this box and centroid in the bin.
+    #[inline(always)]
+    pub(crate) fn add(&mut self, bounds: Aabb<V>, centroid: V) {
+        self.bounds = self.bounds.union(bounds);
+        self.centroid_bounds = self.centroid_bounds.grown(centroid);
+        self.count += 1;
+    }
+}
+
+/// The planes between bins, each with what lies left and right of it: `visit(plane,
+/// left_count, left_half_area, right_count, right_half_area)` for every plane `1..B` with
+/// primitives on both sides. Shared by the builder and the cost curves, so both cost the same
+/// candidates the same way. `right` is scratch space of `B` entries.
+#[inline]
+pub(crate) fn sweep_bins<V: Vector>(
+    bins: &[Bin<V>],
+    right: &mut [(u32, V::Scalar)],
+    mut visit: impl FnMut(usize, u32, V::Scalar, u32, V::Scalar),
+) {
+    // From the right, to know each plane's right side; then from the left.
+    let mut right_bounds = Aabb::empty();
+    let mut right_count = 0;
+    for plane in (1..bins.len()).rev() {
+        right_bounds = right_bounds.union(bins[plane].bounds);
+        right_count += bins[plane].count;
+        right[plane] = if right_count > 0 {
+            (right_count, right_bounds.half_area_nonempty())
+        } else {
+            (0, V::Scalar::ZERO)
+        };
+    }
+    let mut left = Aabb::empty();
+    let mut left_count = 0;
+    for plane in 1..bins.len() {
+        left = left.union(bins[plane - 1].bounds);
+        left_count += bins[plane - 1].count;
+        let (right_count, right_half_area) = right[plane];
+        if left_count == 0 || right_count == 0 {
+            continue;
+        }
+        visit(
+            plane,
+            left_count,
+            left.half_area_nonempty(),
+            right_count,
+            right_half_area,
+        );
+    }
 }
 
 /// A primitive's box with its number, moved as one through partitioning so that every pass
@@ -58,21 +108,42 @@ struct Splitter<V: Vector> {
     bins: Vec<Bin<V>>,
     /// The bin of each primitive of the node being split, by position in `refs`.
     bin_of: Vec<u16>,
-    /// For each plane of the axis being costed: `A_R·N_R` of its right side.
-    right_weighted: Vec<V::Scalar>,
+    /// For each plane of the axis being costed: its right side's count and half area.
+    right_sides: Vec<(u32, V::Scalar)>,
 }
 
 /// Maps centroid coordinates to bins along one axis.
 #[derive(Clone, Copy)]
-struct Binning<S: Real> {
+pub(crate) struct Binning<S: Real> {
     min: S,
     bins_per_unit: S,
     last_bin: usize,
 }
 
 impl<S: Real> Binning<S> {
+    /// `bin_count` equal bins across the centroid box on `axis`; `None` if the box is flat
+    /// there (no plane separates the centroids).
+    pub(crate) fn new<V: Vector<Scalar = S>>(
+        centroid_bounds: &Aabb<V>,
+        axis: usize,
+        bin_count: usize,
+    ) -> Option<Self> {
+        let extent = centroid_bounds.max[axis] - centroid_bounds.min[axis];
+        (extent > S::ZERO).then(|| Self {
+            min: centroid_bounds.min[axis],
+            bins_per_unit: S::from_usize(bin_count) / extent,
+            last_bin: bin_count - 1,
+        })
+    }
+
+    /// Where the plane before bin `plane` lies.
+    pub(crate) fn plane_position(&self, plane: usize) -> S {
+        self.min + S::from_usize(plane) / self.bins_per_unit
+    }
+
+    /// The bin of a centroid coordinate.
     #[inline(always)]
-    fn bin(&self, coordinate: S) -> usize {
+    pub(crate) fn bin(&self, coordinate: S) -> usize {
         let bin = ((coordinate - self.min) * self.bins_per_unit).to_small_usize();
         bin.min(self.last_bin)
     }
@@ -105,8 +176,7 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
         let bin_count = self.bin_count;
         // Bin along the longest axis of the centroids' box.
         let axis = centroid_bounds.largest_axis();
-        let extent = centroid_bounds.max[axis] - centroid_bounds.min[axis];
-        if extent <= V::Scalar::ZERO {
+        let Some(binning) = Binning::new(centroid_bounds, axis, bin_count) else {
             // All centroids coincide: no plane separates them. Halve big nodes anyway.
             if count <= self.max_leaf_size {
                 return None;
@@ -122,11 +192,6 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
                 left: (half(&self.refs[begin..mid]), *centroid_bounds),
                 right: (half(&self.refs[mid..end]), *centroid_bounds),
             });
-        }
-        let binning = Binning {
-            min: centroid_bounds.min[axis],
-            bins_per_unit: V::Scalar::from_usize(bin_count) / extent,
-            last_bin: bin_count - 1,
         };
         // Drop every centroid into its bin, remembering the bin for the partition.
         self.bins.fill(Bin::EMPTY());
@@ -137,39 +202,21 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
             let centroid = primitive.bounds.center();
             let index = binning.bin(centroid[axis]);
             *bin_of = index as u16;
-            let bin = &mut self.bins[index];
-            bin.bounds = bin.bounds.union(primitive.bounds);
-            bin.centroid_bounds = bin.centroid_bounds.grown(centroid);
-            bin.count += 1;
+            self.bins[index].add(primitive.bounds, centroid);
         }
-        // Sweep from the right to know each plane's right side, then from the left to cost
-        // each plane between bins (by A_L·N_L + A_R·N_R, all that varies within a node).
-        let mut right = Aabb::empty();
-        let mut right_count = 0;
-        for plane in (1..bin_count).rev() {
-            right = right.union(self.bins[plane].bounds);
-            right_count += self.bins[plane].count;
-            self.right_weighted[plane] = if right_count > 0 {
-                right.half_area_nonempty() * V::Scalar::from_u32(right_count)
-            } else {
-                V::Scalar::ZERO
-            };
-        }
+        // Cost each plane between bins by A_L·N_L + A_R·N_R, all that varies within a node.
         let mut best: Option<(V::Scalar, usize)> = None; // (weighted, plane)
-        let mut left = Aabb::empty();
-        let mut left_count = 0;
-        for plane in 1..bin_count {
-            left = left.union(self.bins[plane - 1].bounds);
-            left_count += self.bins[plane - 1].count;
-            if left_count == 0 || left_count as usize == count {
-                continue;
-            }
-            let weighted = left.half_area_nonempty() * V::Scalar::from_u32(left_count)
-                + self.right_weighted[plane];
-            if best.is_none_or(|(best_weighted, _)| weighted < best_weighted) {
-                best = Some((weighted, plane));
-            }
-        }
+        sweep_bins(
+            &self.bins,
+            &mut self.right_sides,
+            |plane, left_count, left_area, right_count, right_area| {
+                let weighted = left_area * V::Scalar::from_u32(left_count)
+                    + right_area * V::Scalar::from_u32(right_count);
+                if best.is_none_or(|(best_weighted, _)| weighted < best_weighted) {
+                    best = Some((weighted, plane));
+                }
+            },
+        );
         // The lowest and highest centroids fall in the first and last bins, so some plane
         // has primitives on both sides.
         let (weighted, plane) = best?;
@@ -250,7 +297,7 @@ impl Builder for BinnedSah {
             cost: params.cost,
             bins: vec![Bin::EMPTY(); bin_count],
             bin_of: vec![0; primitive_bounds.len()],
-            right_weighted: vec![V::Scalar::ZERO; bin_count],
+            right_sides: vec![(0, V::Scalar::ZERO); bin_count],
         };
         build_top_down(splitter, primitive_bounds.len())
     }

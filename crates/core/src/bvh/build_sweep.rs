@@ -28,6 +28,47 @@ struct Splitter<'a, V: Vector> {
     cost: SahCost,
 }
 
+/// Costs the split before each primitive of `list` (sorted by centroid on one axis): for each
+/// `split` in `1..list.len()`, `visit(split, left_area, right_area, cost)` with the first
+/// `split` primitives on the left. Shared by the builder and the cost curves. `right_areas` is
+/// scratch space of at least `list.len()` entries.
+pub(crate) fn sweep_sorted<V: Vector>(
+    list: &[u32],
+    bounds: &[Aabb<V>],
+    parent_area: f64,
+    cost: &SahCost,
+    right_areas: &mut [f64],
+    mut visit: impl FnMut(usize, f64, f64, f64),
+) {
+    let count = list.len();
+    // Sweep from the right: the area of every suffix.
+    let mut right = Aabb::empty();
+    for split in (1..count).rev() {
+        right = right.union(bounds[list[split] as usize]);
+        right_areas[split] = right.area().to_f64();
+    }
+    // Sweep from the left, costing the split before each primitive.
+    let mut left = Aabb::empty();
+    for split in 1..count {
+        left = left.union(bounds[list[split - 1] as usize]);
+        let left_area = left.area().to_f64();
+        let right_area = right_areas[split];
+        let split_cost = cost.split_cost(parent_area, left_area, split, right_area, count - split);
+        visit(split, left_area, right_area, split_cost);
+    }
+}
+
+/// Sorts primitive numbers by centroid on `axis`, ties by number (so the tree does not depend
+/// on the sort).
+pub(crate) fn sort_by_centroid<V: Vector>(list: &mut [u32], centroids: &[V], axis: usize) {
+    list.sort_unstable_by(|&a, &b| {
+        let (ca, cb) = (centroids[a as usize][axis], centroids[b as usize][axis]);
+        ca.partial_cmp(&cb)
+            .unwrap_or(std::cmp::Ordering::Equal)
+            .then(a.cmp(&b))
+    });
+}
+
 impl<V: Vector> Splitter<'_, V> {
     fn range_bounds(&self, axis: usize, begin: usize, end: usize) -> Aabb<V> {
         self.sorted[axis][begin..end]
@@ -60,27 +101,18 @@ impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
         let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, left count)
         for axis in 0..V::DIM {
             let list = &self.sorted[axis][begin..end];
-            // Sweep from the right: the area of every suffix.
-            let mut right = Aabb::empty();
-            for split in (1..count).rev() {
-                right = right.union(self.bounds[list[split] as usize]);
-                self.right_areas[split] = right.area().to_f64();
-            }
-            // Sweep from the left, costing the split before each primitive.
-            let mut left = Aabb::empty();
-            for split in 1..count {
-                left = left.union(self.bounds[list[split - 1] as usize]);
-                let cost = self.cost.split_cost(
-                    parent_area,
-                    left.area().to_f64(),
-                    split,
-                    self.right_areas[split],
-                    count - split,
-                );
-                if best.is_none_or(|(best_cost, _, _)| cost < best_cost) {
-                    best = Some((cost, axis, split));
-                }
-            }
+            sweep_sorted(
+                list,
+                self.bounds,
+                parent_area,
+                &self.cost,
+                &mut self.right_areas,
+                |split, _, _, cost| {
+                    if best.is_none_or(|(best_cost, _, _)| cost < best_cost) {
+                        best = Some((cost, axis, split));
+                    }
+                },
+            );
         }
         let (best_cost, axis, left_count) = best?;
         // Keep the leaf if no split is cheaper (and the leaf is small enough).
@@ -134,12 +166,7 @@ impl Builder for SweepSah {
         let sorted = (0..V::DIM)
             .map(|axis| {
                 let mut list: Vec<u32> = (0..count as u32).collect();
-                list.sort_unstable_by(|&a, &b| {
-                    let (ca, cb) = (centroids[a as usize][axis], centroids[b as usize][axis]);
-                    ca.partial_cmp(&cb)
-                        .unwrap_or(std::cmp::Ordering::Equal)
-                        .then(a.cmp(&b))
-                });
+                sort_by_centroid(&mut list, &centroids, axis);
                 list
             })
             .collect();

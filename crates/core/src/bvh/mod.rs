@@ -5,10 +5,10 @@
 //! [`TreeStats`](crate::stats::TreeStats) measures it.
 
 mod build;
-mod build_binned;
+pub(crate) mod build_binned;
 mod build_median;
 mod build_middle;
-mod build_sweep;
+pub(crate) mod build_sweep;
 mod traverse;
 mod tree;
 mod validate;

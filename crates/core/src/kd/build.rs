@@ -21,12 +21,43 @@ pub(crate) fn max_depth(primitive_count: usize) -> usize {
     (8.0 + 1.3 * (primitive_count.max(1) as f64).log2()).round() as usize
 }
 
-/// Whether a primitive box reaches the closed cell below (`[.., split]`) and above
-/// (`[split, ..]`) a plane on `axis`. A box touching the plane, or lying in it, is on both
-/// sides: a ray through the plane may meet it from either cell.
-#[inline]
-pub(crate) fn sides<V: Vector>(bounds: &Aabb<V>, axis: usize, split: V::Scalar) -> (bool, bool) {
-    (bounds.min[axis] <= split, bounds.max[axis] >= split)
+/// A cut of a cell: the plane, and the side given to primitives lying flat in it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Cut<S> {
+    /// The axis the plane is perpendicular to.
+    pub(crate) axis: usize,
+    /// Where the plane crosses that axis.
+    pub(crate) position: S,
+    /// Where a primitive lying in the plane goes: below (true) or above.
+    pub(crate) planar_below: bool,
+}
+
+impl<S: Real> Cut<S> {
+    /// A cut that puts primitives lying in the plane below it.
+    pub(crate) fn new(axis: usize, position: S) -> Self {
+        Self {
+            axis,
+            position,
+            planar_below: true,
+        }
+    }
+
+    /// Which children a primitive box goes to: `(below, above)`. A box reaching across the
+    /// plane goes to both. A box that only touches the plane goes to the side holding the rest
+    /// of it: a ray meets it at the plane from either side, and the traversal visits both cells
+    /// whenever the ray reaches the plane. A box lying in the plane goes to one side, chosen
+    /// by the builder (Wald & Havran 2006, §4.2), so no primitive is listed twice for merely
+    /// touching a plane. Triangle meshes share vertices, so that matters: every plane through
+    /// a vertex touches several triangles.
+    #[inline]
+    pub(crate) fn sides<V: Vector<Scalar = S>>(&self, bounds: &Aabb<V>) -> (bool, bool) {
+        let (low, high) = (bounds.min[self.axis], bounds.max[self.axis]);
+        if low == self.position && high == self.position {
+            (self.planar_below, !self.planar_below)
+        } else {
+            (low < self.position, high > self.position)
+        }
+    }
 }
 
 /// How a kD builder decides cuts. Beyond each node's primitive list, a splitter may keep its
@@ -44,39 +75,34 @@ pub(crate) trait CellSplitter<V: Vector> {
         cell: &Aabb<V>,
         primitives: &[u32],
         data: &Self::NodeData,
-    ) -> Option<(usize, V::Scalar)>;
+    ) -> Option<Cut<V::Scalar>>;
 
-    /// The children's data once the cut is made (`below` and `above` are the child cells).
+    /// The children's data once `cut` is made (`below` and `above` are the child cells).
     fn divide(
         &mut self,
         data: Self::NodeData,
-        axis: usize,
-        split: V::Scalar,
+        cut: &Cut<V::Scalar>,
         below: &Aabb<V>,
         above: &Aabb<V>,
     ) -> (Self::NodeData, Self::NodeData);
+
+    /// Called with the data of a node that becomes a leaf, so the splitter can reuse it.
+    fn discard(&mut self, _data: Self::NodeData) {}
 }
 
 /// A splitter with no per-node data: a fixed rule.
 struct Rule<F>(F);
 
-impl<V: Vector, F: FnMut(&Aabb<V>, &[u32]) -> Option<(usize, V::Scalar)>> CellSplitter<V>
-    for Rule<F>
-{
+impl<V: Vector, F: FnMut(&Aabb<V>, &[u32]) -> Option<Cut<V::Scalar>>> CellSplitter<V> for Rule<F> {
     type NodeData = ();
 
     fn root_data(&mut self, _cell: &Aabb<V>, _primitives: &[u32]) {}
 
-    fn choose(
-        &mut self,
-        cell: &Aabb<V>,
-        primitives: &[u32],
-        _data: &(),
-    ) -> Option<(usize, V::Scalar)> {
+    fn choose(&mut self, cell: &Aabb<V>, primitives: &[u32], _data: &()) -> Option<Cut<V::Scalar>> {
         (self.0)(cell, primitives)
     }
 
-    fn divide(&mut self, _: (), _: usize, _: V::Scalar, _: &Aabb<V>, _: &Aabb<V>) -> ((), ()) {
+    fn divide(&mut self, _: (), _: &Cut<V::Scalar>, _: &Aabb<V>, _: &Aabb<V>) -> ((), ()) {
         ((), ())
     }
 }
@@ -87,7 +113,7 @@ impl<V: Vector, F: FnMut(&Aabb<V>, &[u32]) -> Option<(usize, V::Scalar)>> CellSp
 pub(crate) fn build_by_rule<V: Vector>(
     primitive_bounds: &[Aabb<V>],
     params: &BuildParams,
-    mut rule: impl FnMut(&Aabb<V>, &[u32], &[Aabb<V>]) -> Option<(usize, V::Scalar)>,
+    mut rule: impl FnMut(&Aabb<V>, &[u32], &[Aabb<V>]) -> Option<Cut<V::Scalar>>,
 ) -> KdTree<V> {
     build_top_down(
         primitive_bounds,
@@ -98,6 +124,7 @@ pub(crate) fn build_by_rule<V: Vector>(
 
 /// The kD driver: cuts cells where the splitter says, sorts primitives into the children whose
 /// cells they reach, and lays the nodes out flat with siblings side by side.
+#[inline(never)] // One call a build; kept apart so profiles can single it out.
 pub(crate) fn build_top_down<V: Vector, S: CellSplitter<V>>(
     primitive_bounds: &[Aabb<V>],
     max_leaf_size: usize,
@@ -122,13 +149,13 @@ pub(crate) fn build_top_down<V: Vector, S: CellSplitter<V>>(
         let cut = (primitives.len() > max_leaf_size && depth < depth_limit)
             .then(|| splitter.choose(&cell, &primitives, &data))
             .flatten()
-            .filter(|&(axis, split)| cell.min[axis] < split && split < cell.max[axis]);
-        let children = cut.and_then(|(axis, split)| {
+            .filter(|cut| cell.min[cut.axis] < cut.position && cut.position < cell.max[cut.axis]);
+        let children = cut.and_then(|cut| {
             // Sort each primitive into the children whose cells it reaches.
-            let (mut below, mut above) = (Vec::new(), Vec::new());
+            let mut below = Vec::with_capacity(primitives.len());
+            let mut above = Vec::with_capacity(primitives.len());
             for &primitive in &primitives {
-                let (is_below, is_above) =
-                    sides(&primitive_bounds[primitive as usize], axis, split);
+                let (is_below, is_above) = cut.sides(&primitive_bounds[primitive as usize]);
                 if is_below {
                     below.push(primitive);
                 }
@@ -138,9 +165,10 @@ pub(crate) fn build_top_down<V: Vector, S: CellSplitter<V>>(
             }
             // A cut that leaves every primitive on both sides gains nothing.
             let separates = below.len() < primitives.len() || above.len() < primitives.len();
-            separates.then_some((axis, split, below, above))
+            separates.then_some((cut, below, above))
         });
-        let Some((axis, split, below, above)) = children else {
+        let Some((cut, below, above)) = children else {
+            splitter.discard(data);
             nodes[node_index] = KdNode {
                 split: V::Scalar::ZERO,
                 axis: KdNode::<V::Scalar>::LEAF,
@@ -152,8 +180,8 @@ pub(crate) fn build_top_down<V: Vector, S: CellSplitter<V>>(
         };
         let left = nodes.len();
         nodes[node_index] = KdNode {
-            split,
-            axis: axis as u32,
+            split: cut.position,
+            axis: cut.axis as u32,
             first: left as u32,
             count: 0,
         };
@@ -161,7 +189,7 @@ pub(crate) fn build_top_down<V: Vector, S: CellSplitter<V>>(
         nodes.push(leaf);
         nodes.push(leaf);
         let [below_cell, above_cell] = KdTree::child_cells(&nodes[node_index], &cell);
-        let (below_data, above_data) = splitter.divide(data, axis, split, &below_cell, &above_cell);
+        let (below_data, above_data) = splitter.divide(data, &cut, &below_cell, &above_cell);
         // Above first on the work list, so the subtree below the plane is laid out first.
         work.push((left + 1, above_cell, above, above_data, depth + 1));
         work.push((left, below_cell, below, below_data, depth + 1));

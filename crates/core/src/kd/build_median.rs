@@ -4,7 +4,7 @@
 
 use crate::aabb::Aabb;
 use crate::bvh::BuildParams;
-use crate::kd::build::{KdBuilder, build_by_rule};
+use crate::kd::build::{Cut, KdBuilder, build_by_rule};
 use crate::kd::tree::KdTree;
 use crate::math::{Real, Vector};
 
@@ -22,25 +22,36 @@ impl KdBuilder for KdMedianSplit {
     fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> KdTree<V> {
         let mut ends: Vec<V::Scalar> = Vec::new();
         build_by_rule(primitive_bounds, params, |cell, primitives, bounds| {
-            let axis = cell.largest_axis();
-            let (low, high) = (cell.min[axis], cell.max[axis]);
-            // Gather both ends of every box, clipped to the cell, and take the middle one.
-            ends.clear();
-            for &primitive in primitives {
-                let bounds = &bounds[primitive as usize];
-                ends.push(bounds.min[axis].max(low));
-                ends.push(bounds.max[axis].min(high));
-            }
-            let half = ends.len() / 2;
-            let (_, &mut median, _) = ends.select_nth_unstable_by(half, |a, b| {
-                a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal)
-            });
-            let split = if low < median && median < high {
-                median
-            } else {
-                (low + high) * (V::Scalar::ONE / V::Scalar::TWO)
-            };
-            Some((axis, split))
+            Some(median_cut(cell, primitives, bounds, &mut ends))
         })
     }
+}
+
+/// The median rule's cut of `cell` (`ends` is scratch space). Shared with the cost curves.
+pub(crate) fn median_cut<V: Vector>(
+    cell: &Aabb<V>,
+    primitives: &[u32],
+    bounds: &[Aabb<V>],
+    ends: &mut Vec<V::Scalar>,
+) -> Cut<V::Scalar> {
+    let axis = cell.largest_axis();
+    let (low, high) = (cell.min[axis], cell.max[axis]);
+    // Gather both ends of every box, clipped to the cell, and take the middle one.
+    ends.clear();
+    for &primitive in primitives {
+        let bounds = &bounds[primitive as usize];
+        ends.push(bounds.min[axis].max(low));
+        ends.push(bounds.max[axis].min(high));
+    }
+    let half = ends.len() / 2;
+    let split = if ends.is_empty() {
+        None
+    } else {
+        let (_, &mut median, _) = ends.select_nth_unstable_by(half, |a, b| {
+            a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal)
+        });
+        (low < median && median < high).then_some(median)
+    };
+    let split = split.unwrap_or_else(|| (low + high) * (V::Scalar::ONE / V::Scalar::TWO));
+    Cut::new(axis, split)
 }

@@ -3,7 +3,7 @@
 
 use crate::aabb::Aabb;
 use crate::bvh::BuildParams;
-use crate::kd::build::{KdBuilder, build_by_rule};
+use crate::kd::build::{Cut, KdBuilder, build_by_rule};
 use crate::kd::tree::KdTree;
 use crate::math::{Real, Vector};
 
@@ -18,9 +18,14 @@ impl KdBuilder for KdMiddleSplit {
 
     fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> KdTree<V> {
         build_by_rule(primitive_bounds, params, |cell, _, _| {
-            let axis = cell.largest_axis();
-            let half = V::Scalar::ONE / V::Scalar::TWO;
-            Some((axis, (cell.min[axis] + cell.max[axis]) * half))
+            Some(middle_cut(cell))
         })
     }
+}
+
+/// The middle rule's cut of `cell`. Shared with the cost curves.
+pub(crate) fn middle_cut<V: Vector>(cell: &Aabb<V>) -> Cut<V::Scalar> {
+    let axis = cell.largest_axis();
+    let half = V::Scalar::ONE / V::Scalar::TWO;
+    Cut::new(axis, (cell.min[axis] + cell.max[axis]) * half)
 }

@@ -5,11 +5,12 @@
 //! (the lecture's near-side-first recursion, with an explicit stack) told about each step by an
 //! [`Observer`](crate::observer::Observer). [`validate`] checks any tree.
 
-mod build;
-mod build_median;
-mod build_middle;
+pub(crate) mod build;
+pub(crate) mod build_median;
+pub(crate) mod build_middle;
 mod build_sah;
 mod build_sah_presorted;
+pub(crate) mod events;
 mod traverse;
 mod tree;
 mod validate;

@@ -126,24 +126,38 @@ where
         } else {
             (above, below)
         };
+        if origin == node.split {
+            // The ray starts in the plane. A primitive touching the plane from either side can
+            // be met there, so both cells are visited (the far one only at the start, unless
+            // the ray lies in the plane).
+            let far_exit = if direction == V::Scalar::ZERO {
+                t_far
+            } else {
+                t_near
+            };
+            entries.push((far, t_near, far_exit));
+            current = Some((near, t_near, t_far));
+            continue;
+        }
         if direction == V::Scalar::ZERO {
-            // Parallel to the plane: the ray stays on the near side. (A ray in the plane meets
-            // only primitives that touch the plane, and those are on both sides.)
+            // Parallel to the plane, off it: the ray stays on the near side.
             current = Some((near, t_near, t_far));
             continue;
         }
         let t_plane = (node.split - origin) * slab_ray.inv_direction[axis];
-        let near_part = (near, t_near, t_far.min(t_plane));
-        let far_part = (far, t_near.max(t_plane), t_far);
-        current = if origin == node.split || t_plane < V::Scalar::ZERO || t_plane > t_far {
-            // The ray leaves the plane into the near side, moves away from it, or leaves the
-            // cell before reaching it: only the near side.
+        current = if t_plane < V::Scalar::ZERO || t_plane > t_far {
+            // The ray moves away from the plane, or leaves the cell before reaching it: only
+            // the near side.
             Some((near, t_near, t_far))
         } else if t_plane < t_near {
             // It crossed the plane before entering the cell.
             Some((far, t_near, t_far))
         } else {
-            // Both parts: visit one now, keep the other for when this subtree is done.
+            // Both parts: visit one now, keep the other for when this subtree is done. Both
+            // include the crossing point, where a primitive touching the plane from one side
+            // only is met.
+            let near_part = (near, t_near, t_plane);
+            let far_part = (far, t_plane, t_far);
             let (first, second) = if options.order == Order::FileOrder && near != below {
                 (far_part, near_part)
             } else {

@@ -1,7 +1,6 @@
 //! The kD-tree validator every test runs after every build.
 
 use crate::aabb::Aabb;
-use crate::kd::build::sides;
 use crate::kd::tree::KdTree;
 use crate::math::Vector;
 
@@ -44,6 +43,12 @@ pub enum KdValidationError {
         /// The primitive.
         primitive: usize,
     },
+    /// A primitive is in no leaf.
+    #[error("primitive {primitive} is in no leaf")]
+    Unlisted {
+        /// The primitive.
+        primitive: usize,
+    },
     /// A leaf lists a primitive that does not reach its cell, or lists one twice.
     #[error("leaf {node} lists primitive {primitive}, which does not belong there")]
     ExtraPrimitive {
@@ -56,7 +61,10 @@ pub enum KdValidationError {
 
 /// Checks that the root cell holds every primitive, that each split lies within its cell (so
 /// the two child cells tile the parent), that every node is reached once, and that each leaf
-/// lists exactly the primitives whose boxes reach its cell. O(leaves × primitives): for tests.
+/// lists every primitive whose box reaches into its cell and none that stays outside. A box
+/// that only touches a leaf's cell from outside, across a split plane, may be listed or not:
+/// the builders list it on the side holding the rest of it, and one side for a box lying in
+/// the plane. Every primitive must be listed somewhere. O(leaves × primitives): for tests.
 pub fn validate<V: Vector>(
     tree: &KdTree<V>,
     primitive_bounds: &[Aabb<V>],
@@ -69,6 +77,7 @@ pub fn validate<V: Vector>(
     }
     let node_count = tree.nodes.len();
     let mut reached = vec![0usize; node_count];
+    let mut listed_anywhere = vec![false; primitive_bounds.len()];
     let mut pending = vec![(0usize, tree.bounds)];
     while let Some((index, cell)) = pending.pop() {
         let Some(node) = tree.nodes.get(index) else {
@@ -96,11 +105,12 @@ pub fn validate<V: Vector>(
                 });
             };
             let mut listed_flags = vec![false; primitive_bounds.len()];
+            let root = &tree.bounds;
             for &primitive in listed {
                 let primitive = primitive as usize;
                 let reaches = primitive_bounds
                     .get(primitive)
-                    .is_some_and(|bounds| overlaps(bounds, &cell));
+                    .is_some_and(|bounds| touches(bounds, &cell));
                 if !reaches || listed_flags[primitive] {
                     return Err(KdValidationError::ExtraPrimitive {
                         node: index,
@@ -108,9 +118,10 @@ pub fn validate<V: Vector>(
                     });
                 }
                 listed_flags[primitive] = true;
+                listed_anywhere[primitive] = true;
             }
             if let Some(primitive) = (0..primitive_bounds.len())
-                .find(|&p| !listed_flags[p] && overlaps(&primitive_bounds[p], &cell))
+                .find(|&p| !listed_flags[p] && reaches_into(&primitive_bounds[p], &cell, root))
             {
                 return Err(KdValidationError::MissingPrimitive {
                     node: index,
@@ -137,15 +148,27 @@ pub fn validate<V: Vector>(
     if let Some((node, &times)) = reached.iter().enumerate().find(|(_, t)| **t != 1) {
         return Err(KdValidationError::NodeReach { node, times });
     }
+    if let Some(primitive) = listed_anywhere.iter().position(|listed| !listed) {
+        return Err(KdValidationError::Unlisted { primitive });
+    }
     Ok(())
 }
 
-/// Whether a primitive box reaches a closed cell: on every axis, the same rule the builders
-/// use for each plane.
-fn overlaps<V: Vector>(bounds: &Aabb<V>, cell: &Aabb<V>) -> bool {
+/// Whether a primitive box meets a closed cell (it may only touch its boundary).
+fn touches<V: Vector>(bounds: &Aabb<V>, cell: &Aabb<V>) -> bool {
+    (0..V::DIM).all(|axis| bounds.min[axis] <= cell.max[axis] && bounds.max[axis] >= cell.min[axis])
+}
+
+/// Whether a primitive box reaches into a cell: on every axis it reaches past the cell's lower
+/// side and short of its upper side, where a side on the root cell's boundary counts as
+/// reached when touched (no cell lies beyond it to take the box instead).
+fn reaches_into<V: Vector>(bounds: &Aabb<V>, cell: &Aabb<V>, root: &Aabb<V>) -> bool {
     (0..V::DIM).all(|axis| {
-        let (below_max, _) = sides(bounds, axis, cell.max[axis]);
-        let (_, above_min) = sides(bounds, axis, cell.min[axis]);
-        below_max && above_min
+        let (low, high) = (cell.min[axis], cell.max[axis]);
+        let below_high =
+            bounds.min[axis] < high || (high == root.max[axis] && bounds.min[axis] <= high);
+        let above_low =
+            bounds.max[axis] > low || (low == root.min[axis] && bounds.max[axis] >= low);
+        below_high && above_low
     })
 }
