@@ -6,6 +6,7 @@
 
 mod bench;
 mod json;
+mod sah;
 mod slab;
 mod spec;
 
@@ -36,6 +37,9 @@ enum Command {
     Slab(slab::SlabArgs),
     /// Build and trace with each structure; report build time, cost and speed.
     Bench(bench::BenchArgs),
+    /// The SAH cost of every candidate split of one node (exact and binned), with the leaf
+    /// cost and where the middle, median and SAH rules cut.
+    Sah(sah::SahArgs),
 }
 
 /// Traversal order.
@@ -230,6 +234,7 @@ fn run(cli: Cli) -> Result<String> {
         Some(Command::Query(args)) => query(&args),
         Some(Command::Slab(args)) => slab::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
+        Some(Command::Sah(args)) => sah::run(&args),
         None => bench::run(&bench::BenchArgs::default_run()),
     }
 }

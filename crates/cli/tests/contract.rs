@@ -377,3 +377,131 @@ fn degenerate_triangles_keep_their_number_and_are_never_hit() {
         }
     }
 }
+
+/// The `sah` contract: the JSON shape of the issue, written-down costs for a tiny 2D scene,
+/// the minima over what is listed, CSV rows, and its errors.
+#[test]
+fn sah_lists_every_candidate_with_its_parts() {
+    // Two unit boxes 3 apart: kD cell 4 × 1 (perimeter 10). Cutting at x = 1 or x = 3 leaves
+    // one box each side in cells of perimeter 4 and 8: 3 + 0.4 + 0.8 = 4.2.
+    let scene = file("two-boxes.scene2d", "box 0 0 1 1\nbox 3 0 4 1\n");
+    let output = cli(&[
+        "sah",
+        "--scene2d",
+        &scene,
+        "--structure",
+        "kd",
+        "--json",
+        "--bins",
+        "4",
+        "--precision",
+        "f64",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let json: serde_json::Value = serde_json::from_str(&stdout(&output)).unwrap();
+    let x = json["axes"]["x"].as_array().unwrap();
+    let positions: Vec<f64> = x.iter().map(|c| c["position"].as_f64().unwrap()).collect();
+    assert_eq!(positions, [1.0, 3.0]);
+    for candidate in x {
+        assert_eq!(candidate["cost"].as_f64().unwrap(), 4.2);
+        assert_eq!(candidate["n_left"], 1);
+        assert_eq!(candidate["n_right"], 1);
+        for key in ["p_left", "p_right"] {
+            assert!(candidate[key].as_f64().unwrap() > 0.0);
+        }
+    }
+    assert_eq!(json["axes"]["y"].as_array().unwrap().len(), 0);
+    assert!(json["axes"].get("z").is_none(), "a 2D scene has no z axis");
+    assert_eq!(json["leaf_cost"].as_f64().unwrap(), 2.0);
+    assert_eq!(json["best"]["axis"], "x");
+    assert_eq!(json["best"]["position"].as_f64().unwrap(), 1.0);
+    assert_eq!(json["middle"]["position"].as_f64().unwrap(), 2.0);
+    assert!(json["median"]["cost"].as_f64().is_some());
+    let binned = &json["binned"];
+    assert_eq!(binned["axes"]["x"].as_array().unwrap().len(), 3);
+    assert!(binned["best"]["cost"].as_f64().unwrap() >= json["best"]["cost"].as_f64().unwrap());
+
+    // A mesh, one axis, CSV: one row per candidate, exact then binned.
+    let mesh = file("sah-square.obj", SQUARE);
+    let csv = cli(&[
+        "sah",
+        "--mesh",
+        &mesh,
+        "--structure",
+        "bvh",
+        "--axis",
+        "y",
+        "--csv",
+        "--bins",
+        "2",
+    ]);
+    assert!(csv.status.success(), "{}", stderr(&csv));
+    let text = stdout(&csv);
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("axis,kind,position,cost,n_left,n_right,p_left,p_right,area_left,area_right")
+    );
+    let rows: Vec<&str> = lines.collect();
+    assert!(!rows.is_empty());
+    assert!(
+        rows.iter()
+            .all(|row| row.starts_with("y,exact,") || row.starts_with("y,binned,"))
+    );
+
+    // Text, on a built-in mesh and a deeper node.
+    let text = cli(&[
+        "sah",
+        "--mesh",
+        "builtin:icosphere",
+        "--structure",
+        "kd",
+        "--node",
+        "LR",
+    ]);
+    assert!(text.status.success(), "{}", stderr(&text));
+    assert!(stdout(&text).contains("SAH best"));
+
+    // Errors.
+    assert_fails(
+        &["sah", "--mesh", &mesh, "--structure", "kd", "--node", "LQ"],
+        "step 2 is 'Q'",
+    );
+    assert_fails(
+        &[
+            "sah",
+            "--mesh",
+            &mesh,
+            "--structure",
+            "bvh",
+            "--node",
+            "LLLLLLLL",
+        ],
+        "is a leaf",
+    );
+    assert_fails(
+        &[
+            "sah",
+            "--scene2d",
+            &scene,
+            "--structure",
+            "kd",
+            "--axis",
+            "z",
+        ],
+        "only x and y",
+    );
+    assert_fails(
+        &["sah", "--mesh", &mesh, "--structure", "kd", "--bins", "1"],
+        "--bins",
+    );
+    let bad_scene = file("bad.scene2d", "box 0 0 1 1\ncircle 1 2 3\n");
+    assert_fails(
+        &["sah", "--scene2d", &bad_scene, "--structure", "kd"],
+        "bad.scene2d:2: unknown shape 'circle'",
+    );
+    assert_fails(
+        &["sah", "--scene2d", "builtin:stadium", "--structure", "kd"],
+        "unknown built-in 2D scene",
+    );
+}

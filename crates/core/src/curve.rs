@@ -127,18 +127,22 @@ fn walk(
     mut children_of: impl FnMut(u32) -> Option<[u32; 2]>,
     mut entered: impl FnMut(u32, usize),
 ) -> Result<u32, NodePathError> {
-    let mut node = 0;
-    for (depth, step) in path.chars().enumerate() {
-        let side = match step.to_ascii_uppercase() {
+    // Check the whole path before walking, so a typo is named as such wherever it is.
+    let mut sides = Vec::with_capacity(path.len());
+    for (index, step) in path.chars().enumerate() {
+        sides.push(match step.to_ascii_uppercase() {
             'L' => 0,
             'R' => 1,
             step => {
                 return Err(NodePathError::BadStep {
-                    position: depth + 1,
+                    position: index + 1,
                     step,
                 });
             }
-        };
+        });
+    }
+    let mut node = 0;
+    for (depth, side) in sides.into_iter().enumerate() {
         let children = children_of(node).ok_or(NodePathError::PastLeaf { depth })?;
         entered(node, side);
         node = children[side];

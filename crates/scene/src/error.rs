@@ -24,12 +24,13 @@ impl fmt::Display for Location {
 #[derive(Debug, thiserror::Error)]
 pub enum LoadError {
     /// The file could not be opened or read.
-    #[error("{path}: cannot read the file: {source}")]
+    #[error("{path}: cannot read the file: {cause}")]
     Io {
         /// The path.
         path: String,
-        /// What the system said.
-        source: std::io::Error,
+        /// What the system said. (Not a `source`: the message already says it, and error
+        /// chains would print it twice.)
+        cause: std::io::Error,
     },
     /// The content is wrong at a place.
     #[error("{location}: {problem}")]
@@ -70,9 +71,9 @@ pub const MAX_FILE_BYTES: u64 = 1 << 30;
 
 /// Reads a text file whole, refusing huge files and non-UTF-8 content with a clear error.
 pub fn read_text(path: &str) -> Result<String, LoadError> {
-    let io = |source| LoadError::Io {
+    let io = |cause| LoadError::Io {
         path: path.to_owned(),
-        source,
+        cause,
     };
     let size = std::fs::metadata(path).map_err(io)?.len();
     if size > MAX_FILE_BYTES {
