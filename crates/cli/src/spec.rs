@@ -16,7 +16,7 @@ use accelviz_core::{
 use anyhow::{Result, bail};
 
 /// The specs the CLI accepts, for messages.
-pub const VALID_SPECS: &str = "brute, bvh:middle, bvh:median, bvh:sah-binned[:BINS] (default 16 bins), bvh:sah-sweep, kd:middle, kd:median, kd:sah, kd:sah-per-node";
+pub const VALID_SPECS: &str = "brute, bvh:middle, bvh:median, bvh:sah-binned[:BINS] (default 16 bins), bvh:sah-sweep, kd:middle, kd:median, kd:sah, kd:sah-perfect, kd:sah-per-node";
 
 /// A parsed spec.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -39,6 +39,8 @@ pub enum AccelSpec {
     KdSah,
     /// SAH kD-tree, events sorted at every node (O(n log² n)); the same tree.
     KdSahPerNode,
+    /// SAH kD-tree with perfect splits (straddling primitives clipped to each child cell).
+    KdSahPerfect,
 }
 
 impl AccelSpec {
@@ -54,6 +56,7 @@ impl AccelSpec {
             "kd:median" => Self::KdMedian,
             "kd:sah" => Self::KdSah,
             "kd:sah-per-node" => Self::KdSahPerNode,
+            "kd:sah-perfect" => Self::KdSahPerfect,
             _ => match text.strip_prefix("bvh:sah-binned:") {
                 Some(bins) => match bins.parse::<usize>() {
                     Ok(bins) if (2..=4096).contains(&bins) => Self::Binned(bins),
@@ -86,6 +89,7 @@ impl AccelSpec {
             Self::KdMedian => "kd:median".into(),
             Self::KdSah => "kd:sah".into(),
             Self::KdSahPerNode => "kd:sah-per-node".into(),
+            Self::KdSahPerfect => "kd:sah-perfect".into(),
         }
     }
 
@@ -113,6 +117,9 @@ impl AccelSpec {
             Self::KdMedian => kd(&|bounds| KdMedianSplit.build(bounds, params)),
             Self::KdSah => kd(&|bounds| KdSahPresorted.build(bounds, params)),
             Self::KdSahPerNode => kd(&|bounds| KdSah.build(bounds, params)),
+            Self::KdSahPerfect => {
+                kd(&|_| KdSahPresorted.build_with_perfect_splits(primitives, params))
+            }
             Self::Middle => bvh(&|bounds| MiddleSplit.build(bounds, params)),
             Self::Median => bvh(&|bounds| MedianSplit.build(bounds, params)),
             Self::Binned(bins) => bvh(&|bounds| BinnedSah { bins: *bins }.build(bounds, params)),

@@ -51,6 +51,7 @@ fn query_prints_one_line_per_ray_in_order() {
         "kd:median",
         "kd:sah",
         "kd:sah-per-node",
+        "kd:sah-perfect",
     ] {
         for extra in [
             &[][..],

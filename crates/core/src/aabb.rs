@@ -56,6 +56,15 @@ impl<V: Vector> Aabb<V> {
             .fold(Self::empty(), |bounds, point| bounds.grown(point))
     }
 
+    /// The box both boxes cover, or `None` if they do not meet (touching counts as meeting:
+    /// the result may be flat).
+    pub fn intersection(&self, other: &Self) -> Option<Self> {
+        let common = Self::new(self.min.max(other.min), self.max.min(other.max));
+        (0..V::DIM)
+            .all(|axis| common.min[axis] <= common.max[axis])
+            .then_some(common)
+    }
+
     /// True when some axis has `min > max` (nothing is inside).
     #[inline]
     pub fn is_empty(&self) -> bool {

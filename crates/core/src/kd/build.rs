@@ -86,6 +86,22 @@ pub(crate) trait CellSplitter<V: Vector> {
         above: &Aabb<V>,
     ) -> (Self::NodeData, Self::NodeData);
 
+    /// Decides which children each primitive goes to, before [`sides_of`](Self::sides_of) is
+    /// asked (`below` and `above` are the child cells).
+    fn classify(
+        &mut self,
+        _data: &Self::NodeData,
+        _cut: &Cut<V::Scalar>,
+        _below: &Aabb<V>,
+        _above: &Aabb<V>,
+    ) {
+    }
+
+    /// Which children `primitive` (with box `bounds`) goes to: by default, by its box.
+    fn sides_of(&self, _primitive: u32, cut: &Cut<V::Scalar>, bounds: &Aabb<V>) -> (bool, bool) {
+        cut.sides(bounds)
+    }
+
     /// Called with the data of a node that becomes a leaf, so the splitter can reuse it.
     fn discard(&mut self, _data: Self::NodeData) {}
 }
@@ -151,11 +167,17 @@ pub(crate) fn build_top_down<V: Vector, S: CellSplitter<V>>(
             .flatten()
             .filter(|cut| cell.min[cut.axis] < cut.position && cut.position < cell.max[cut.axis]);
         let children = cut.and_then(|cut| {
+            let mut below_cell = cell;
+            let mut above_cell = cell;
+            below_cell.max[cut.axis] = cut.position;
+            above_cell.min[cut.axis] = cut.position;
+            splitter.classify(&data, &cut, &below_cell, &above_cell);
             // Sort each primitive into the children whose cells it reaches.
             let mut below = Vec::with_capacity(primitives.len());
             let mut above = Vec::with_capacity(primitives.len());
             for &primitive in &primitives {
-                let (is_below, is_above) = cut.sides(&primitive_bounds[primitive as usize]);
+                let bounds = &primitive_bounds[primitive as usize];
+                let (is_below, is_above) = splitter.sides_of(primitive, &cut, bounds);
                 if is_below {
                     below.push(primitive);
                 }
@@ -165,9 +187,9 @@ pub(crate) fn build_top_down<V: Vector, S: CellSplitter<V>>(
             }
             // A cut that leaves every primitive on both sides gains nothing.
             let separates = below.len() < primitives.len() || above.len() < primitives.len();
-            separates.then_some((cut, below, above))
+            separates.then_some((cut, below, above, below_cell, above_cell))
         });
-        let Some((cut, below, above)) = children else {
+        let Some((cut, below, above, below_cell, above_cell)) = children else {
             splitter.discard(data);
             nodes[node_index] = KdNode {
                 split: V::Scalar::ZERO,
@@ -188,7 +210,6 @@ pub(crate) fn build_top_down<V: Vector, S: CellSplitter<V>>(
         let leaf = nodes[node_index];
         nodes.push(leaf);
         nodes.push(leaf);
-        let [below_cell, above_cell] = KdTree::child_cells(&nodes[node_index], &cell);
         let (below_data, above_data) = splitter.divide(data, &cut, &below_cell, &above_cell);
         // Above first on the work list, so the subtree below the plane is laid out first.
         work.push((left + 1, above_cell, above, above_data, depth + 1));

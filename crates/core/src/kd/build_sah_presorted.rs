@@ -11,21 +11,46 @@
 use crate::aabb::Aabb;
 use crate::bvh::BuildParams;
 use crate::kd::build::{CellSplitter, Cut, KdBuilder, build_top_down};
-use crate::kd::events::{Event, EventKind, cheapest_cut, push_events, sort_events};
+use crate::kd::events::{Event, EventKind, cheapest_cut, event_order, push_events, sort_events};
 use crate::kd::tree::KdTree;
 use crate::math::{Real, Vector};
+use crate::primitive::PrimitiveSet;
 use crate::sah::SahCost;
 
 /// The SAH kD builder that sorts the events once (O(n log n)).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct KdSahPresorted;
 
+/// What perfect splits need of the primitives: the box of each one's part inside a cell.
+trait Clipper<V: Vector> {
+    fn clipped_bounds(&self, index: usize, cell: &Aabb<V>) -> Option<Aabb<V>>;
+}
+
+impl<V: Vector, P: PrimitiveSet<V>> Clipper<V> for P {
+    fn clipped_bounds(&self, index: usize, cell: &Aabb<V>) -> Option<Aabb<V>> {
+        PrimitiveSet::clipped_bounds(self, index, cell)
+    }
+}
+
+/// Each axis's events of a node, sorted.
+type EventLists<S> = Vec<Vec<Event<S>>>;
+
+/// A primitive cut by the plane, with the boxes of its parts below and above (if any).
+type ClippedPrimitive<V> = (u32, Option<Aabb<V>>, Option<Aabb<V>>);
+
+/// A `side` flag: the primitive's events are replaced by those of its clipped parts.
+const CLIPPED: u8 = 4;
+
 struct Splitter<'a, V: Vector> {
     bounds: &'a [Aabb<V>],
     cost: SahCost,
+    /// The primitives, for perfect splits.
+    clip: Option<&'a dyn Clipper<V>>,
     /// Scratch, by primitive: which sides of the current cut it reaches (bit 0 below, bit 1
-    /// above).
+    /// above), and [`CLIPPED`].
     side: Vec<u8>,
+    /// Scratch, perfect splits: each cut primitive with the boxes of its parts below and above.
+    clipped: Vec<ClippedPrimitive<V>>,
     /// Scratch: the start events of the primitives the current cut goes through.
     cut_starts: Vec<Event<V::Scalar>>,
     /// Event lists no node needs any more, kept for reuse: a build makes a few lists per node,
@@ -34,6 +59,81 @@ struct Splitter<'a, V: Vector> {
 }
 
 impl<V: Vector> Splitter<'_, V> {
+    /// `kept` and the (sorted) `new` events merged into one sorted list.
+    fn merge(
+        &mut self,
+        kept: Vec<Event<V::Scalar>>,
+        new: &[Event<V::Scalar>],
+    ) -> Vec<Event<V::Scalar>> {
+        if new.is_empty() {
+            return kept;
+        }
+        let mut merged = self.list(kept.len() + new.len());
+        let (mut i, mut j) = (0, 0);
+        while i < kept.len() && j < new.len() {
+            if event_order(&new[j], &kept[i]).is_lt() {
+                merged.push(new[j]);
+                j += 1;
+            } else {
+                merged.push(kept[i]);
+                i += 1;
+            }
+        }
+        merged.extend_from_slice(&kept[i..]);
+        merged.extend_from_slice(&new[j..]);
+        self.pool.push(kept);
+        merged
+    }
+
+    /// `divide` with perfect splits (Wald & Havran 2006, §5.3): on every axis, the events of
+    /// primitives on one side keep their order; each cut primitive's events are replaced by
+    /// those of its clipped parts, which are sorted and merged in.
+    fn divide_clipped(
+        &mut self,
+        events: EventLists<V::Scalar>,
+        below: &Aabb<V>,
+        above: &Aabb<V>,
+    ) -> (EventLists<V::Scalar>, EventLists<V::Scalar>) {
+        let clipped = std::mem::take(&mut self.clipped);
+        let mut scratch = Vec::new();
+        let mut below_lists = Vec::with_capacity(V::DIM);
+        let mut above_lists = Vec::with_capacity(V::DIM);
+        for (axis, list) in events.into_iter().enumerate() {
+            let mut below_list = self.list(list.len());
+            let mut above_list = self.list(list.len());
+            for event in &list {
+                match self.side[event.primitive() as usize] {
+                    1 => below_list.push(*event),
+                    2 => above_list.push(*event),
+                    3 => {
+                        below_list.push(*event);
+                        above_list.push(*event);
+                    }
+                    _ => {} // Clipped: replaced below.
+                }
+            }
+            let mut new_below = self.list(2 * clipped.len());
+            let mut new_above = self.list(2 * clipped.len());
+            for &(primitive, below_part, above_part) in &clipped {
+                if let Some(part) = below_part {
+                    push_events(&mut new_below, primitive, &part, below, axis);
+                }
+                if let Some(part) = above_part {
+                    push_events(&mut new_above, primitive, &part, above, axis);
+                }
+            }
+            sort_events(&mut new_below, &mut scratch);
+            sort_events(&mut new_above, &mut scratch);
+            below_list = self.merge(below_list, &new_below);
+            above_list = self.merge(above_list, &new_above);
+            self.pool.extend([new_below, new_above, list]);
+            below_lists.push(below_list);
+            above_lists.push(above_list);
+        }
+        self.clipped = clipped;
+        (below_lists, above_lists)
+    }
+
     /// An empty list with room for `capacity` events.
     fn list(&mut self, capacity: usize) -> Vec<Event<V::Scalar>> {
         let mut list = self.pool.pop().unwrap_or_default();
@@ -53,7 +153,7 @@ impl<V: Vector> Splitter<'_, V> {
 
 impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
     /// Each axis's events of the node's primitives, sorted.
-    type NodeData = Vec<Vec<Event<V::Scalar>>>;
+    type NodeData = EventLists<V::Scalar>;
 
     fn root_data(&mut self, cell: &Aabb<V>, primitives: &[u32]) -> Self::NodeData {
         // Sort once per axis.
@@ -90,13 +190,13 @@ impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
         (split_cost < self.cost.leaf_cost(primitives.len())).then_some(cut)
     }
 
-    fn divide(
+    fn classify(
         &mut self,
-        events: Self::NodeData,
+        events: &Self::NodeData,
         cut: &Cut<V::Scalar>,
-        _below: &Aabb<V>,
-        _above: &Aabb<V>,
-    ) -> (Self::NodeData, Self::NodeData) {
+        below: &Aabb<V>,
+        above: &Aabb<V>,
+    ) {
         // Classify each primitive once, from its events on the split axis (Wald & Havran 2006,
         // §5.2): a primitive ending at or before the plane is below only, one starting at or
         // after it above only, one lying in it where the cut puts it, and the rest reach both.
@@ -113,8 +213,41 @@ impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
                 EventKind::End => {}
             }
         }
+        // Perfect splits: a primitive the plane goes through is clipped to each child cell; it
+        // goes only where some part of it is, with the box of that part.
+        if let Some(clip) = self.clip {
+            self.clipped.clear();
+            for event in &events[cut.axis] {
+                let primitive = event.primitive();
+                if event.kind() != EventKind::Start || self.side[primitive as usize] != 3 {
+                    continue;
+                }
+                let below_part = clip.clipped_bounds(primitive as usize, below);
+                let above_part = clip.clipped_bounds(primitive as usize, above);
+                self.side[primitive as usize] =
+                    CLIPPED | below_part.is_some() as u8 | (above_part.is_some() as u8) << 1;
+                self.clipped.push((primitive, below_part, above_part));
+            }
+        }
+    }
+
+    fn sides_of(&self, primitive: u32, _cut: &Cut<V::Scalar>, _bounds: &Aabb<V>) -> (bool, bool) {
+        let side = self.side[primitive as usize];
+        (side & 1 != 0, side & 2 != 0)
+    }
+
+    fn divide(
+        &mut self,
+        events: Self::NodeData,
+        cut: &Cut<V::Scalar>,
+        below: &Aabb<V>,
+        above: &Aabb<V>,
+    ) -> (Self::NodeData, Self::NodeData) {
         let mut below_lists = Vec::with_capacity(V::DIM);
         let mut above_lists = Vec::with_capacity(V::DIM);
+        if self.clip.is_some() {
+            return self.divide_clipped(events, below, above);
+        }
         for (axis, list) in events.into_iter().enumerate() {
             // Events of primitives on one side keep their order in that side's list.
             let (mut below_list, mut above_list);
@@ -202,13 +335,39 @@ impl KdBuilder for KdSahPresorted {
     /// Leaves end where no cut is cheaper than the leaf (or at the depth limit);
     /// `params.max_leaf_size` is not used.
     fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> KdTree<V> {
-        let splitter = Splitter {
-            bounds: primitive_bounds,
+        build_top_down(
+            primitive_bounds,
+            1,
+            Splitter::new(primitive_bounds, params, None),
+        )
+    }
+}
+
+impl KdSahPresorted {
+    /// Builds with perfect splits: a primitive cut by a plane is clipped to each child cell
+    /// (a triangle as a polygon, Sutherland & Hodgman 1974), so each child sees the box of the
+    /// part in it, or nothing if no part is (Havran 2000, §4.5; Wald & Havran 2006, §4.3).
+    /// Tighter events make cheaper trees, at the price of clipping during the build.
+    pub fn build_with_perfect_splits<V: Vector, P: PrimitiveSet<V>>(
+        &self,
+        primitives: &P,
+        params: &BuildParams,
+    ) -> KdTree<V> {
+        let bounds = primitives.all_bounds();
+        build_top_down(&bounds, 1, Splitter::new(&bounds, params, Some(primitives)))
+    }
+}
+
+impl<'a, V: Vector> Splitter<'a, V> {
+    fn new(bounds: &'a [Aabb<V>], params: &BuildParams, clip: Option<&'a dyn Clipper<V>>) -> Self {
+        Self {
+            bounds,
             cost: params.cost,
-            side: vec![0; primitive_bounds.len()],
+            clip,
+            side: vec![0; bounds.len()],
+            clipped: Vec::new(),
             cut_starts: Vec::new(),
             pool: Vec::new(),
-        };
-        build_top_down(primitive_bounds, 1, splitter)
+        }
     }
 }

@@ -22,4 +22,4 @@ pub use build_sah::KdSah;
 pub use build_sah_presorted::KdSahPresorted;
 pub use traverse::{KdTraversalStack, traverse};
 pub use tree::{KdNode, KdTree};
-pub use validate::{KdValidationError, validate};
+pub use validate::{KdValidationError, validate, validate_clipped};

@@ -2,7 +2,8 @@
 
 use crate::aabb::Aabb;
 use crate::kd::tree::KdTree;
-use crate::math::Vector;
+use crate::math::{Real, Vector};
+use crate::primitive::PrimitiveSet;
 
 /// What is wrong with a kD-tree.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -69,6 +70,48 @@ pub fn validate<V: Vector>(
     tree: &KdTree<V>,
     primitive_bounds: &[Aabb<V>],
 ) -> Result<(), KdValidationError> {
+    validate_by(tree, primitive_bounds, |primitive, cell| {
+        primitive_bounds[primitive].intersection(cell)
+    })
+}
+
+/// [`validate`] for a tree built with perfect splits
+/// ([`KdSahPresorted::build_with_perfect_splits`](crate::kd::KdSahPresorted::build_with_perfect_splits)):
+/// a leaf must list every primitive whose part inside its cell (clipped, not its box) reaches
+/// into the cell by more than the roundoff of clipping.
+pub fn validate_clipped<V: Vector, P: PrimitiveSet<V>>(
+    tree: &KdTree<V>,
+    primitives: &P,
+) -> Result<(), KdValidationError> {
+    let bounds = primitives.all_bounds();
+    let tolerance = V::Scalar::from_f64(16.0) * V::Scalar::UNIT_ROUNDOFF;
+    validate_by(tree, &bounds, |primitive, cell| {
+        // The clipped box is widened where clipping rounded; shrink it back by more than that,
+        // so only a part that surely reaches into the cell must be listed. A part thinner
+        // than that next to a side of the cell may lie just outside it.
+        let part = primitives.clipped_bounds(primitive, cell)?;
+        let mut shrunk = part;
+        for axis in 0..V::DIM {
+            let margin = tolerance * part.min[axis].abs().max(part.max[axis].abs());
+            if part.max[axis] - part.min[axis] > V::Scalar::TWO * margin {
+                shrunk.min[axis] = part.min[axis] + margin;
+                shrunk.max[axis] = part.max[axis] - margin;
+            } else if part.min[axis] - margin <= cell.min[axis]
+                || part.max[axis] + margin >= cell.max[axis]
+            {
+                return None;
+            }
+        }
+        Some(shrunk)
+    })
+}
+
+/// The checks, with `part_in(primitive, cell)` the box of the primitive's part in a cell.
+fn validate_by<V: Vector>(
+    tree: &KdTree<V>,
+    primitive_bounds: &[Aabb<V>],
+    part_in: impl Fn(usize, &Aabb<V>) -> Option<Aabb<V>>,
+) -> Result<(), KdValidationError> {
     if let Some(primitive) = primitive_bounds
         .iter()
         .position(|bounds| !tree.bounds.contains(bounds))
@@ -120,9 +163,10 @@ pub fn validate<V: Vector>(
                 listed_flags[primitive] = true;
                 listed_anywhere[primitive] = true;
             }
-            if let Some(primitive) = (0..primitive_bounds.len())
-                .find(|&p| !listed_flags[p] && reaches_into(&primitive_bounds[p], &cell, root))
-            {
+            if let Some(primitive) = (0..primitive_bounds.len()).find(|&p| {
+                !listed_flags[p]
+                    && part_in(p, &cell).is_some_and(|part| reaches_into(&part, &cell, root))
+            }) {
                 return Err(KdValidationError::MissingPrimitive {
                     node: index,
                     primitive,

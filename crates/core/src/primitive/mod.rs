@@ -4,6 +4,7 @@
 //! test primitives only through [`PrimitiveSet`], so a triangle mesh and a 2D scene of
 //! segments and discs run the same code.
 
+pub(crate) mod clip;
 mod shape;
 mod triangle;
 
@@ -53,6 +54,13 @@ pub trait PrimitiveSet<V: Vector> {
         t_min: V::Scalar,
         t_max: V::Scalar,
     ) -> Option<V::Scalar>;
+
+    /// The box around the part of primitive `index` inside the closed box `cell`, or `None`
+    /// when no part of it is there: what kD "perfect splits" use. Never smaller than the exact
+    /// box of that part. By default, the primitive's box clipped to the cell.
+    fn clipped_bounds(&self, index: usize, cell: &Aabb<V>) -> Option<Aabb<V>> {
+        self.bounds(index).intersection(cell)
+    }
 
     /// Every primitive's box, in order: what a builder takes.
     fn all_bounds(&self) -> Vec<Aabb<V>> {

@@ -145,6 +145,14 @@ impl<V: Vector> PrimitiveSet<V> for ShapeSet<V> {
         *ray
     }
 
+    fn clipped_bounds(&self, index: usize, cell: &Aabb<V>) -> Option<Aabb<V>> {
+        match &self.shapes[index] {
+            Shape::Segment(ends) => super::clip::clipped_bounds(ends, cell),
+            // A disc's or box's own box clipped to the cell (exact for boxes).
+            _ => self.bounds(index).intersection(cell),
+        }
+    }
+
     fn permuted(&self, order: &[u32]) -> Self {
         Self {
             shapes: order

@@ -225,6 +225,10 @@ impl<V: Vector3> PrimitiveSet<V> for TriangleSet<V> {
         TriangleRay::new(ray, test)
     }
 
+    fn clipped_bounds(&self, index: usize, cell: &Aabb<V>) -> Option<Aabb<V>> {
+        super::clip::clipped_bounds(&self.triangles[index], cell)
+    }
+
     fn permuted(&self, order: &[u32]) -> Self {
         Self {
             triangles: order

@@ -64,6 +64,10 @@ pub fn all_kd_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(Strin
             kd::validate(&tree, &bounds).unwrap_or_else(|error| panic!("{name}: {error}"));
             trees.push((format!("{name} leaf {max_leaf_size}"), tree));
         }
+        let perfect = KdSahPresorted.build_with_perfect_splits(primitives, &params);
+        kd::validate_clipped(&perfect, primitives)
+            .unwrap_or_else(|error| panic!("kd:sah-perfect: {error}"));
+        trees.push((format!("kd:sah-perfect leaf {max_leaf_size}"), perfect));
     }
     trees
 }
