@@ -6,9 +6,11 @@
 
 mod bench;
 mod json;
+mod plot;
 mod sah;
 mod slab;
 mod spec;
+mod tradeoff;
 
 use std::process::ExitCode;
 
@@ -40,6 +42,9 @@ enum Command {
     /// The SAH cost of every candidate split of one node (exact and binned), with the leaf
     /// cost and where the middle, median and SAH rules cut.
     Sah(sah::SahArgs),
+    /// Every structure and every speed/accuracy switch on the same rays, against f64 brute
+    /// force: a table (Markdown, CSV) and two SVG plots.
+    Tradeoff(tradeoff::TradeoffArgs),
 }
 
 /// Traversal order.
@@ -235,6 +240,7 @@ fn run(cli: Cli) -> Result<String> {
         Some(Command::Slab(args)) => slab::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Sah(args)) => sah::run(&args),
+        Some(Command::Tradeoff(args)) => tradeoff::run(&args),
         None => bench::run(&bench::BenchArgs::default_run()),
     }
 }

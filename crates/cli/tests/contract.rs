@@ -506,3 +506,93 @@ fn sah_lists_every_candidate_with_its_parts() {
         "unknown built-in 2D scene",
     );
 }
+
+/// `tradeoff`: every structure × switch row, in Markdown and CSV, and two plots; the
+/// watertight rows never disagree with f64 brute force, even on rays aimed at vertices and
+/// edges.
+#[test]
+fn tradeoff_writes_the_table_and_the_plots() {
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("tradeoff");
+    let _ = std::fs::remove_dir_all(&out);
+    let out_text = out.to_string_lossy().into_owned();
+    let output = cli(&[
+        "tradeoff",
+        "--mesh",
+        "builtin:icosphere",
+        "--aimed",
+        "--rays",
+        "600",
+        "--repeat",
+        "1",
+        "--out",
+        &out_text,
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(stdout(&output).contains("| kd:sah-perfect | near-first | f64 | watertight |"));
+    let csv = std::fs::read_to_string(out.join("tradeoff.csv")).unwrap();
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(header[0], "structure");
+    let rows: Vec<Vec<&str>> = lines.map(|line| line.split(',').collect()).collect();
+    assert_eq!(rows.len(), 11 * 5, "11 structures, 5 switch settings each");
+    let column = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    for row in &rows {
+        for name in [
+            "build_ms",
+            "sah_cost",
+            "nodes_per_ray",
+            "prims_per_ray",
+            "mrays_per_s",
+        ] {
+            let value: f64 = row[column(name)].parse().unwrap();
+            assert!(value.is_finite() && value > 0.0, "{name} in {row:?}");
+        }
+        if row[column("triangle_test")] == "watertight" {
+            assert_eq!(row[column("wrong_per_million")], "0", "{row:?}");
+            assert_eq!(row[column("missed_per_million")], "0", "{row:?}");
+        }
+    }
+    // The fast test leaks on these rays somewhere: the table shows the trade.
+    assert!(rows.iter().any(
+        |row| row[column("triangle_test")] == "fast" && row[column("wrong_per_million")] != "0"
+    ));
+    for plot in ["build-vs-traversal.svg", "predicted-vs-measured.svg"] {
+        let svg = std::fs::read_to_string(out.join(plot)).unwrap();
+        assert!(
+            svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"),
+            "{plot}"
+        );
+        for structure in [
+            "bvh:sah-binned:4",
+            "bvh:sah-sweep",
+            "kd:median",
+            "kd:sah-perfect",
+        ] {
+            assert!(
+                svg.contains(&format!(">{structure}</text>")),
+                "{plot}: {structure}"
+            );
+        }
+    }
+    assert!(
+        std::fs::read_to_string(out.join("tradeoff.md"))
+            .unwrap()
+            .contains("| structure |")
+    );
+    // Errors.
+    let blocker = file("not-a-directory", "x");
+    assert_fails(
+        &[
+            "tradeoff",
+            "--mesh",
+            "builtin:icosphere",
+            "--rays",
+            "10",
+            "--out",
+            &format!("{blocker}/sub"),
+        ],
+        "cannot create the directory",
+    );
+    assert_fails(&["tradeoff", "--rays", "0"], "--rays must be at least 1");
+    assert_fails(&["tradeoff", "--mesh", "/no/such.obj"], "/no/such.obj");
+}

@@ -145,19 +145,24 @@ where
             continue;
         }
         let t_plane = (node.split - origin) * slab_ray.inv_direction[axis];
-        current = if t_plane < V::Scalar::ZERO || t_plane > t_far {
+        // In robust mode the crossing counts as inside the cell's interval within its
+        // roundoff (Ize 2013's bound, as for the root box): where the ray leaves through a
+        // corner shared with another plane, a primitive touching this plane from the far side
+        // is then still visited.
+        let t_far_reach = t_far * slab_ray.far_scale;
+        current = if t_plane < V::Scalar::ZERO || t_plane > t_far_reach {
             // The ray moves away from the plane, or leaves the cell before reaching it: only
             // the near side.
             Some((near, t_near, t_far))
-        } else if t_plane < t_near {
+        } else if t_plane * slab_ray.far_scale < t_near {
             // It crossed the plane before entering the cell.
             Some((far, t_near, t_far))
         } else {
             // Both parts: visit one now, keep the other for when this subtree is done. Both
             // include the crossing point, where a primitive touching the plane from one side
             // only is met.
-            let near_part = (near, t_near, t_plane);
-            let far_part = (far, t_plane, t_far);
+            let near_part = (near, t_near, t_plane.max(t_near));
+            let far_part = (far, t_plane.min(t_far), t_far);
             let (first, second) = if options.order == Order::FileOrder && near != below {
                 (far_part, near_part)
             } else {
