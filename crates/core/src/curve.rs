@@ -363,7 +363,7 @@ fn kd_candidate<S: Real>(candidate: &kd::events::KdCandidate<S>) -> Candidate {
     Candidate {
         axis: candidate.cut.axis,
         position: candidate.cut.position.to_f64(),
-        cost: candidate.cost,
+        cost: candidate.cost(),
         count_left: candidate.count_below,
         count_right: candidate.count_above,
         area_left: 2.0 * below,
@@ -398,9 +398,14 @@ pub fn kd_curve<V: Vector>(
         })
         .collect();
     let mut axes = vec![Vec::new(); V::DIM];
+    // The best as the builder picks it: by the scaled cost, first at a tie.
+    let mut best: Option<kd::events::KdCandidate<V::Scalar>> = None;
     if count > 0 {
         sweep_candidates(cell, &events, count, cost, |candidate| {
             axes[candidate.cut.axis].push(kd_candidate(candidate));
+            if best.is_none_or(|best| candidate.scaled_cost < best.scaled_cost) {
+                best = Some(*candidate);
+            }
         });
     }
     let rule_mark = |cut: kd::build::Cut<V::Scalar>| {
@@ -465,7 +470,7 @@ pub fn kd_curve<V: Vector>(
         area: cell.area().to_f64(),
         count,
         leaf_cost: cost.leaf_cost(count),
-        best: best_of(&axes),
+        best: best.map(|best| Mark::from(&kd_candidate(&best))),
         axes,
         middle,
         median,

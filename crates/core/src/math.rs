@@ -198,6 +198,17 @@ pub trait Vector:
     fn length(self) -> Self::Scalar {
         self.dot(self).sqrt()
     }
+    /// The components, padded with zeros to three: indexing an array by a run-time axis is a
+    /// load, where glam's `v[axis]` is a match (hot loops pick components by axis).
+    #[inline(always)]
+    fn to_array3(self) -> [Self::Scalar; 3] {
+        let mut out = [Self::Scalar::ZERO; 3];
+        for (axis, slot) in out.iter_mut().enumerate().take(Self::DIM) {
+            *slot = self[axis];
+        }
+        out
+    }
+
     /// The components as f64, padded with zeros to three (for printing and JSON).
     #[inline]
     fn to_f64_array(self) -> [f64; 3] {

@@ -149,17 +149,73 @@ pub fn subdivided_cube(cells: usize) -> Mesh {
 pub fn lumpy_sphere() -> Mesh {
     let mut indexed = icosphere_indexed(5);
     for vertex in &mut indexed.vertices {
-        let [x, y, z] = *vertex;
-        let bump = 1.0
-            + 0.25 * (5.0 * x).sin() * (4.0 * y).sin() * (3.0 * z + 1.0).sin()
-            + 0.1 * (11.0 * x + 7.0 * z).sin();
-        *vertex = [x * bump, y * bump, z * bump];
+        *vertex = lump(*vertex);
     }
     indexed.into_mesh("builtin:lumpy-sphere".into())
 }
 
+/// The lumpy sphere's displacement: smooth bumps in and out.
+fn lump([x, y, z]: [f64; 3]) -> [f64; 3] {
+    let bump = 1.0
+        + 0.25 * (5.0 * x).sin() * (4.0 * y).sin() * (3.0 * z + 1.0).sin()
+        + 0.1 * (11.0 * x + 7.0 * z).sin();
+    [x * bump, y * bump, z * bump]
+}
+
+/// A lumpy sphere of about `triangles` triangles, for scaling benchmarks: a latitude-longitude
+/// grid (`w` segments around, `h` bands; `2·w·(h − 1)` triangles, fans at the poles) with the
+/// lumpy sphere's bumps. Unlike the icosphere its size can be any number, and its triangles
+/// are long near the poles and square at the equator.
+pub fn lumpy_grid_sphere(triangles: usize) -> Mesh {
+    let segments = ((triangles as f64).sqrt().round() as usize).max(3);
+    let bands = (triangles / (2 * segments) + 1).max(2);
+    let mut indexed = Indexed {
+        vertices: vec![lump([0.0, 0.0, 1.0])],
+        faces: Vec::with_capacity(2 * segments * (bands - 1)),
+    };
+    for band in 1..bands {
+        let polar = std::f64::consts::PI * band as f64 / bands as f64;
+        for segment in 0..segments {
+            let azimuth = std::f64::consts::TAU * segment as f64 / segments as f64;
+            let point = [
+                polar.sin() * azimuth.cos(),
+                polar.sin() * azimuth.sin(),
+                polar.cos(),
+            ];
+            indexed.vertices.push(lump(point));
+        }
+    }
+    indexed.vertices.push(lump([0.0, 0.0, -1.0]));
+    let south = indexed.vertices.len() - 1;
+    let ring = |band: usize, segment: usize| 1 + (band - 1) * segments + segment % segments;
+    for segment in 0..segments {
+        indexed
+            .faces
+            .push([0, ring(1, segment), ring(1, segment + 1)]);
+        indexed.faces.push([
+            south,
+            ring(bands - 1, segment + 1),
+            ring(bands - 1, segment),
+        ]);
+    }
+    for band in 1..bands - 1 {
+        for segment in 0..segments {
+            let (a, b) = (ring(band, segment), ring(band, segment + 1));
+            let (c, d) = (ring(band + 1, segment + 1), ring(band + 1, segment));
+            indexed.faces.extend([[a, d, c], [a, c, b]]);
+        }
+    }
+    indexed.into_mesh(format!("builtin:lumpy-sphere:{triangles}"))
+}
+
 /// The built-in meshes by name, for the CLI's `--mesh builtin:NAME`.
 pub fn by_name(name: &str) -> Option<Mesh> {
+    if let Some(count) = name.strip_prefix("lumpy-sphere:") {
+        let count = count.parse::<usize>().ok()?;
+        return (100..=20_000_000)
+            .contains(&count)
+            .then(|| lumpy_grid_sphere(count));
+    }
     match name {
         "lumpy-sphere" => Some(lumpy_sphere()),
         "icosphere" => Some(icosphere(4)),
@@ -175,8 +231,9 @@ pub fn by_name(name: &str) -> Option<Mesh> {
 pub const FAR_AWAY: [f64; 3] = [1.0e4, -3.0e4, 2.0e4];
 
 /// The names [`by_name`] knows.
-pub const BUILTIN_NAMES: [&str; 5] = [
+pub const BUILTIN_NAMES: [&str; 6] = [
     "lumpy-sphere",
+    "lumpy-sphere:N (about N triangles, 100 to 20000000)",
     "icosphere",
     "cube",
     "icosphere-far",
@@ -192,5 +249,11 @@ mod tests {
         assert_eq!(icosphere(2).triangles.len(), 320);
         assert_eq!(subdivided_cube(3).triangles.len(), 6 * 9 * 2);
         assert_eq!(lumpy_sphere().triangles.len(), 20_480);
+        for target in [100, 10_000, 100_000, 1_000_000] {
+            let count = lumpy_grid_sphere(target).triangles.len();
+            assert!(count.abs_diff(target) * 100 <= target, "{target}: {count}");
+        }
+        assert!(by_name("lumpy-sphere:99").is_none());
+        assert!(by_name("lumpy-sphere:x").is_none());
     }
 }

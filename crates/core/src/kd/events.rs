@@ -159,8 +159,16 @@ pub(crate) struct KdCandidate<S> {
     /// Half the surface area (2D: the perimeter) of the parent cell and of the cells below and
     /// above the plane.
     pub(crate) half_areas: [f64; 3],
+    /// The cost of the cut by the SAH, with the empty-space bonus, times the parent's half
+    /// area ([`SahCost::kd_split_cost_scaled`]): what the sweep compares.
+    pub(crate) scaled_cost: f64,
+}
+
+impl<S> KdCandidate<S> {
     /// The cost of the cut by the SAH, with the empty-space bonus.
-    pub(crate) cost: f64,
+    pub(crate) fn cost(&self) -> f64 {
+        SahCost::unscale(self.scaled_cost, self.half_areas[0])
+    }
 }
 
 /// The half area of a cell as a function of its extent on one axis: `slope · length + base`
@@ -241,7 +249,7 @@ pub(crate) fn sweep_candidates<V: Vector>(
                     half_area.at(high_f64 - position_f64),
                 ];
                 let cost_of = |count_below, count_above| {
-                    cost.kd_split_cost(
+                    cost.kd_split_cost_scaled(
                         parent_area,
                         half_areas[1],
                         count_below,
@@ -258,15 +266,15 @@ pub(crate) fn sweep_candidates<V: Vector>(
                     count_below: count_below + planars,
                     count_above,
                     half_areas,
-                    cost: cost_of(count_below + planars, count_above),
+                    scaled_cost: cost_of(count_below + planars, count_above),
                 };
                 if planars > 0 {
                     let planar_above_cost = cost_of(count_below, count_above + planars);
-                    if planar_above_cost < candidate.cost {
+                    if planar_above_cost < candidate.scaled_cost {
                         candidate.cut.planar_below = false;
                         candidate.count_below = count_below;
                         candidate.count_above = count_above + planars;
-                        candidate.cost = planar_above_cost;
+                        candidate.scaled_cost = planar_above_cost;
                     }
                 }
                 visit(&candidate);
@@ -313,7 +321,7 @@ pub(crate) fn cost_of_cut<V: Vector>(
     let parent_area = cell.half_area_nonempty().to_f64();
     let half_areas = [parent_area, half_area.at(at - low), half_area.at(high - at)];
     let cost_of = |count_below, count_above| {
-        cost.kd_split_cost(
+        cost.kd_split_cost_scaled(
             parent_area,
             half_areas[1],
             count_below,
@@ -335,7 +343,7 @@ pub(crate) fn cost_of_cut<V: Vector>(
         count_below: below + if planar_below { planars } else { 0 },
         count_above: above + if planar_below { 0 } else { planars },
         half_areas,
-        cost: if planar_below {
+        scaled_cost: if planar_below {
             planar_below_cost
         } else {
             planar_above_cost
@@ -351,13 +359,13 @@ pub(crate) fn cheapest_cut<V: Vector>(
     primitive_count: usize,
     cost: &SahCost,
 ) -> Option<(f64, Cut<V::Scalar>)> {
-    let mut best: Option<(f64, Cut<V::Scalar>)> = None;
+    let mut best: Option<KdCandidate<V::Scalar>> = None;
     sweep_candidates(cell, events_per_axis, primitive_count, cost, |candidate| {
-        if best.is_none_or(|(best_cost, _)| candidate.cost < best_cost) {
-            best = Some((candidate.cost, candidate.cut));
+        if best.is_none_or(|best| candidate.scaled_cost < best.scaled_cost) {
+            best = Some(*candidate);
         }
     });
-    best
+    best.map(|best| (best.cost(), best.cut))
 }
 
 #[cfg(test)]

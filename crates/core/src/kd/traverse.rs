@@ -87,6 +87,9 @@ where
     let entries = &mut stack.entries;
     entries.clear();
     let mut mailbox = Mailbox::default();
+    let origins = ray.origin.to_array3();
+    let directions = ray.direction.to_array3();
+    let inverse_directions = slab_ray.inv_direction.to_array3();
     let mut current = Some((0u32, t_enter, t_exit));
     while let Some((node_index, t_near, t_far)) = current.take().or_else(|| entries.pop()) {
         // The part of the ray in this cell starts beyond the closest hit: nothing here is nearer.
@@ -116,8 +119,8 @@ where
         }
         // Which side holds the origin (the near side), and where the ray crosses the plane.
         let axis = node.axis as usize;
-        let origin = ray.origin[axis];
-        let direction = ray.direction[axis];
+        let origin = origins[axis];
+        let direction = directions[axis];
         let [below, above] = node.children();
         let below_is_near =
             origin < node.split || (origin == node.split && direction <= V::Scalar::ZERO);
@@ -144,7 +147,7 @@ where
             current = Some((near, t_near, t_far));
             continue;
         }
-        let t_plane = (node.split - origin) * slab_ray.inv_direction[axis];
+        let t_plane = (node.split - origin) * inverse_directions[axis];
         // In robust mode the crossing counts as inside the cell's interval within its
         // roundoff (Ize 2013's bound, as for the root box): where the ray leaves through a
         // corner shared with another plane, a primitive touching this plane from the far side
