@@ -257,10 +257,13 @@ impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
                 below_list = self.scratch_list(list.len());
                 above_list = self.scratch_list(list.len());
                 let (mut below_end, mut above_end) = (0, 0);
+                // Slices, so the loop keeps their addresses in registers.
+                let (below_slots, above_slots) = (&mut below_list[..], &mut above_list[..]);
+                let sides = &self.side[..];
                 for event in &list {
-                    let side = self.side[event.primitive() as usize];
-                    below_list[below_end] = *event;
-                    above_list[above_end] = *event;
+                    let side = sides[event.primitive() as usize];
+                    below_slots[below_end] = *event;
+                    above_slots[above_end] = *event;
                     below_end += (side & 1) as usize;
                     above_end += (side >> 1) as usize;
                 }
