@@ -1,6 +1,7 @@
-//! Criterion benches of the core: the slab test, each builder, and traversal in both orders,
-//! on the built-in lumpy sphere (20,480 triangles) and its seeded random rays.
-//! `accelviz-cli bench` measures the same on any mesh.
+//! Criterion benches of the core: the slab test, each BVH and kD builder, traversal of both
+//! kinds of tree in both orders, and a node's SAH cost curve, on the built-in lumpy sphere
+//! (20,480 triangles) and its seeded random rays; and how the kD SAH build scales (10k, 100k
+//! and 1M triangles, both ways of sorting). `accelviz-cli bench` measures the same on any mesh.
 
 #![allow(missing_docs, clippy::unwrap_used)]
 
@@ -9,10 +10,12 @@ use std::hint::black_box;
 use accelviz_core::bvh::{
     BinnedSah, BuildParams, Builder, MedianSplit, MiddleSplit, SweepSah, TraversalStack, traverse,
 };
+use accelviz_core::kd::{self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdSah, KdSahPresorted};
 use accelviz_core::{
-    Aabb, NoObserver, Order, PrimitiveSet, Ray, SlabRay, TraceOptions, TriangleSet, slab_clip,
+    Aabb, NoObserver, Order, PrimitiveSet, Ray, SahCost, SlabRay, TraceOptions, TriangleSet, curve,
+    slab_clip,
 };
-use accelviz_scene::builtin::lumpy_sphere;
+use accelviz_scene::builtin::{lumpy_grid_sphere, lumpy_sphere};
 use accelviz_scene::rays::random_rays;
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::Vec3;
@@ -49,6 +52,60 @@ fn builders(c: &mut Criterion) {
         b.iter(|| BinnedSah { bins: 16 }.build(&bounds, &params))
     });
     group.bench_function("sah-sweep", |b| b.iter(|| SweepSah.build(&bounds, &params)));
+    group.bench_function("kd:middle", |b| {
+        b.iter(|| KdMiddleSplit.build(&bounds, &params))
+    });
+    group.bench_function("kd:median", |b| {
+        b.iter(|| KdMedianSplit.build(&bounds, &params))
+    });
+    group.bench_function("kd:sah", |b| {
+        b.iter(|| KdSahPresorted.build(&bounds, &params))
+    });
+    group.bench_function("kd:sah-per-node", |b| {
+        b.iter(|| KdSah.build(&bounds, &params))
+    });
+    group.bench_function("kd:sah-perfect", |b| {
+        b.iter(|| KdSahPresorted.build_with_perfect_splits(&triangles, &params))
+    });
+    group.finish();
+}
+
+/// The kD SAH build at 10k, 100k and 1M triangles: sorting once should grow as n log n,
+/// sorting at every node as n log² n.
+fn kd_scaling(c: &mut Criterion) {
+    let params = BuildParams::default();
+    let mut group = c.benchmark_group("kd:sah build scaling");
+    group.sample_size(10);
+    for count in [10_000, 100_000, 1_000_000] {
+        let bounds =
+            TriangleSet::<Vec3>::from_f64(&lumpy_grid_sphere(count).triangles).all_bounds();
+        group.bench_function(format!("sorted once, {count} triangles"), |b| {
+            b.iter(|| KdSahPresorted.build(&bounds, &params))
+        });
+        if count <= 100_000 {
+            group.bench_function(format!("sorted per node, {count} triangles"), |b| {
+                b.iter(|| KdSah.build(&bounds, &params))
+            });
+        }
+    }
+    group.finish();
+}
+
+/// The root's cost curves (what the SAH lesson plots at every slider move).
+fn curves(c: &mut Criterion) {
+    let mesh = lumpy_sphere();
+    let bounds = TriangleSet::<Vec3>::from_f64(&mesh.triangles).all_bounds();
+    let all: Vec<u32> = (0..bounds.len() as u32).collect();
+    let cell = bounds.iter().fold(Aabb::empty(), |acc, b| acc.union(*b));
+    let cost = SahCost::default();
+    let mut group = c.benchmark_group("cost curve of the root");
+    group.sample_size(10);
+    group.bench_function("bvh, exact + 16 bins", |b| {
+        b.iter(|| curve::bvh_curve(&bounds, &all, &cost, Some(16)))
+    });
+    group.bench_function("kd, exact + 16 bins", |b| {
+        b.iter(|| curve::kd_curve(&bounds, &all, &cell, &cost, Some(16)))
+    });
     group.finish();
 }
 
@@ -56,6 +113,9 @@ fn traversal(c: &mut Criterion) {
     let mesh = lumpy_sphere();
     let triangles = TriangleSet::<Vec3>::from_f64(&mesh.triangles);
     let bvh = BinnedSah::default().build(&triangles.all_bounds(), &BuildParams::default());
+    let bvh_triangles = bvh.leaf_ordered(&triangles);
+    let tree = KdSahPresorted.build(&triangles.all_bounds(), &BuildParams::default());
+    let kd_triangles = tree.leaf_ordered(&triangles);
     let rays: Vec<Ray<Vec3>> = random_rays(&mesh.bounds(), 10_000, 1)
         .iter()
         .map(|spec| spec.to_ray().unwrap())
@@ -70,13 +130,38 @@ fn traversal(c: &mut Criterion) {
             order,
             ..TraceOptions::default()
         };
-        group.bench_function(name, |b| {
+        group.bench_function(format!("bvh {name}"), |b| {
             let mut stack = TraversalStack::new();
             b.iter(|| {
                 rays.iter()
                     .filter(|ray| {
-                        traverse(&bvh, &triangles, ray, &options, &mut stack, &mut NoObserver)
-                            .is_some()
+                        traverse(
+                            &bvh,
+                            &bvh_triangles,
+                            ray,
+                            &options,
+                            &mut stack,
+                            &mut NoObserver,
+                        )
+                        .is_some()
+                    })
+                    .count()
+            })
+        });
+        group.bench_function(format!("kd:sah {name}"), |b| {
+            let mut stack = kd::KdTraversalStack::new();
+            b.iter(|| {
+                rays.iter()
+                    .filter(|ray| {
+                        kd::traverse(
+                            &tree,
+                            &kd_triangles,
+                            ray,
+                            &options,
+                            &mut stack,
+                            &mut NoObserver,
+                        )
+                        .is_some()
                     })
                     .count()
             })
@@ -85,5 +170,5 @@ fn traversal(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, slab, builders, traversal);
+criterion_group!(benches, slab, builders, traversal, curves, kd_scaling);
 criterion_main!(benches);
