@@ -90,6 +90,7 @@ where
     let origins = ray.origin.to_array3();
     let directions = ray.direction.to_array3();
     let inverse_directions = slab_ray.inv_direction.to_array3();
+    let negative = slab_ray.negative;
     let mut current = Some((0u32, t_enter, t_exit));
     while let Some((node_index, t_near, t_far)) = current.take().or_else(|| entries.pop()) {
         // The part of the ray in this cell starts beyond the closest hit: nothing here is nearer.
@@ -117,22 +118,19 @@ where
             }
             continue;
         }
-        // Which side holds the origin (the near side), and where the ray crosses the plane.
         let axis = node.axis as usize;
         let origin = origins[axis];
-        let direction = directions[axis];
         let [below, above] = node.children();
-        let below_is_near =
-            origin < node.split || (origin == node.split && direction <= V::Scalar::ZERO);
-        let (near, far) = if below_is_near {
-            (below, above)
-        } else {
-            (above, below)
-        };
         if origin == node.split {
             // The ray starts in the plane. A primitive touching the plane from either side can
-            // be met there, so both cells are visited (the far one only at the start, unless
-            // the ray lies in the plane).
+            // be met there, so both cells are visited: first the one it moves into, the other
+            // only at the start (or all along, if the ray lies in the plane).
+            let direction = directions[axis];
+            let (near, far) = if direction <= V::Scalar::ZERO {
+                (below, above)
+            } else {
+                (above, below)
+            };
             let far_exit = if direction == V::Scalar::ZERO {
                 t_far
             } else {
@@ -142,37 +140,42 @@ where
             current = Some((near, t_near, t_far));
             continue;
         }
-        if direction == V::Scalar::ZERO {
-            // Parallel to the plane, off it: the ray stays on the near side.
-            current = Some((near, t_near, t_far));
-            continue;
-        }
+        // The child the ray meets first, by the sign of its direction on this axis (the sign
+        // of the inverse, so −0 and ±∞ agree): the same at every node of a ray, so the branch
+        // predicts well, where "which side holds the origin" changes from node to node.
+        let (first, second) = if negative[axis] {
+            (above, below)
+        } else {
+            (below, above)
+        };
+        // Where the ray crosses the plane: ±∞ when it runs parallel, behind the origin (< 0)
+        // when it moves away.
         let t_plane = (node.split - origin) * inverse_directions[axis];
         // In robust mode the crossing counts as inside the cell's interval within its
         // roundoff (Ize 2013's bound, as for the root box): where the ray leaves through a
         // corner shared with another plane, a primitive touching this plane from the far side
         // is then still visited.
-        let t_far_reach = t_far * slab_ray.far_scale;
-        current = if t_plane < V::Scalar::ZERO || t_plane > t_far_reach {
-            // The ray moves away from the plane, or leaves the cell before reaching it: only
-            // the near side.
-            Some((near, t_near, t_far))
+        current = if t_plane > t_far * slab_ray.far_scale {
+            // It leaves the cell before reaching the plane (or never reaches it): the first
+            // side only.
+            Some((first, t_near, t_far))
         } else if t_plane * slab_ray.far_scale < t_near {
-            // It crossed the plane before entering the cell.
-            Some((far, t_near, t_far))
+            // It crossed the plane before entering the cell (or moves away from it): the
+            // second side only.
+            Some((second, t_near, t_far))
         } else {
             // Both parts: visit one now, keep the other for when this subtree is done. Both
             // include the crossing point, where a primitive touching the plane from one side
-            // only is met.
-            let near_part = (near, t_near, t_plane.max(t_near));
-            let far_part = (far, t_plane.min(t_far), t_far);
-            let (first, second) = if options.order == Order::FileOrder && near != below {
-                (far_part, near_part)
+            // only is met. File order visits the side below the plane first.
+            let first_part = (first, t_near, t_plane.max(t_near));
+            let second_part = (second, t_plane.min(t_far), t_far);
+            let (now, later) = if options.order == Order::FileOrder && first != below {
+                (second_part, first_part)
             } else {
-                (near_part, far_part)
+                (first_part, second_part)
             };
-            entries.push(second);
-            Some(first)
+            entries.push(later);
+            Some(now)
         };
     }
     search.closest
