@@ -365,6 +365,38 @@ fn order_name(order: Order) -> &'static str {
     }
 }
 
+impl Row {
+    /// The table's cells: rounded for reading, or every digit (for CSV).
+    fn cells(&self, params: &BuildParams, rounded: bool) -> [String; 12] {
+        let number = |value: f64, digits: usize| {
+            if rounded {
+                format!("{value:.digits$}")
+            } else {
+                format!("{value}")
+            }
+        };
+        [
+            self.structure.clone(),
+            order_name(self.order).to_owned(),
+            (if self.f64 { "f64" } else { "f32" }).to_owned(),
+            (if self.watertight {
+                "watertight"
+            } else {
+                "fast"
+            })
+            .to_owned(),
+            number(self.build_ms, 1),
+            number(self.sah_cost, 1),
+            number(self.measured_cost(params), 1),
+            number(self.nodes_per_ray, 1),
+            number(self.primitives_per_ray, 1),
+            number(self.mrays_per_s, 2),
+            number(self.wrong_per_million, 0),
+            number(self.missed_per_million, 0),
+        ]
+    }
+}
+
 fn markdown(rows: &[Row], heading: &str, params: &BuildParams) -> String {
     let mut out = format!(
         "{heading}. Wrong and missed: against brute force in f64 with the watertight test, per million rays. Measured cost: C_trav·nodes + C_isect·primitives per ray, comparable with the SAH cost.\n\n\
@@ -372,21 +404,7 @@ fn markdown(rows: &[Row], heading: &str, params: &BuildParams) -> String {
          |---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
     );
     for row in rows {
-        out.push_str(&format!(
-            "| {} | {} | {} | {} | {:.1} | {:.1} | {:.1} | {:.1} | {:.1} | {:.2} | {:.0} | {:.0} |\n",
-            row.structure,
-            order_name(row.order),
-            if row.f64 { "f64" } else { "f32" },
-            if row.watertight { "watertight" } else { "fast" },
-            row.build_ms,
-            row.sah_cost,
-            row.measured_cost(params),
-            row.nodes_per_ray,
-            row.primitives_per_ray,
-            row.mrays_per_s,
-            row.wrong_per_million,
-            row.missed_per_million,
-        ));
+        out.push_str(&format!("| {} |\n", row.cells(params, true).join(" | ")));
     }
     out
 }
@@ -396,21 +414,8 @@ fn csv(rows: &[Row], params: &BuildParams) -> String {
         "structure,order,precision,triangle_test,build_ms,sah_cost,measured_cost,nodes_per_ray,prims_per_ray,mrays_per_s,wrong_per_million,missed_per_million\n",
     );
     for row in rows {
-        out.push_str(&format!(
-            "{},{},{},{},{},{},{},{},{},{},{},{}\n",
-            row.structure,
-            order_name(row.order),
-            if row.f64 { "f64" } else { "f32" },
-            if row.watertight { "watertight" } else { "fast" },
-            row.build_ms,
-            row.sah_cost,
-            row.measured_cost(params),
-            row.nodes_per_ray,
-            row.primitives_per_ray,
-            row.mrays_per_s,
-            row.wrong_per_million,
-            row.missed_per_million,
-        ));
+        out.push_str(&row.cells(params, false).join(","));
+        out.push('\n');
     }
     out
 }

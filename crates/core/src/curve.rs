@@ -165,18 +165,31 @@ pub fn bvh_node_primitives<V: Vector>(bvh: &Bvh<V>, path: &str) -> Result<Vec<u3
         },
         |_, _| {},
     )?;
+    Ok(primitives_below(node, |index| {
+        let node = &bvh.nodes[index as usize];
+        if node.is_leaf() {
+            Ok(bvh.leaf_primitives(node))
+        } else {
+            Err(node.children())
+        }
+    }))
+}
+
+/// The primitives in the leaves below `node`, sorted, each once: `open(node)` gives a leaf's
+/// primitives, or an interior node's children.
+fn primitives_below<'a>(node: u32, open: impl Fn(u32) -> Result<&'a [u32], [u32; 2]>) -> Vec<u32> {
     let mut primitives = Vec::new();
     let mut pending = vec![node];
     while let Some(index) = pending.pop() {
-        let node = &bvh.nodes[index as usize];
-        if node.is_leaf() {
-            primitives.extend_from_slice(bvh.leaf_primitives(node));
-        } else {
-            pending.extend(node.children());
+        match open(index) {
+            Ok(leaf) => primitives.extend_from_slice(leaf),
+            Err(children) => pending.extend(children),
         }
     }
+    // A kD primitive reaching several leaves below the node is one of its primitives once.
     primitives.sort_unstable();
-    Ok(primitives)
+    primitives.dedup();
+    primitives
 }
 
 /// The cell and primitives of the kD node at `path`.
@@ -193,19 +206,14 @@ pub fn kd_node_primitives<V: Vector>(
         },
         |node, side| cell = KdTree::child_cells(&tree.nodes[node as usize], &cell)[side],
     )?;
-    let mut primitives = Vec::new();
-    let mut pending = vec![node];
-    while let Some(index) = pending.pop() {
+    let primitives = primitives_below(node, |index| {
         let node = &tree.nodes[index as usize];
         if node.is_leaf() {
-            primitives.extend_from_slice(tree.leaf_primitives(node));
+            Ok(tree.leaf_primitives(node))
         } else {
-            pending.extend(node.children());
+            Err(node.children())
         }
-    }
-    // A primitive reaching several leaves below the node is one of its primitives once.
-    primitives.sort_unstable();
-    primitives.dedup();
+    });
     Ok((cell, primitives))
 }
 

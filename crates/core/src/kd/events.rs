@@ -242,41 +242,19 @@ pub(crate) fn sweep_candidates<V: Vector>(
             let [ends, planars, starts] = counts;
             count_above -= planars + ends;
             if low < position && position < high {
-                let position_f64 = position.to_f64();
-                let half_areas = [
-                    parent_area,
-                    half_area.at(position_f64 - low_f64),
-                    half_area.at(high_f64 - position_f64),
-                ];
-                let cost_of = |count_below, count_above| {
-                    cost.kd_split_cost_scaled(
-                        parent_area,
-                        half_areas[1],
-                        count_below,
-                        half_areas[2],
-                        count_above,
-                    )
-                };
-                let mut candidate = KdCandidate {
-                    cut: Cut {
+                let candidate = costed_cut(
+                    &CutSite {
                         axis,
-                        position,
-                        planar_below: true,
+                        low: low_f64,
+                        high: high_f64,
+                        parent_area,
+                        half_area,
                     },
-                    count_below: count_below + planars,
-                    count_above,
-                    half_areas,
-                    scaled_cost: cost_of(count_below + planars, count_above),
-                };
-                if planars > 0 {
-                    let planar_above_cost = cost_of(count_below, count_above + planars);
-                    if planar_above_cost < candidate.scaled_cost {
-                        candidate.cut.planar_below = false;
-                        candidate.count_below = count_below;
-                        candidate.count_above = count_above + planars;
-                        candidate.scaled_cost = planar_above_cost;
-                    }
-                }
+                    position,
+                    [count_below, count_above, planars],
+                    true,
+                    cost,
+                );
                 visit(&candidate);
             }
             count_below += starts + planars;
@@ -312,43 +290,79 @@ pub(crate) fn cost_of_cut<V: Vector>(
             only_above += 1;
         }
     }
-    let half_area = HalfAreaAlong::new(cell, axis);
-    let (low, high, at) = (
-        cell.min[axis].to_f64(),
-        cell.max[axis].to_f64(),
-        position.to_f64(),
-    );
-    let parent_area = cell.half_area_nonempty().to_f64();
-    let half_areas = [parent_area, half_area.at(at - low), half_area.at(high - at)];
+    let site = CutSite {
+        axis,
+        low: cell.min[axis].to_f64(),
+        high: cell.max[axis].to_f64(),
+        parent_area: cell.half_area_nonempty().to_f64(),
+        half_area: HalfAreaAlong::new(cell, axis),
+    };
+    costed_cut(
+        &site,
+        position,
+        [only_below + both, only_above + both, planars],
+        cheaper_planar_side,
+        cost,
+    )
+}
+
+/// What a cut's cost needs of its cell and axis.
+struct CutSite {
+    axis: usize,
+    low: f64,
+    high: f64,
+    parent_area: f64,
+    half_area: HalfAreaAlong,
+}
+
+/// A cut at `position` costed, with `[below, above, planar]` the primitives only below or
+/// across, only above or across, and lying in the plane: the one formula of the sweep, the
+/// binned candidates and the rule marks. Primitives in the plane go below, or to the cheaper
+/// side with `cheaper_planar_side` (ties below).
+#[inline(always)]
+fn costed_cut<S: Real>(
+    site: &CutSite,
+    position: S,
+    [below, above, planars]: [usize; 3],
+    cheaper_planar_side: bool,
+    cost: &SahCost,
+) -> KdCandidate<S> {
+    let at = position.to_f64();
+    let half_areas = [
+        site.parent_area,
+        site.half_area.at(at - site.low),
+        site.half_area.at(site.high - at),
+    ];
     let cost_of = |count_below, count_above| {
         cost.kd_split_cost_scaled(
-            parent_area,
+            site.parent_area,
             half_areas[1],
             count_below,
             half_areas[2],
             count_above,
         )
     };
-    let (below, above) = (only_below + both, only_above + both);
-    let planar_below_cost = cost_of(below + planars, above);
-    let planar_above_cost = cost_of(below, above + planars);
-    let planar_below =
-        !cheaper_planar_side || planars == 0 || planar_below_cost <= planar_above_cost;
-    KdCandidate {
+    let mut candidate = KdCandidate {
         cut: Cut {
-            axis,
+            axis: site.axis,
             position,
-            planar_below,
+            planar_below: true,
         },
-        count_below: below + if planar_below { planars } else { 0 },
-        count_above: above + if planar_below { 0 } else { planars },
+        count_below: below + planars,
+        count_above: above,
         half_areas,
-        scaled_cost: if planar_below {
-            planar_below_cost
-        } else {
-            planar_above_cost
-        },
+        scaled_cost: cost_of(below + planars, above),
+    };
+    if cheaper_planar_side && planars > 0 {
+        let planar_above_cost = cost_of(below, above + planars);
+        if planar_above_cost < candidate.scaled_cost {
+            candidate.cut.planar_below = false;
+            candidate.count_below = below;
+            candidate.count_above = above + planars;
+            candidate.scaled_cost = planar_above_cost;
+        }
     }
+    candidate
 }
 
 /// The cheapest cut of `cell` by a plane through an event position strictly inside it, if any:
