@@ -173,6 +173,17 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     let family = |row: &Row| usize::from(row.structure.starts_with("kd:"));
     let families = ["BVH".to_owned(), "kD-tree".to_owned()];
     let cost_label = "cost per ray: C_trav·nodes + C_isect·primitives";
+    // One point per structure: `x` of the row against its measured cost.
+    let points = |x: fn(&Row) -> f64| -> Vec<Point> {
+        base.iter()
+            .map(|row| Point {
+                x: x(row),
+                y: row.measured_cost(&params),
+                label: row.structure.clone(),
+                family: family(row),
+            })
+            .collect()
+    };
     let build_plot = Scatter {
         title: format!(
             "Build time against traversal cost ({})",
@@ -181,15 +192,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         x_label: "build time (ms, single thread, log scale)".into(),
         y_label: cost_label.into(),
         families: families.clone(),
-        points: base
-            .iter()
-            .map(|row| Point {
-                x: row.build_ms,
-                y: row.measured_cost(&params),
-                label: row.structure.clone(),
-                family: family(row),
-            })
-            .collect(),
+        points: points(|row| row.build_ms),
         diagonal: false,
         log_x: true,
     };
@@ -201,15 +204,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         x_label: "predicted SAH cost of the tree".into(),
         y_label: cost_label.into(),
         families,
-        points: base
-            .iter()
-            .map(|row| Point {
-                x: row.sah_cost,
-                y: row.measured_cost(&params),
-                label: row.structure.clone(),
-                family: family(row),
-            })
-            .collect(),
+        points: points(|row| row.sah_cost),
         diagonal: true,
         log_x: false,
     };
