@@ -7,6 +7,10 @@
 //! ends, or starts, at the plane), and those new events all lie at the plane, so they drop in
 //! at one place without sorting. Every node sees exactly the events [`KdSah`](crate::kd::KdSah)
 //! would sort for it, so both build the same tree.
+//!
+//! With perfect splits ([`KdSahPresorted::build_with_perfect_splits`]) a cut primitive's box
+//! shrinks on every axis, so its events are replaced on every list: the new ones are sorted
+//! (they are few) and merged in (WH 2006 §5.3).
 
 use crate::aabb::Aabb;
 use crate::bvh::BuildParams;
