@@ -121,25 +121,17 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     let reference = brute_force_answers(&mesh.triangles, &ray_specs, &source)?;
     let repeat = args.repeat.max(1);
     let mut rows = Vec::new();
+    let setup = Setup {
+        triangles: &mesh.triangles,
+        ray_specs: &ray_specs,
+        source: &source,
+        params: &params,
+        reference: &reference,
+        repeat,
+    };
     for spec in &specs {
-        rows.extend(measure::<Vec3>(
-            spec,
-            &mesh.triangles,
-            &ray_specs,
-            &source,
-            &params,
-            &reference,
-            repeat,
-        )?);
-        rows.extend(measure::<DVec3>(
-            spec,
-            &mesh.triangles,
-            &ray_specs,
-            &source,
-            &params,
-            &reference,
-            repeat,
-        )?);
+        rows.extend(measure::<Vec3>(spec, &setup)?);
+        rows.extend(measure::<DVec3>(spec, &setup)?);
     }
     // Table order: by structure, then the variants in their listed order.
     rows.sort_by_key(|row| {
@@ -271,15 +263,25 @@ fn brute_force_answers(
 }
 
 /// Builds `spec` in precision `V` and traces every variant of that precision.
-fn measure<V: Vector3>(
-    spec: &AccelSpec,
-    triangles: &[[[f64; 3]; 3]],
-    ray_specs: &[RaySpec],
-    source: &str,
-    params: &BuildParams,
-    reference: &[Answer],
+/// What every measurement shares: the mesh, the rays and their reference answers.
+struct Setup<'a> {
+    triangles: &'a [[[f64; 3]; 3]],
+    ray_specs: &'a [RaySpec],
+    source: &'a str,
+    params: &'a BuildParams,
+    reference: &'a [Answer],
     repeat: usize,
-) -> Result<Vec<Row>> {
+}
+
+fn measure<V: Vector3>(spec: &AccelSpec, setup: &Setup<'_>) -> Result<Vec<Row>> {
+    let Setup {
+        triangles,
+        ray_specs,
+        source,
+        params,
+        reference,
+        repeat,
+    } = *setup;
     let is_f64 = size_of::<V::Scalar>() == 8;
     let triangles = TriangleSet::<V>::from_f64(triangles);
     let rays: Vec<Ray<V>> = convert_rays::<V>(ray_specs, source)?;
