@@ -40,7 +40,7 @@ pub mod stats;
 pub use aabb::{Aabb, Aabb2, Aabb3};
 pub use brute::brute_force;
 pub use math::{Real, Vector, Vector3};
-pub use observer::{Counters, NoObserver, Observer, Recorder, Step};
+pub use observer::{Counters, NoObserver, Observer, Recorder, Step, counters_of};
 pub use primitive::{
     HitTest, LeafOrdered, LeafPrimitives, PrimitiveSet, Shape, ShapeSet, Sphere, TriangleSet,
 };

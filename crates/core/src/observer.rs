@@ -168,6 +168,41 @@ impl<S: Real> Observer<S> for Recorder<S> {
     }
 }
 
+impl<S: Real> Step<S> {
+    /// Tells `observer` about this step, as the traversal did when it was recorded.
+    pub fn replay<O: Observer<S>>(&self, observer: &mut O) {
+        match *self {
+            Step::BoxTested {
+                node,
+                t_enter,
+                t_exit,
+                hit,
+            } => observer.box_tested(node, t_enter, t_exit, hit),
+            Step::NodeEntered { node } => observer.node_entered(node),
+            Step::NodeCulled {
+                node,
+                t_enter,
+                t_closest,
+            } => observer.node_culled(node, t_enter, t_closest),
+            Step::PrimitiveTested { primitive, t_hit } => {
+                observer.primitive_tested(primitive, t_hit)
+            }
+            Step::ClosestHitUpdated { primitive, t } => observer.closest_hit_updated(primitive, t),
+            Step::PrimitiveSkipped { primitive } => observer.primitive_skipped(primitive),
+        }
+    }
+}
+
+/// The counters of the first steps of a recording: what an animation shows part-way through
+/// (replayed into [`Counters`], so a full replay equals counting while tracing).
+pub fn counters_of<S: Real>(steps: &[Step<S>]) -> Counters {
+    let mut counters = Counters::default();
+    for step in steps {
+        step.replay(&mut counters);
+    }
+    counters
+}
+
 /// Forwards every step to two observers (e.g. count and record at once).
 impl<S: Real, A: Observer<S>, B: Observer<S>> Observer<S> for (A, B) {
     #[inline(always)]

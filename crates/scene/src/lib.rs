@@ -2,9 +2,10 @@
 //!
 //! Everything that turns the outside world into what `accelviz-core` takes: OBJ meshes read with
 //! tobj ([`obj`]), ray files and seeded ray generators ([`rays`]), built-in procedural meshes
-//! ([`builtin`]) and 2D scenes ([`scene2d`]). Errors name the file, the line and the problem.
+//! ([`builtin`]), 2D scenes ([`scene2d`]) and 2D scene documents in RON ([`document`]). Errors name the file, the line and the problem.
 
 pub mod builtin;
+pub mod document;
 pub mod error;
 pub mod obj;
 pub mod rays;

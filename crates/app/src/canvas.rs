@@ -1,0 +1,293 @@
+//! The 2D canvas: a view (where the world sits on screen, zoom and pan) and the drawing of
+//! the core's geometry: boxes, shapes, rays, points along a ray.
+
+use accelviz_core::{Aabb, Shape};
+use egui::{Align2, Color32, FontId, Pos2, Rect, Response, Sense, Stroke, StrokeKind, Vec2};
+use glam::DVec2;
+
+/// Where the world sits on screen: the world point at the canvas's centre and the zoom.
+/// World y points up, screen y down.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct View2d {
+    /// The world point shown at the centre of the canvas.
+    pub center: DVec2,
+    /// Screen points per world unit.
+    pub points_per_unit: f64,
+    /// Whether the view was set (fitted to a scene or moved by the user).
+    pub placed: bool,
+}
+
+impl Default for View2d {
+    fn default() -> Self {
+        Self {
+            center: DVec2::splat(50.0),
+            points_per_unit: 4.0,
+            placed: false,
+        }
+    }
+}
+
+impl View2d {
+    /// A view showing all of `bounds` in `rect` with a margin.
+    pub fn fitted(bounds: &Aabb<DVec2>, rect: Rect) -> Self {
+        if bounds.is_empty() || !bounds.is_finite() {
+            return Self {
+                placed: true,
+                ..Self::default()
+            };
+        }
+        let extent = bounds.extent().max(DVec2::splat(1e-9));
+        let usable = (rect.size() - Vec2::splat(48.0)).max(Vec2::splat(16.0));
+        let points_per_unit = (usable.x as f64 / extent.x).min(usable.y as f64 / extent.y);
+        Self {
+            center: bounds.center(),
+            points_per_unit,
+            placed: true,
+        }
+    }
+}
+
+/// One frame of a canvas: the painter clipped to its rectangle, the view, and the response
+/// that lessons read clicks and drags from.
+pub struct Canvas {
+    /// Paints inside the canvas only.
+    pub painter: egui::Painter,
+    /// The canvas on screen.
+    pub rect: Rect,
+    /// The view this frame.
+    pub view: View2d,
+    /// Clicks, drags and hovering on the canvas.
+    pub response: Response,
+}
+
+/// Colours shared by every lesson, readable on the dark and the light theme.
+pub mod palette {
+    use egui::Color32;
+    /// The ray.
+    pub const RAY: Color32 = Color32::from_rgb(255, 170, 30);
+    /// A hit point.
+    pub const HIT: Color32 = Color32::from_rgb(60, 220, 90);
+    /// Something rejected or missed.
+    pub const MISS: Color32 = Color32::from_rgb(235, 70, 70);
+    /// The thing being looked at now.
+    pub const CURRENT: Color32 = Color32::from_rgb(80, 170, 255);
+    /// A bounding box.
+    pub const BOX: Color32 = Color32::from_rgb(120, 200, 255);
+    /// A bounding sphere.
+    pub const SPHERE: Color32 = Color32::from_rgb(230, 120, 255);
+    /// Horizontal (x) quantities.
+    pub const X_AXIS: Color32 = Color32::from_rgb(240, 90, 90);
+    /// Vertical (y) quantities.
+    pub const Y_AXIS: Color32 = Color32::from_rgb(90, 200, 110);
+}
+
+/// A colour per tree depth, cycling through hues so neighbouring depths differ.
+pub fn depth_color(depth: usize) -> Color32 {
+    let hue = (depth as f32 * 0.137 + 0.55).fract();
+    egui::ecolor::Hsva::new(hue, 0.75, 0.95, 1.0).into()
+}
+
+impl Canvas {
+    /// Allocates a canvas of `size`, lets the user zoom (scroll, pinch) and pan (drag with the
+    /// secondary or middle button, or with the primary button when `pan_with_primary`), and
+    /// fits the view to `fit_bounds` the first time.
+    pub fn allocate(
+        ui: &mut egui::Ui,
+        size: Vec2,
+        view: &mut View2d,
+        fit_bounds: &Aabb<DVec2>,
+        pan_with_primary: bool,
+    ) -> Self {
+        let (response, painter) = ui.allocate_painter(size, Sense::click_and_drag());
+        let rect = response.rect;
+        if !view.placed {
+            *view = View2d::fitted(fit_bounds, rect);
+        }
+        painter.rect_filled(rect, 0.0, ui.visuals().extreme_bg_color);
+
+        // Zoom about the pointer, so the point under it stays put.
+        if let Some(hover) = response.hover_pos() {
+            let (scroll, zoom) =
+                ui.input(|input| (input.smooth_scroll_delta.y, input.zoom_delta()));
+            let factor = (scroll as f64 * 0.002).exp() * zoom as f64;
+            if factor != 1.0 {
+                let before = to_world(view, rect, hover);
+                view.points_per_unit = (view.points_per_unit * factor).clamp(1e-6, 1e9);
+                let after = to_world(view, rect, hover);
+                view.center += before - after;
+            }
+        }
+        let panning = response.dragged_by(egui::PointerButton::Secondary)
+            || response.dragged_by(egui::PointerButton::Middle)
+            || (pan_with_primary && response.dragged_by(egui::PointerButton::Primary));
+        if panning {
+            let delta = response.drag_delta();
+            view.center -= DVec2::new(delta.x as f64, -delta.y as f64) / view.points_per_unit;
+        }
+        Self {
+            painter: painter.with_clip_rect(rect),
+            rect,
+            view: *view,
+            response,
+        }
+    }
+
+    /// Screen position of a world point.
+    pub fn to_screen(&self, point: DVec2) -> Pos2 {
+        to_screen(&self.view, self.rect, point)
+    }
+
+    /// World position of a screen point.
+    pub fn to_world(&self, pos: Pos2) -> DVec2 {
+        to_world(&self.view, self.rect, pos)
+    }
+
+    /// Screen rectangle of a world box.
+    pub fn screen_rect(&self, bounds: &Aabb<DVec2>) -> Rect {
+        Rect::from_two_pos(self.to_screen(bounds.min), self.to_screen(bounds.max))
+    }
+
+    /// World length of `points` screen points (for pick distances).
+    pub fn world_length(&self, points: f32) -> f64 {
+        points as f64 / self.view.points_per_unit
+    }
+
+    /// Outlines a box, optionally filled.
+    pub fn box_outline(&self, bounds: &Aabb<DVec2>, stroke: Stroke, fill: Option<Color32>) {
+        if bounds.is_empty() {
+            return;
+        }
+        // A flat box still shows: at least one point wide on screen.
+        let rect =
+            self.screen_rect(bounds)
+                .expand2(Vec2::new(0.0, 0.0))
+                .union(Rect::from_center_size(
+                    self.to_screen(bounds.center()),
+                    Vec2::splat(1.0),
+                ));
+        if let Some(fill) = fill {
+            self.painter.rect_filled(rect, 0.0, fill);
+        }
+        self.painter
+            .rect_stroke(rect, 0.0, stroke, StrokeKind::Middle);
+    }
+
+    /// Draws a shape: filled disc or box, or a thick segment.
+    pub fn shape(&self, shape: &Shape<DVec2>, fill: Color32, stroke: Stroke) {
+        match shape {
+            Shape::Sphere(sphere) => {
+                let center = self.to_screen(sphere.center);
+                let radius = (sphere.radius * self.view.points_per_unit) as f32;
+                self.painter.circle_filled(center, radius.max(1.0), fill);
+                self.painter.circle_stroke(center, radius.max(1.0), stroke);
+            }
+            Shape::Box(bounds) => self.box_outline(bounds, stroke, Some(fill)),
+            Shape::Segment([from, to]) => {
+                let thick = Stroke::new(stroke.width.max(2.5), fill);
+                self.painter
+                    .line_segment([self.to_screen(*from), self.to_screen(*to)], thick);
+            }
+        }
+    }
+
+    /// Draws a ray from its origin to `t_end` (clipped to the canvas), with an arrow head at
+    /// `origin + direction` that the user can drag.
+    pub fn ray(&self, origin: DVec2, direction: DVec2, t_end: f64, stroke: Stroke) {
+        let start = self.to_screen(origin);
+        let end = self.to_screen(origin + direction * self.clip_t(origin, direction, t_end));
+        self.painter.line_segment([start, end], stroke);
+        self.painter.circle_filled(start, 5.0, stroke.color);
+        let head = self.to_screen(origin + direction);
+        let back = (start - head).normalized() * 12.0;
+        let side = Vec2::new(-back.y, back.x) * 0.5;
+        self.painter.add(egui::Shape::convex_polygon(
+            vec![head, head + back + side, head + back - side],
+            stroke.color,
+            Stroke::NONE,
+        ));
+    }
+
+    /// The largest `t ≤ t_end` that still lies near the visible canvas (so an infinite ray
+    /// draws as a finite line).
+    pub fn clip_t(&self, origin: DVec2, direction: DVec2, t_end: f64) -> f64 {
+        let visible = Aabb::new(
+            self.to_world(self.rect.left_bottom()),
+            self.to_world(self.rect.right_top()),
+        );
+        let reach = (visible.extent().length() + (origin - visible.center()).length()) * 2.0;
+        t_end.min(reach / direction.length().max(1e-300))
+    }
+
+    /// A tick across the ray at parameter `t` with a label `label_offset` tick-lengths to its
+    /// left (negative: to its right), so labels at nearby `t` can sit on opposite sides.
+    pub fn ray_mark(
+        &self,
+        origin: DVec2,
+        direction: DVec2,
+        t: f64,
+        color: Color32,
+        label: &str,
+        label_offset: f32,
+    ) {
+        if !t.is_finite() {
+            return;
+        }
+        let point = self.to_screen(origin + direction * t);
+        let along = self.to_screen(origin + direction) - self.to_screen(origin);
+        let normal = Vec2::new(-along.y, along.x).normalized() * 7.0;
+        self.painter
+            .line_segment([point - normal, point + normal], Stroke::new(2.5, color));
+        if !label.is_empty() {
+            self.painter.text(
+                point + normal * label_offset,
+                Align2::CENTER_CENTER,
+                label,
+                FontId::proportional(13.0),
+                color,
+            );
+        }
+    }
+
+    /// A label at a world point.
+    pub fn label(&self, at: DVec2, text: &str, color: Color32) {
+        self.painter.text(
+            self.to_screen(at),
+            Align2::LEFT_BOTTOM,
+            text,
+            FontId::proportional(13.0),
+            color,
+        );
+    }
+
+    /// A caption in the canvas's top-left corner, one line per entry.
+    pub fn caption(&self, lines: &[(String, Color32)]) {
+        let mut pos = self.rect.left_top() + Vec2::new(10.0, 8.0);
+        for (text, color) in lines {
+            let galley =
+                self.painter
+                    .layout_no_wrap(text.clone(), FontId::proportional(14.0), *color);
+            let backing = Rect::from_min_size(pos, galley.size()).expand(3.0);
+            self.painter
+                .rect_filled(backing, 3.0, Color32::from_black_alpha(140));
+            self.painter.galley(pos, galley, *color);
+            pos.y += 20.0;
+        }
+    }
+}
+
+fn to_screen(view: &View2d, rect: Rect, point: DVec2) -> Pos2 {
+    let offset = (point - view.center) * view.points_per_unit;
+    let pos = rect.center() + Vec2::new(offset.x as f32, -offset.y as f32);
+    // Keep far-away points representable (egui works in f32 screen points).
+    Pos2::new(pos.x.clamp(-1e6, 1e6), pos.y.clamp(-1e6, 1e6))
+}
+
+fn to_world(view: &View2d, rect: Rect, pos: Pos2) -> DVec2 {
+    let offset = pos - rect.center();
+    view.center + DVec2::new(offset.x as f64, -offset.y as f64) / view.points_per_unit
+}
+
+/// A semi-transparent version of a colour.
+pub fn faded(color: Color32, alpha: u8) -> Color32 {
+    Color32::from_rgba_unmultiplied(color.r(), color.g(), color.b(), alpha)
+}

@@ -1,0 +1,470 @@
+//! Scene editing on the canvas: drag the ray's origin and head, move, add and delete shapes,
+//! resize the selected one, and regenerate the scene from a seeded generator. Every change
+//! bumps `revision`, which is how lessons know to rebuild their structures.
+
+use accelviz_core::{Aabb, Ray, RayError, Shape, Sphere};
+use accelviz_scene::document::{GeneratorEntry, LayoutEntry, Scene2d};
+use accelviz_scene::scene2d::generate;
+use egui::{Color32, Key, Stroke, Ui};
+use glam::DVec2;
+
+use crate::canvas::{Canvas, View2d, palette};
+
+/// What a primary-button drag on the canvas does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Tool {
+    /// Move shapes (or pan on empty space); click selects.
+    Move,
+    /// Drag out a new disc.
+    AddDisc,
+    /// Drag out a new box.
+    AddBox,
+    /// Drag out a new segment.
+    AddSegment,
+    /// Click a shape to delete it.
+    Delete,
+}
+
+/// What is being dragged.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Drag {
+    RayOrigin,
+    RayHead,
+    /// A whole shape, grabbed at `grab` (world offset from where it was).
+    Shape {
+        index: usize,
+        last: DVec2,
+    },
+    /// One end of a segment, one corner of a box or a disc's centre or rim; `anchor` is the
+    /// other corner, which stays put while a box is resized.
+    Handle {
+        index: usize,
+        handle: usize,
+        anchor: DVec2,
+    },
+    /// The view.
+    Pan,
+}
+
+/// Which parts of the scene a lesson lets the user edit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Editing {
+    /// The ray's origin and head can be dragged.
+    pub ray: bool,
+    /// Shapes can be moved, added and deleted.
+    pub shapes: bool,
+    /// The scene can be replaced by a generated one.
+    pub generator: bool,
+}
+
+/// A scene being looked at and edited.
+#[derive(Clone, Debug)]
+pub struct EditableScene {
+    /// The scene.
+    pub scene: Scene2d,
+    /// Bumped on every change.
+    pub revision: u64,
+    /// The current tool.
+    pub tool: Tool,
+    /// The selected shape.
+    pub selected: Option<usize>,
+    /// The canvas view.
+    pub view: View2d,
+    /// What may be edited.
+    pub editing: Editing,
+    drag: Option<Drag>,
+    /// The generator's controls (kept when the shapes are edited by hand).
+    pub generator: GeneratorEntry,
+}
+
+/// Pick distance in screen points.
+const PICK_POINTS: f32 = 10.0;
+
+impl EditableScene {
+    /// A scene with the given editing rights.
+    pub fn new(scene: Scene2d, editing: Editing) -> Self {
+        let generator = scene.generator.unwrap_or(GeneratorEntry {
+            layout: LayoutEntry::Uniform,
+            count: 50,
+            seed: 1,
+        });
+        Self {
+            scene,
+            revision: 1,
+            tool: Tool::Move,
+            selected: None,
+            view: View2d::default(),
+            editing,
+            drag: None,
+            generator,
+        }
+    }
+
+    /// Replaces the scene (opened from a file or a preset) and refits the view.
+    pub fn replace(&mut self, scene: Scene2d) {
+        if let Some(generator) = scene.generator {
+            self.generator = generator;
+        }
+        self.scene = scene;
+        self.selected = None;
+        self.drag = None;
+        self.view.placed = false;
+        self.revision += 1;
+    }
+
+    /// Marks a change made from outside (a preset, a settings slider).
+    pub fn touch(&mut self) {
+        self.revision += 1;
+    }
+
+    /// The ray, or why there is none (its head sits on its origin).
+    pub fn ray(&self) -> Result<Ray<DVec2>, RayError> {
+        Ray::try_new(
+            self.scene.ray_origin,
+            self.scene.ray_toward - self.scene.ray_origin,
+        )
+    }
+
+    /// The box around every shape and the ray's origin and head: what "fit" shows.
+    pub fn bounds(&self) -> Aabb<DVec2> {
+        self.scene
+            .shapes
+            .shapes
+            .iter()
+            .fold(Aabb::empty(), |bounds, shape| bounds.union(shape.bounds()))
+            .grown(self.scene.ray_origin)
+            .grown(self.scene.ray_toward)
+    }
+
+    /// The toolbar above the canvas: tools, generator, fit.
+    pub fn toolbar_ui(&mut self, ui: &mut Ui) {
+        ui.horizontal_wrapped(|ui| {
+            if self.editing.shapes {
+                for (tool, label, hint) in [
+                    (
+                        Tool::Move,
+                        "move",
+                        "Drag shapes; drag empty space to pan; click to select",
+                    ),
+                    (Tool::AddDisc, "+ disc", "Drag to add a disc"),
+                    (Tool::AddBox, "+ box", "Drag to add a box"),
+                    (Tool::AddSegment, "+ segment", "Drag to add a segment"),
+                    (
+                        Tool::Delete,
+                        "delete",
+                        "Click a shape to delete it (or select it and press Delete)",
+                    ),
+                ] {
+                    ui.selectable_value(&mut self.tool, tool, label)
+                        .on_hover_text(hint);
+                }
+                ui.separator();
+            }
+            if self.editing.generator {
+                self.generator_ui(ui);
+                ui.separator();
+            }
+            if ui
+                .button("fit view")
+                .on_hover_text("Fit the view to the scene")
+                .clicked()
+            {
+                self.view.placed = false;
+            }
+            ui.label(format!("{} shapes", self.scene.shapes.shapes.len()));
+        });
+    }
+
+    fn generator_ui(&mut self, ui: &mut Ui) {
+        egui::ComboBox::from_label("layout")
+            .selected_text(layout_name(self.generator.layout))
+            .width(90.0)
+            .show_ui(ui, |ui| {
+                for layout in [
+                    LayoutEntry::Uniform,
+                    LayoutEntry::Clustered,
+                    LayoutEntry::Teapot,
+                ] {
+                    ui.selectable_value(&mut self.generator.layout, layout, layout_name(layout));
+                }
+            });
+        ui.add(
+            egui::DragValue::new(&mut self.generator.count)
+                .range(1..=100_000)
+                .prefix("n "),
+        )
+        .on_hover_text("How many shapes");
+        ui.add(egui::DragValue::new(&mut self.generator.seed).prefix("seed "))
+            .on_hover_text("The same seed gives the same scene");
+        if ui
+            .button("generate")
+            .on_hover_text("Replace the shapes with a generated scene")
+            .clicked()
+        {
+            self.scene.shapes = generate(
+                self.generator.layout.into(),
+                self.generator.count,
+                self.generator.seed,
+            );
+            self.scene.generator = Some(self.generator);
+            let bounds = self.bounds();
+            // Keep the ray where it shows the scene: from outside its lower left, across it.
+            self.scene.ray_origin = bounds.min - bounds.extent() * 0.05;
+            self.scene.ray_toward = self.scene.ray_origin + bounds.extent() * 0.2;
+            self.selected = None;
+            self.view.placed = false;
+            self.revision += 1;
+        }
+    }
+
+    /// Handles the user's clicks and drags on `canvas`; returns whether the scene changed.
+    pub fn interact(&mut self, ui: &Ui, canvas: &Canvas) -> bool {
+        let response = &canvas.response;
+        let before = self.revision;
+        let pick = canvas.world_length(PICK_POINTS);
+        if response.drag_started_by(egui::PointerButton::Primary)
+            && let Some(pos) = response.interact_pointer_pos()
+        {
+            let press = ui
+                .input(|input| input.pointer.press_origin())
+                .unwrap_or(pos);
+            let at = canvas.to_world(press);
+            self.drag = Some(self.start_drag(at, pick));
+            if let Some(Drag::Handle { index, .. }) = self.drag {
+                self.selected = Some(index);
+            }
+        }
+        if let (Some(drag), Some(pos)) = (self.drag, response.interact_pointer_pos())
+            && response.dragged_by(egui::PointerButton::Primary)
+        {
+            let at = canvas.to_world(pos);
+            self.continue_drag(drag, at, canvas);
+        }
+        if response.drag_stopped() {
+            self.drag = None;
+        }
+        if response.clicked()
+            && let Some(pos) = response.interact_pointer_pos()
+        {
+            let hit = self.shape_at(canvas.to_world(pos), pick);
+            match self.tool {
+                Tool::Delete if self.editing.shapes => {
+                    if let Some(index) = hit {
+                        self.delete(index);
+                    }
+                }
+                _ => self.selected = hit,
+            }
+        }
+        let delete_pressed = !ui.ctx().egui_wants_keyboard_input()
+            && ui.input(|input| input.key_pressed(Key::Delete));
+        if delete_pressed
+            && self.editing.shapes
+            && let Some(index) = self.selected
+        {
+            self.delete(index);
+        }
+        self.revision != before
+    }
+
+    fn delete(&mut self, index: usize) {
+        if index < self.scene.shapes.shapes.len() && self.scene.shapes.shapes.len() > 1 {
+            self.scene.shapes.shapes.remove(index);
+            self.selected = None;
+            self.revision += 1;
+        }
+    }
+
+    fn start_drag(&mut self, at: DVec2, pick: f64) -> Drag {
+        if self.editing.ray {
+            if at.distance(self.scene.ray_toward) <= pick {
+                return Drag::RayHead;
+            }
+            if at.distance(self.scene.ray_origin) <= pick {
+                return Drag::RayOrigin;
+            }
+        }
+        if !self.editing.shapes {
+            return Drag::Pan;
+        }
+        if let Some(index) = self.selected
+            && let Some(handle) = self
+                .handles(index)
+                .iter()
+                .position(|h| h.distance(at) <= pick)
+        {
+            let anchor = self.handles(index)[1 - handle.min(1)];
+            return Drag::Handle {
+                index,
+                handle,
+                anchor,
+            };
+        }
+        let new_shape = match self.tool {
+            Tool::Move | Tool::Delete => {
+                return match self.shape_at(at, pick) {
+                    Some(index) if self.tool == Tool::Move => {
+                        self.selected = Some(index);
+                        Drag::Shape { index, last: at }
+                    }
+                    _ => Drag::Pan,
+                };
+            }
+            Tool::AddDisc => Shape::Sphere(Sphere {
+                center: at,
+                radius: pick * 0.5,
+            }),
+            Tool::AddBox => Shape::Box(Aabb::new(at, at)),
+            Tool::AddSegment => Shape::Segment([at, at]),
+        };
+        self.scene.shapes.shapes.push(new_shape);
+        let index = self.scene.shapes.shapes.len() - 1;
+        self.selected = Some(index);
+        self.revision += 1;
+        Drag::Handle {
+            index,
+            handle: 1,
+            anchor: at,
+        }
+    }
+
+    fn continue_drag(&mut self, drag: Drag, at: DVec2, canvas: &Canvas) {
+        match drag {
+            Drag::RayOrigin => {
+                // Move the whole ray, so its direction stays as it was.
+                let offset = at - self.scene.ray_origin;
+                self.scene.ray_origin = at;
+                self.scene.ray_toward += offset;
+            }
+            Drag::RayHead => self.scene.ray_toward = at,
+            Drag::Shape { index, last } => {
+                let offset = at - last;
+                if let Some(shape) = self.scene.shapes.shapes.get_mut(index) {
+                    *shape = moved(shape, offset);
+                }
+                self.drag = Some(Drag::Shape { index, last: at });
+            }
+            Drag::Handle {
+                index,
+                handle,
+                anchor,
+            } => {
+                if let Some(shape) = self.scene.shapes.shapes.get_mut(index) {
+                    *shape = with_handle(shape, handle, at, anchor);
+                }
+            }
+            Drag::Pan => {
+                let delta = canvas.response.drag_delta();
+                self.view.center -=
+                    DVec2::new(delta.x as f64, -delta.y as f64) / self.view.points_per_unit;
+                return;
+            }
+        }
+        self.revision += 1;
+    }
+
+    /// The topmost shape under a world point.
+    pub fn shape_at(&self, at: DVec2, pick: f64) -> Option<usize> {
+        self.scene
+            .shapes
+            .shapes
+            .iter()
+            .rposition(|shape| distance_to_shape(shape, at) <= pick * 0.5)
+    }
+
+    /// Handles of a shape: a box's corners (min, max), a segment's ends, a disc's rim point.
+    fn handles(&self, index: usize) -> Vec<DVec2> {
+        match self.scene.shapes.shapes.get(index) {
+            Some(Shape::Box(bounds)) => vec![bounds.min, bounds.max],
+            Some(Shape::Segment(ends)) => ends.to_vec(),
+            Some(Shape::Sphere(sphere)) => {
+                vec![
+                    sphere.center,
+                    sphere.center + DVec2::new(sphere.radius, 0.0),
+                ]
+            }
+            None => Vec::new(),
+        }
+    }
+
+    /// Draws the selection and its handles, and the ray's handles.
+    pub fn draw_handles(&self, canvas: &Canvas) {
+        if let Some(index) = self.selected {
+            if let Some(shape) = self.scene.shapes.shapes.get(index) {
+                canvas.box_outline(&shape.bounds(), Stroke::new(1.5, palette::CURRENT), None);
+            }
+            if self.editing.shapes {
+                for handle in self.handles(index) {
+                    canvas.painter.circle_stroke(
+                        canvas.to_screen(handle),
+                        5.0,
+                        Stroke::new(2.0, palette::CURRENT),
+                    );
+                }
+            }
+        }
+        if self.editing.ray {
+            canvas.painter.circle_stroke(
+                canvas.to_screen(self.scene.ray_origin),
+                8.0,
+                Stroke::new(1.5, Color32::from_white_alpha(120)),
+            );
+        }
+    }
+}
+
+fn layout_name(layout: LayoutEntry) -> &'static str {
+    match layout {
+        LayoutEntry::Uniform => "uniform",
+        LayoutEntry::Clustered => "clustered",
+        LayoutEntry::Teapot => "teapot in a stadium",
+    }
+}
+
+fn moved(shape: &Shape<DVec2>, offset: DVec2) -> Shape<DVec2> {
+    match *shape {
+        Shape::Sphere(sphere) => Shape::Sphere(Sphere {
+            center: sphere.center + offset,
+            radius: sphere.radius,
+        }),
+        Shape::Box(bounds) => Shape::Box(Aabb::new(bounds.min + offset, bounds.max + offset)),
+        Shape::Segment([from, to]) => Shape::Segment([from + offset, to + offset]),
+    }
+}
+
+/// The shape with one handle moved to `at` (a box spans `anchor` to `at`, a disc keeps a
+/// radius).
+fn with_handle(shape: &Shape<DVec2>, handle: usize, at: DVec2, anchor: DVec2) -> Shape<DVec2> {
+    match *shape {
+        Shape::Sphere(sphere) if handle == 0 => Shape::Sphere(Sphere {
+            center: at,
+            radius: sphere.radius,
+        }),
+        Shape::Sphere(sphere) => Shape::Sphere(Sphere {
+            center: sphere.center,
+            radius: sphere.center.distance(at).max(1e-6),
+        }),
+        Shape::Box(_) => Shape::Box(Aabb::new(anchor.min(at), anchor.max(at))),
+        Shape::Segment(mut ends) => {
+            ends[handle.min(1)] = at;
+            Shape::Segment(ends)
+        }
+    }
+}
+
+/// Distance from a point to a shape (0 inside).
+pub fn distance_to_shape(shape: &Shape<DVec2>, at: DVec2) -> f64 {
+    match shape {
+        Shape::Sphere(sphere) => (at.distance(sphere.center) - sphere.radius).max(0.0),
+        Shape::Box(bounds) => (at.clamp(bounds.min, bounds.max) - at).length(),
+        Shape::Segment([from, to]) => {
+            let edge = *to - *from;
+            let along = if edge == DVec2::ZERO {
+                0.0
+            } else {
+                ((at - *from).dot(edge) / edge.length_squared()).clamp(0.0, 1.0)
+            };
+            at.distance(*from + edge * along)
+        }
+    }
+}

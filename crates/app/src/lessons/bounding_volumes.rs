@@ -1,0 +1,303 @@
+//! Lesson 2, "Bounding Volume" and "Pros and Cons": a box and a sphere around the same object,
+//! the reject test, the void shaded with its share, and the rays that pass the volume's test
+//! only to miss the object (wasted work).
+
+use accelviz_core::bounding::BoundingVolumes;
+use accelviz_core::{Ray, Shape, TraceOptions, brute_force};
+use egui::{Color32, Stroke};
+use glam::DVec2;
+
+use super::common;
+use super::{Lesson, LessonText};
+use crate::canvas::{Canvas, faded, palette};
+use crate::editor::{EditableScene, Editing};
+
+/// Which bounding volume the rays are tested against.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Volume {
+    Aabb,
+    Sphere,
+}
+
+/// How one ray of the fan fares.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Fate {
+    /// Missed the volume: rejected at the cost of one cheap test.
+    Rejected,
+    /// Hit the volume and the object.
+    Hit,
+    /// Hit the volume but missed the object: every primitive tested for nothing.
+    Wasted,
+}
+
+/// The lesson.
+pub struct BoundingVolumesLesson {
+    text: LessonText,
+    scene: EditableScene,
+    volume: Volume,
+    fan_size: usize,
+}
+
+/// Points on every shape's outline; a disc's are pushed out so their polygon encloses it.
+fn outline_points(shape: &Shape<DVec2>) -> Vec<DVec2> {
+    match *shape {
+        Shape::Sphere(sphere) => {
+            let sides = 64;
+            let reach = sphere.radius / (std::f64::consts::PI / sides as f64).cos();
+            (0..sides)
+                .map(|index| {
+                    let angle = index as f64 / sides as f64 * std::f64::consts::TAU;
+                    sphere.center + DVec2::new(angle.cos(), angle.sin()) * reach
+                })
+                .collect()
+        }
+        Shape::Box(bounds) => vec![
+            bounds.min,
+            bounds.max,
+            DVec2::new(bounds.min.x, bounds.max.y),
+            DVec2::new(bounds.max.x, bounds.min.y),
+        ],
+        Shape::Segment(ends) => ends.to_vec(),
+    }
+}
+
+/// A shape's own area (segments have none).
+fn shape_area(shape: &Shape<DVec2>) -> f64 {
+    match shape {
+        Shape::Sphere(sphere) => std::f64::consts::PI * sphere.radius * sphere.radius,
+        Shape::Box(bounds) => bounds.measure(),
+        Shape::Segment(_) => 0.0,
+    }
+}
+
+impl BoundingVolumesLesson {
+    /// The lesson with its file's scene.
+    pub fn new(text: LessonText) -> Self {
+        let scene = EditableScene::new(
+            text.scene.clone(),
+            Editing {
+                ray: true,
+                shapes: true,
+                generator: false,
+            },
+        );
+        Self {
+            text,
+            scene,
+            volume: Volume::Aabb,
+            fan_size: 31,
+        }
+    }
+
+    fn volumes(&self) -> BoundingVolumes<DVec2> {
+        let shapes = &self.scene.scene.shapes.shapes;
+        let points: Vec<DVec2> = shapes.iter().flat_map(outline_points).collect();
+        // Shapes are taken not to overlap, so the object's area is their sum.
+        let object_area = shapes.iter().map(shape_area).sum();
+        BoundingVolumes::new(&points, object_area)
+    }
+
+    /// A fan of rays from the ray's origin spanning the bounding sphere (and a little more),
+    /// with each ray's fate under the chosen volume.
+    fn fan(&self, volumes: &BoundingVolumes<DVec2>) -> Vec<(Ray<DVec2>, Fate)> {
+        let origin = self.scene.scene.ray_origin;
+        let to_center = volumes.sphere.center - origin;
+        let distance = to_center.length();
+        if distance <= volumes.sphere.radius * 1.05 || self.fan_size == 0 {
+            return Vec::new();
+        }
+        let half_angle = (volumes.sphere.radius / distance).asin() * 1.35;
+        let center_angle = to_center.y.atan2(to_center.x);
+        (0..self.fan_size)
+            .filter_map(|index| {
+                let share = index as f64 / (self.fan_size - 1).max(1) as f64;
+                let angle = center_angle - half_angle + 2.0 * half_angle * share;
+                let ray = Ray::try_new(origin, DVec2::new(angle.cos(), angle.sin())).ok()?;
+                let (box_hit, sphere_hit) = volumes.reject_tests(&ray);
+                let volume_hit = match self.volume {
+                    Volume::Aabb => box_hit,
+                    Volume::Sphere => sphere_hit,
+                };
+                let fate = if !volume_hit {
+                    Fate::Rejected
+                } else if brute_force(
+                    &self.scene.scene.shapes,
+                    &ray,
+                    &TraceOptions::default(),
+                    &mut accelviz_core::NoObserver,
+                )
+                .is_some()
+                {
+                    Fate::Hit
+                } else {
+                    Fate::Wasted
+                };
+                Some((ray, fate))
+            })
+            .collect()
+    }
+}
+
+impl Lesson for BoundingVolumesLesson {
+    fn text(&self) -> &LessonText {
+        &self.text
+    }
+
+    fn scene_mut(&mut self) -> Option<&mut EditableScene> {
+        Some(&mut self.scene)
+    }
+
+    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+        let volumes = self.volumes();
+        ui.horizontal(|ui| {
+            ui.label("Test rays against");
+            ui.selectable_value(&mut self.volume, Volume::Aabb, "the box (AABB)");
+            ui.selectable_value(&mut self.volume, Volume::Sphere, "the sphere");
+        });
+        ui.add(egui::Slider::new(&mut self.fan_size, 2..=101).text("rays in the fan"));
+        ui.separator();
+        let mut rows = Vec::new();
+        for volume in [Volume::Aabb, Volume::Sphere] {
+            let previous = self.volume;
+            self.volume = volume;
+            let fan = self.fan(&volumes);
+            self.volume = previous;
+            let count = |fate| fan.iter().filter(|(_, f)| *f == fate).count();
+            rows.push((
+                volume,
+                count(Fate::Rejected),
+                count(Fate::Hit),
+                count(Fate::Wasted),
+            ));
+        }
+        egui::Grid::new("volumes table")
+            .striped(true)
+            .show(ui, |ui| {
+                ui.strong("volume");
+                ui.strong("void");
+                ui.strong("rejected");
+                ui.strong("hit object");
+                ui.strong("wasted");
+                ui.end_row();
+                for (volume, rejected, hit, wasted) in rows {
+                    let (name, void) = match volume {
+                        Volume::Aabb => ("box", volumes.aabb_void),
+                        Volume::Sphere => ("sphere", volumes.sphere_void),
+                    };
+                    ui.label(name);
+                    ui.label(format!("{:.0} %", void * 100.0));
+                    ui.label(rejected.to_string());
+                    ui.label(hit.to_string());
+                    ui.colored_label(palette::RAY, wasted.to_string());
+                    ui.end_row();
+                }
+            });
+        ui.label(
+            "Void: the share of the volume the object does not fill. A ray through the void passes \
+             the cheap reject test and then tests every primitive for nothing: the wasted rays.",
+        );
+        ui.label(format!(
+            "Box: [{:.1}, {:.1}] × [{:.1}, {:.1}]. Sphere: centre ({:.1}, {:.1}), radius {:.2} (Ritter 1990).",
+            volumes.aabb.min.x,
+            volumes.aabb.max.x,
+            volumes.aabb.min.y,
+            volumes.aabb.max.y,
+            volumes.sphere.center.x,
+            volumes.sphere.center.y,
+            volumes.sphere.radius
+        ));
+    }
+
+    fn canvas_ui(&mut self, ui: &mut egui::Ui) {
+        self.scene.toolbar_ui(ui);
+        let mut volumes = self.volumes();
+        let bounds = self.scene.bounds().union(volumes.sphere.bounds());
+        let canvas = Canvas::allocate(
+            ui,
+            ui.available_size(),
+            &mut self.scene.view,
+            &bounds,
+            false,
+        );
+        if self.scene.interact(ui, &canvas) {
+            volumes = self.volumes();
+        }
+        // The volumes, filled: what the object leaves uncovered is the void.
+        let sphere_center = canvas.to_screen(volumes.sphere.center);
+        let sphere_radius = (volumes.sphere.radius * canvas.view.points_per_unit) as f32;
+        let (box_alpha, sphere_alpha) = match self.volume {
+            Volume::Aabb => (70, 18),
+            Volume::Sphere => (18, 70),
+        };
+        canvas.painter.circle_filled(
+            sphere_center,
+            sphere_radius,
+            faded(palette::SPHERE, sphere_alpha),
+        );
+        canvas.painter.circle_stroke(
+            sphere_center,
+            sphere_radius,
+            Stroke::new(2.0, palette::SPHERE),
+        );
+        canvas.box_outline(
+            &volumes.aabb,
+            Stroke::new(2.0, palette::BOX),
+            Some(faded(palette::BOX, box_alpha)),
+        );
+        let fan = self.fan(&volumes);
+        for (ray, fate) in &fan {
+            let color = match fate {
+                Fate::Rejected => faded(ui.visuals().weak_text_color(), 90),
+                Fate::Hit => faded(palette::HIT, 170),
+                Fate::Wasted => palette::RAY,
+            };
+            let t_end = canvas.clip_t(ray.origin, ray.direction, f64::INFINITY);
+            canvas.painter.line_segment(
+                [
+                    canvas.to_screen(ray.origin),
+                    canvas.to_screen(ray.at(t_end)),
+                ],
+                Stroke::new(if *fate == Fate::Wasted { 2.0 } else { 1.0 }, color),
+            );
+        }
+        common::draw_shapes(ui, &canvas, &self.scene.scene.shapes, |_| None);
+        canvas.label(
+            DVec2::new(volumes.aabb.min.x, volumes.aabb.max.y),
+            " AABB",
+            palette::BOX,
+        );
+        canvas.label(
+            volumes.sphere.center + DVec2::new(0.0, volumes.sphere.radius),
+            " bounding sphere",
+            palette::SPHERE,
+        );
+        canvas.painter.circle_filled(
+            canvas.to_screen(self.scene.scene.ray_origin),
+            5.0,
+            palette::RAY,
+        );
+        self.scene.draw_handles(&canvas);
+        let volume_name = match self.volume {
+            Volume::Aabb => "box",
+            Volume::Sphere => "sphere",
+        };
+        let wasted = fan.iter().filter(|(_, fate)| *fate == Fate::Wasted).count();
+        canvas.caption(&[
+            (
+                format!(
+                    "void: box {:.0} %, sphere {:.0} % of their area",
+                    volumes.aabb_void * 100.0,
+                    volumes.sphere_void * 100.0
+                ),
+                Color32::WHITE,
+            ),
+            (
+                format!(
+                    "{wasted} of {} rays hit the {volume_name} but miss the object (orange)",
+                    fan.len()
+                ),
+                palette::RAY,
+            ),
+        ]);
+    }
+}

@@ -1,0 +1,220 @@
+//! What several lessons share: drawing the scene's shapes, building a BVH of it, recording a
+//! traversal, and describing a recorded step in words.
+
+use accelviz_core::bvh::{
+    self, BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, SweepSah,
+};
+use accelviz_core::{
+    Hit, Order, PrimitiveSet, Ray, Recorder, ShapeSet, Step, TraceOptions, brute_force,
+};
+use accelviz_scene::document::SceneSettings;
+use egui::{Color32, Stroke};
+use glam::DVec2;
+
+use crate::canvas::{Canvas, faded, palette};
+
+/// The fill of a shape nobody is looking at, readable on either theme.
+pub fn shape_fill(ui: &egui::Ui) -> Color32 {
+    if ui.visuals().dark_mode {
+        Color32::from_gray(150)
+    } else {
+        Color32::from_gray(110)
+    }
+}
+
+/// Draws every shape; `color_of` picks a colour for shapes that stand out.
+pub fn draw_shapes(
+    ui: &egui::Ui,
+    canvas: &Canvas,
+    shapes: &ShapeSet<DVec2>,
+    color_of: impl Fn(usize) -> Option<Color32>,
+) {
+    let plain = shape_fill(ui);
+    for (index, shape) in shapes.shapes.iter().enumerate() {
+        let color = color_of(index).unwrap_or(plain);
+        canvas.shape(shape, faded(color, 200), Stroke::new(1.0, color));
+    }
+}
+
+/// The BVH builders a lesson can pick, the lecture's rules first.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BvhRule {
+    /// Split the node's box in the middle of its longest axis.
+    Middle,
+    /// Split at the median primitive.
+    Median,
+    /// The surface area heuristic, every candidate evaluated (sweep).
+    Sah,
+    /// The SAH over a few bins.
+    BinnedSah,
+}
+
+impl BvhRule {
+    /// Name for the user.
+    pub fn label(self) -> &'static str {
+        match self {
+            BvhRule::Middle => "middle",
+            BvhRule::Median => "median",
+            BvhRule::Sah => "SAH",
+            BvhRule::BinnedSah => "binned SAH",
+        }
+    }
+
+    /// Builds a BVH over `shapes` with this rule and the scene's settings.
+    pub fn build(self, shapes: &ShapeSet<DVec2>, settings: &SceneSettings) -> Bvh<DVec2> {
+        let bounds = shapes.all_bounds();
+        let params = BuildParams {
+            max_leaf_size: settings.max_leaf_size,
+            cost: settings.cost(),
+        };
+        match self {
+            BvhRule::Middle => MiddleSplit.build(&bounds, &params),
+            BvhRule::Median => MedianSplit.build(&bounds, &params),
+            BvhRule::Sah => SweepSah.build(&bounds, &params),
+            BvhRule::BinnedSah => BinnedSah {
+                bins: settings.bins,
+            }
+            .build(&bounds, &params),
+        }
+    }
+}
+
+/// One recorded trace: every step, and the answer.
+#[derive(Clone, Debug, Default)]
+pub struct Recording {
+    /// The steps, in order.
+    pub steps: Vec<Step<f64>>,
+    /// The closest hit.
+    pub hit: Option<Hit<f64>>,
+}
+
+/// Records the one BVH traversal on a ray.
+pub fn record_bvh(
+    bvh: &Bvh<DVec2>,
+    shapes: &ShapeSet<DVec2>,
+    ray: &Ray<DVec2>,
+    order: Order,
+) -> Recording {
+    let mut recorder = Recorder::default();
+    let options = TraceOptions {
+        order,
+        ..TraceOptions::default()
+    };
+    let hit = bvh::traverse(
+        bvh,
+        shapes,
+        ray,
+        &options,
+        &mut bvh::TraversalStack::new(),
+        &mut recorder,
+    );
+    Recording {
+        steps: recorder.steps,
+        hit,
+    }
+}
+
+/// Records the trivial loop (every primitive in file order) on a ray.
+pub fn record_brute_force(shapes: &ShapeSet<DVec2>, ray: &Ray<DVec2>) -> Recording {
+    let mut recorder = Recorder::default();
+    let hit = brute_force(shapes, ray, &TraceOptions::default(), &mut recorder);
+    Recording {
+        steps: recorder.steps,
+        hit,
+    }
+}
+
+/// The closest hit after the first steps of a recording: primitive and t.
+pub fn closest_so_far(steps: &[Step<f64>]) -> Option<(u32, f64)> {
+    steps.iter().rev().find_map(|step| match *step {
+        Step::ClosestHitUpdated { primitive, t } => Some((primitive, t)),
+        _ => None,
+    })
+}
+
+/// What a step did, in words; `node_name` names a node.
+pub fn describe_step(step: &Step<f64>, node_name: impl Fn(u32) -> String) -> String {
+    match *step {
+        Step::BoxTested {
+            node,
+            t_enter,
+            t_exit,
+            hit,
+        } => {
+            if hit {
+                format!(
+                    "box of {} tested: hit, the ray is inside for t in [{}, {}]",
+                    node_name(node),
+                    number(t_enter),
+                    number(t_exit)
+                )
+            } else {
+                format!(
+                    "box of {} tested: missed, skip everything inside it",
+                    node_name(node)
+                )
+            }
+        }
+        Step::NodeEntered { node } => format!("enter {}", node_name(node)),
+        Step::NodeCulled {
+            node,
+            t_enter,
+            t_closest,
+        } => format!(
+            "skip {}: it starts at t = {} beyond the closest hit so far (t = {})",
+            node_name(node),
+            number(t_enter),
+            number(t_closest)
+        ),
+        Step::PrimitiveTested { primitive, t_hit } => match t_hit {
+            Some(t) => format!("primitive {primitive} tested: hit at t = {}", number(t)),
+            None => format!("primitive {primitive} tested: miss"),
+        },
+        Step::ClosestHitUpdated { primitive, t } => {
+            format!(
+                "closest hit so far: primitive {primitive} at t = {}",
+                number(t)
+            )
+        }
+        Step::PrimitiveSkipped { primitive } => {
+            format!("primitive {primitive} skipped: already tested (mailbox)")
+        }
+    }
+}
+
+/// A number for a caption: ±∞ spelled out, three decimals otherwise.
+pub fn number(value: f64) -> String {
+    if value == f64::INFINITY {
+        "+∞".to_owned()
+    } else if value == f64::NEG_INFINITY {
+        "−∞".to_owned()
+    } else if value.is_nan() {
+        "NaN".to_owned()
+    } else {
+        format!("{value:.3}")
+    }
+}
+
+/// Draws the ray: solid up to `t_solid`, faded beyond it.
+pub fn draw_ray(canvas: &Canvas, ray: &Ray<DVec2>, t_solid: Option<f64>) {
+    let t_end = canvas.clip_t(ray.origin, ray.direction, f64::INFINITY);
+    if let Some(t) = t_solid.filter(|t| *t < t_end) {
+        let cut = ray.origin + ray.direction * t;
+        canvas.painter.line_segment(
+            [
+                canvas.to_screen(cut),
+                canvas.to_screen(ray.origin + ray.direction * t_end),
+            ],
+            Stroke::new(1.5, faded(palette::RAY, 70)),
+        );
+        canvas.ray(ray.origin, ray.direction, t, Stroke::new(2.5, palette::RAY));
+        canvas.ray_mark(ray.origin, ray.direction, t, palette::HIT, "closest", 2.0);
+    } else {
+        canvas.ray(
+            ray.origin,
+            ray.direction,
+            t_end,
+            Stroke::new(2.5, palette::RAY),
+        );
+    }
+}

@@ -1,0 +1,149 @@
+//! The lessons, one file each, in the lecture's order, registered in [`registry`].
+//!
+//! A lesson is a [`LessonFile`] (title, the slide it shows, what to read and try, its scene:
+//! RON in `assets/lessons/`, embedded in the binary) and the code that shows it, which draws
+//! from the core: a `Recorder` passed to the one traversal, the builders, the cost curves and
+//! the shared `SahCost`. No lesson re-implements an algorithm.
+
+use accelviz_scene::LoadError;
+use accelviz_scene::document::{Scene2d, SceneDocument};
+use serde::Deserialize;
+
+use crate::editor::EditableScene;
+use crate::timeline::Timeline;
+
+mod bounding_volumes;
+mod bvh;
+mod common;
+pub mod near_first;
+mod slab;
+mod tree_diagram;
+mod trivial;
+
+/// A lesson's text and scene, as written in `assets/lessons/NAME.ron`.
+#[derive(Clone, Debug, Deserialize)]
+pub struct LessonFile {
+    /// Shown in the lesson list and above the canvas.
+    pub title: String,
+    /// The lecture slide(s) the lesson brings to life.
+    pub slide: String,
+    /// What to read: short paragraphs.
+    pub explanation: Vec<String>,
+    /// What to try, one action per entry.
+    #[serde(default)]
+    pub try_this: Vec<String>,
+    /// The scene the lesson opens with.
+    pub scene: SceneDocument,
+}
+
+/// A checked lesson file.
+#[derive(Clone, Debug)]
+pub struct LessonText {
+    /// Title, slide, explanation and things to try.
+    pub file: LessonFile,
+    /// The lesson's starting scene.
+    pub scene: Scene2d,
+}
+
+impl LessonText {
+    /// Parses a lesson file; errors name `path`, the line and the problem.
+    pub fn parse(text: &str, path: &str) -> Result<Self, LoadError> {
+        let file: LessonFile = ron::from_str(text).map_err(|error| {
+            LoadError::at_line(
+                path,
+                error.span.start.line,
+                format!("column {}: {}", error.span.start.col, error.code),
+            )
+        })?;
+        let scene = Scene2d::from_document(file.scene.clone(), path)?;
+        Ok(Self { file, scene })
+    }
+}
+
+/// What every lesson can do; the app draws the panels around it.
+pub trait Lesson {
+    /// The lesson's text.
+    fn text(&self) -> &LessonText;
+
+    /// The scene, for saving and opening; `None` if the lesson has none to save.
+    fn scene_mut(&mut self) -> Option<&mut EditableScene>;
+
+    /// The animation's timeline and a caption for its current step, if the lesson animates.
+    fn timeline(&mut self) -> Option<(&mut Timeline, String)> {
+        None
+    }
+
+    /// The lesson's part of the inspector (right): statistics, tables, the tree.
+    fn inspector_ui(&mut self, ui: &mut egui::Ui);
+
+    /// The canvas (middle), with the lesson's controls above it.
+    fn canvas_ui(&mut self, ui: &mut egui::Ui);
+}
+
+/// The lesson files, embedded, in the lecture's order.
+pub const LESSON_FILES: [(&str, &str); 5] = [
+    (
+        "assets/lessons/01-trivial.ron",
+        include_str!("../../../../assets/lessons/01-trivial.ron"),
+    ),
+    (
+        "assets/lessons/02-bounding-volumes.ron",
+        include_str!("../../../../assets/lessons/02-bounding-volumes.ron"),
+    ),
+    (
+        "assets/lessons/03-slab-test.ron",
+        include_str!("../../../../assets/lessons/03-slab-test.ron"),
+    ),
+    (
+        "assets/lessons/04-bvh.ron",
+        include_str!("../../../../assets/lessons/04-bvh.ron"),
+    ),
+    (
+        "assets/lessons/06-near-first.ron",
+        include_str!("../../../../assets/lessons/06-near-first.ron"),
+    ),
+];
+
+/// Every lesson, in the lecture's order. A lesson file that fails to parse (only possible
+/// while editing the assets; a test parses them all) becomes an error entry, not a crash.
+pub fn registry() -> Vec<Result<Box<dyn Lesson>, String>> {
+    let makers: [fn(LessonText) -> Box<dyn Lesson>; 5] = [
+        |text| Box::new(trivial::TrivialLoop::new(text)),
+        |text| Box::new(bounding_volumes::BoundingVolumesLesson::new(text)),
+        |text| Box::new(slab::SlabLesson::new(text)),
+        |text| Box::new(bvh::BvhLesson::new(text)),
+        |text| Box::new(near_first::NearFirstLesson::new(text)),
+    ];
+    LESSON_FILES
+        .iter()
+        .zip(makers)
+        .map(|((path, text), make)| {
+            LessonText::parse(text, path)
+                .map(make)
+                .map_err(|error| error.to_string())
+        })
+        .collect()
+}
+
+/// The explanation and things to try, for the inspector's top.
+pub fn text_ui(ui: &mut egui::Ui, text: &LessonText) {
+    ui.label(egui::RichText::new(format!("Slide: {}", text.file.slide)).weak());
+    for paragraph in &text.file.explanation {
+        ui.label(paragraph);
+    }
+    if !text.file.try_this.is_empty() {
+        ui.label(egui::RichText::new("Try this").strong());
+        for item in &text.file.try_this {
+            ui.label(format!("• {item}"));
+        }
+    }
+}
+
+/// Shows why there is no ray (an edit put its head on its origin) instead of the lesson's
+/// drawing.
+pub fn ray_problem_ui(ui: &mut egui::Ui, error: &accelviz_core::RayError) {
+    ui.colored_label(
+        crate::canvas::palette::MISS,
+        format!("No ray to trace: {error}. Drag the ray's head away from its origin."),
+    );
+}

@@ -1,0 +1,72 @@
+//! The `accelviz` binary: the desktop app, or the browser app when built for wasm32.
+
+#[cfg(not(target_arch = "wasm32"))]
+fn main() -> eframe::Result {
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+    let options = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("accelviz")
+            .with_inner_size([1400.0, 860.0])
+            .with_min_inner_size([900.0, 560.0]),
+        ..Default::default()
+    };
+    eframe::run_native(
+        "accelviz",
+        options,
+        Box::new(|_creation| Ok(Box::new(accelviz_app::AccelvizApp::new()))),
+    )
+}
+
+#[cfg(target_arch = "wasm32")]
+fn main() {
+    use wasm_bindgen::JsCast;
+
+    eframe::WebLogger::init(log::LevelFilter::Info).ok();
+    let document = web_sys::window().and_then(|window| window.document());
+    let canvas = document
+        .as_ref()
+        .and_then(|document| document.get_element_by_id("accelviz_canvas"))
+        .and_then(|element| element.dyn_into::<web_sys::HtmlCanvasElement>().ok());
+    let Some(canvas) = canvas else {
+        show_start_failure("the page has no <canvas id=\"accelviz_canvas\">");
+        return;
+    };
+    wasm_bindgen_futures::spawn_local(async move {
+        let started = eframe::WebRunner::new()
+            .start(
+                canvas,
+                eframe::WebOptions::default(),
+                Box::new(|_creation| Ok(Box::new(accelviz_app::AccelvizApp::new()))),
+            )
+            .await;
+        match started {
+            Ok(()) => {
+                // The page's loading note goes once the app draws.
+                if let Some(loading) = web_sys::window()
+                    .and_then(|window| window.document())
+                    .and_then(|document| document.get_element_by_id("loading"))
+                {
+                    loading.remove();
+                }
+                log::info!("accelviz: started");
+            }
+            Err(error) => show_start_failure(&format!("{error:?}")),
+        }
+    });
+}
+
+/// Replaces the loading note with a readable reason the app could not start.
+#[cfg(target_arch = "wasm32")]
+fn show_start_failure(reason: &str) {
+    log::error!("accelviz could not start: {reason}");
+    if let Some(loading) = web_sys::window()
+        .and_then(|window| window.document())
+        .and_then(|document| document.get_element_by_id("loading"))
+    {
+        loading.set_inner_html(&format!(
+            "<p><strong>accelviz could not start.</strong></p><p>{}</p><p>It needs a browser with WebGL2 or WebGPU.</p>",
+            reason.replace('<', "&lt;")
+        ));
+        let _ = loading.set_attribute("class", "failed");
+    }
+}
