@@ -73,6 +73,8 @@ pub struct EditableScene {
     /// What may be edited.
     pub editing: Editing,
     drag: Option<Drag>,
+    /// The canvas rectangle and view of the last frame, to place world points on screen.
+    last_canvas: Option<(egui::Rect, View2d)>,
     /// The generator's controls (kept when the shapes are edited by hand).
     pub generator: GeneratorEntry,
 }
@@ -96,6 +98,7 @@ impl EditableScene {
             view: View2d::default(),
             editing,
             drag: None,
+            last_canvas: None,
             generator,
         }
     }
@@ -123,6 +126,13 @@ impl EditableScene {
             self.scene.ray_origin,
             self.scene.ray_toward - self.scene.ray_origin,
         )
+    }
+
+    /// Where a world point was on screen in the last frame (for tests and tooltips).
+    pub fn screen_position(&self, world: DVec2) -> Option<egui::Pos2> {
+        let (rect, view) = self.last_canvas?;
+        let offset = (world - view.center) * view.points_per_unit;
+        Some(rect.center() + egui::Vec2::new(offset.x as f32, -offset.y as f32))
     }
 
     /// The box around every shape and the ray's origin and head: what "fit" shows.
@@ -219,6 +229,7 @@ impl EditableScene {
 
     /// Handles the user's clicks and drags on `canvas`; returns whether the scene changed.
     pub fn interact(&mut self, ui: &Ui, canvas: &Canvas) -> bool {
+        self.last_canvas = Some((canvas.rect, canvas.view));
         let response = &canvas.response;
         let before = self.revision;
         let pick = canvas.world_length(PICK_POINTS);

@@ -12,13 +12,13 @@ use serde::Deserialize;
 use crate::editor::EditableScene;
 use crate::timeline::Timeline;
 
-mod bounding_volumes;
-mod bvh;
-mod common;
+pub mod bounding_volumes;
+pub mod bvh;
+pub mod common;
 pub mod near_first;
-mod slab;
-mod tree_diagram;
-mod trivial;
+pub mod slab;
+pub mod tree_diagram;
+pub mod trivial;
 
 /// A lesson's text and scene, as written in `assets/lessons/NAME.ron`.
 #[derive(Clone, Debug, Deserialize)]

@@ -94,7 +94,8 @@ impl SlabLesson {
             })
     }
 
-    fn record(&self) -> Option<(Aabb<DVec2>, SlabRecord<DVec2>)> {
+    /// The tested box and the core's slab record for the current ray.
+    pub fn record(&self) -> Option<(Aabb<DVec2>, SlabRecord<DVec2>)> {
         let bounds = self.tested_box()?;
         let ray = self.scene.ray().ok()?;
         Some((bounds, slab_record(&bounds, &ray, self.robust)))

@@ -1,0 +1,165 @@
+// End-to-end test of the browser build (web/pkg, made by scripts/build-web) in headless
+// Chromium: the page loads, the canvas shows the app (checked from a screenshot), a click on a
+// lesson and on "step" change what is shown, and no error reaches the console.
+//
+// The app reports its lesson and step in the page title and the console (app.rs,
+// `report_position`); clicks go to fixed places of its layout at the viewport size below.
+
+import { chromium } from 'playwright-core';
+import http from 'node:http';
+import fs from 'node:fs';
+import path from 'node:path';
+import zlib from 'node:zlib';
+import { fileURLToPath } from 'node:url';
+
+const webDir = path.dirname(fileURLToPath(import.meta.url));
+const shotDir = process.env.E2E_SHOTS ?? path.join(webDir, '..', 'target', 'e2e');
+const chromiumPath = process.env.CHROMIUM ?? '/usr/bin/chromium';
+const viewport = { width: 1280, height: 800 };
+
+/** Serves web/ on a free loopback port. */
+function serve() {
+  const types = { '.html': 'text/html', '.js': 'text/javascript', '.wasm': 'application/wasm' };
+  const server = http.createServer((request, response) => {
+    const urlPath = decodeURIComponent(new URL(request.url, 'http://x').pathname);
+    const file = path.join(webDir, urlPath === '/' ? 'index.html' : urlPath);
+    if (!file.startsWith(webDir) || !fs.existsSync(file) || fs.statSync(file).isDirectory()) {
+      response.writeHead(404).end('not found');
+      return;
+    }
+    const body = fs.readFileSync(file);
+    response.writeHead(200, {
+      'content-type': types[path.extname(file)] ?? 'application/octet-stream',
+      'content-length': body.length,
+    });
+    response.end(body);
+  });
+  return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve(server)));
+}
+
+/** Decodes an 8-bit RGB or RGBA PNG (what Chromium's screenshots are) to pixels. */
+function decodePng(buffer) {
+  let offset = 8;
+  let width = 0, height = 0, colorType = 0;
+  const data = [];
+  while (offset < buffer.length) {
+    const length = buffer.readUInt32BE(offset);
+    const type = buffer.toString('ascii', offset + 4, offset + 8);
+    const chunk = buffer.subarray(offset + 8, offset + 8 + length);
+    if (type === 'IHDR') {
+      width = chunk.readUInt32BE(0);
+      height = chunk.readUInt32BE(4);
+      if (chunk[8] !== 8) throw new Error(`PNG bit depth ${chunk[8]} not handled`);
+      colorType = chunk[9];
+    } else if (type === 'IDAT') {
+      data.push(chunk);
+    }
+    offset += 12 + length;
+  }
+  const channels = colorType === 6 ? 4 : colorType === 2 ? 3 : 0;
+  if (!channels) throw new Error(`PNG colour type ${colorType} not handled`);
+  const raw = zlib.inflateSync(Buffer.concat(data));
+  const stride = width * channels;
+  const pixels = Buffer.alloc(height * stride);
+  for (let y = 0; y < height; y++) {
+    const filter = raw[y * (stride + 1)];
+    const row = raw.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1));
+    for (let x = 0; x < stride; x++) {
+      const left = x >= channels ? pixels[y * stride + x - channels] : 0;
+      const up = y > 0 ? pixels[(y - 1) * stride + x] : 0;
+      const upLeft = x >= channels && y > 0 ? pixels[(y - 1) * stride + x - channels] : 0;
+      let value = row[x];
+      if (filter === 1) value += left;
+      else if (filter === 2) value += up;
+      else if (filter === 3) value += (left + up) >> 1;
+      else if (filter === 4) {
+        const estimate = left + up - upLeft;
+        const [a, b, c] = [Math.abs(estimate - left), Math.abs(estimate - up), Math.abs(estimate - upLeft)];
+        value += a <= b && a <= c ? left : b <= c ? up : upLeft;
+      }
+      pixels[y * stride + x] = value & 255;
+    }
+  }
+  return { width, height, channels, pixels };
+}
+
+/** Distinct colours and the share of pixels that differ between two screenshots. */
+function colourCount(png) {
+  const seen = new Set();
+  for (let i = 0; i < png.pixels.length; i += png.channels) {
+    seen.add((png.pixels[i] << 16) | (png.pixels[i + 1] << 8) | png.pixels[i + 2]);
+  }
+  return seen.size;
+}
+
+function differingShare(a, b) {
+  let differing = 0;
+  for (let i = 0; i < a.pixels.length; i += a.channels) {
+    if (a.pixels[i] !== b.pixels[i] || a.pixels[i + 1] !== b.pixels[i + 1] || a.pixels[i + 2] !== b.pixels[i + 2]) {
+      differing++;
+    }
+  }
+  return differing / (a.width * a.height);
+}
+
+const failures = [];
+function check(condition, message) {
+  console.log(`${condition ? 'ok  ' : 'FAIL'} ${message}`);
+  if (!condition) failures.push(message);
+}
+
+const server = await serve();
+const url = `http://127.0.0.1:${server.address().port}/`;
+const browser = await chromium.launch({
+  executablePath: chromiumPath,
+  headless: true,
+  args: ['--headless', '--no-sandbox', '--disable-quic', '--no-first-run', '--disable-background-networking',
+    '--disable-component-update', '--disable-sync', '--use-angle=swiftshader', '--enable-unsafe-swiftshader'],
+});
+try {
+  const page = await browser.newPage({ viewport, deviceScaleFactor: 1 });
+  const consoleErrors = [];
+  const logLines = [];
+  page.on('console', (message) => {
+    logLines.push(`${message.type()}: ${message.text()}`);
+    if (message.type() === 'error') consoleErrors.push(message.text());
+  });
+  page.on('pageerror', (error) => consoleErrors.push(`page error: ${error.message}`));
+  fs.mkdirSync(shotDir, { recursive: true });
+
+  const loadStart = Date.now();
+  await page.goto(url);
+  await page.waitForFunction(() => document.title.includes('step'), null, { timeout: 120_000 });
+  check(true, `the app started in ${((Date.now() - loadStart) / 1000).toFixed(1)} s: "${await page.title()}"`);
+  check(!(await page.$('#loading')), 'the loading note is gone');
+  await page.waitForTimeout(500);
+  const first = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-start.png') }));
+  check(colourCount(first) > 50, `the canvas shows the app (${colourCount(first)} colours in the screenshot)`);
+
+  // The lesson list: the fourth entry is the BVH lesson.
+  await page.mouse.click(90, 142);
+  await page.waitForFunction(() => document.title.includes('hierarchy'), null, { timeout: 10_000 })
+    .catch(() => {});
+  const lessonTitle = await page.title();
+  check(lessonTitle.includes('Bounding volume hierarchy'), `a click on a lesson opens it: "${lessonTitle}"`);
+  await page.waitForTimeout(300);
+  const lesson = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-lesson.png') }));
+  check(differingShare(first, lesson) > 0.05, `the lesson changed the picture (${(100 * differingShare(first, lesson)).toFixed(1)} % of pixels)`);
+
+  // The timeline's "step >" button, bottom left.
+  await page.mouse.click(183, viewport.height - 43);
+  await page.waitForFunction(() => document.title.includes('step 1 of'), null, { timeout: 10_000 }).catch(() => {});
+  const stepTitle = await page.title();
+  check(stepTitle.includes('step 1 of'), `a click on "step" advances the animation: "${stepTitle}"`);
+  await page.waitForTimeout(300);
+  const stepped = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-step.png') }));
+  check(differingShare(lesson, stepped) > 0.0005, `the step changed the picture (${(100 * differingShare(lesson, stepped)).toFixed(2)} % of pixels)`);
+
+  check(consoleErrors.length === 0, `no console errors${consoleErrors.length ? ': ' + consoleErrors.join(' | ') : ''}`);
+  if (failures.length) console.log('console:\n  ' + logLines.join('\n  '));
+} finally {
+  await browser.close();
+  server.close();
+}
+console.log(failures.length ? `e2e: ${failures.length} check(s) failed` : 'e2e: all checks passed');
+process.exit(failures.length ? 1 : 0);
