@@ -135,15 +135,22 @@ impl EditableScene {
         Some(rect.center() + egui::Vec2::new(offset.x as f32, -offset.y as f32))
     }
 
-    /// The box around every shape and the ray's origin and head: what "fit" shows.
+    /// The box around every shape, and the ray's origin and head when the lesson has a ray:
+    /// what "fit" shows.
     pub fn bounds(&self) -> Aabb<DVec2> {
-        self.scene
+        let shapes = self
+            .scene
             .shapes
             .shapes
             .iter()
-            .fold(Aabb::empty(), |bounds, shape| bounds.union(shape.bounds()))
-            .grown(self.scene.ray_origin)
-            .grown(self.scene.ray_toward)
+            .fold(Aabb::empty(), |bounds, shape| bounds.union(shape.bounds()));
+        if self.editing.ray {
+            shapes
+                .grown(self.scene.ray_origin)
+                .grown(self.scene.ray_toward)
+        } else {
+            shapes
+        }
     }
 
     /// The toolbar above the canvas: tools, generator, fit.

@@ -14,6 +14,13 @@ pub trait Observer<S: Real> {
     /// Traversal entered node `node` (after its box was hit and it was not culled).
     #[inline(always)]
     fn node_entered(&mut self, _node: u32) {}
+    /// kD traversal entered cell `node` with the part of the ray inside it, `[t_near, t_far]`
+    /// (the lecture's rayNear or rayFar). Unless an observer wants the segment, this is
+    /// entering a node.
+    #[inline(always)]
+    fn cell_entered(&mut self, node: u32, _t_near: S, _t_far: S) {
+        self.node_entered(node);
+    }
     /// A node waiting on the stack was skipped: it is entered only beyond the closest hit.
     #[inline(always)]
     fn node_culled(&mut self, _node: u32, _t_enter: S, _t_closest: S) {}
@@ -101,6 +108,15 @@ pub enum Step<S: Real> {
         /// The node.
         node: u32,
     },
+    /// See [`Observer::cell_entered`].
+    CellEntered {
+        /// The kD node.
+        node: u32,
+        /// Where the ray's part in the cell starts.
+        t_near: S,
+        /// Where it ends.
+        t_far: S,
+    },
     /// See [`Observer::node_culled`].
     NodeCulled {
         /// The node.
@@ -150,6 +166,13 @@ impl<S: Real> Observer<S> for Recorder<S> {
     fn node_entered(&mut self, node: u32) {
         self.steps.push(Step::NodeEntered { node });
     }
+    fn cell_entered(&mut self, node: u32, t_near: S, t_far: S) {
+        self.steps.push(Step::CellEntered {
+            node,
+            t_near,
+            t_far,
+        });
+    }
     fn node_culled(&mut self, node: u32, t_enter: S, t_closest: S) {
         self.steps.push(Step::NodeCulled {
             node,
@@ -179,6 +202,11 @@ impl<S: Real> Step<S> {
                 hit,
             } => observer.box_tested(node, t_enter, t_exit, hit),
             Step::NodeEntered { node } => observer.node_entered(node),
+            Step::CellEntered {
+                node,
+                t_near,
+                t_far,
+            } => observer.cell_entered(node, t_near, t_far),
             Step::NodeCulled {
                 node,
                 t_enter,
@@ -214,6 +242,11 @@ impl<S: Real, A: Observer<S>, B: Observer<S>> Observer<S> for (A, B) {
     fn node_entered(&mut self, node: u32) {
         self.0.node_entered(node);
         self.1.node_entered(node);
+    }
+    #[inline(always)]
+    fn cell_entered(&mut self, node: u32, t_near: S, t_far: S) {
+        self.0.cell_entered(node, t_near, t_far);
+        self.1.cell_entered(node, t_near, t_far);
     }
     #[inline(always)]
     fn node_culled(&mut self, node: u32, t_enter: S, t_closest: S) {

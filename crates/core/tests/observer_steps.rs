@@ -154,3 +154,70 @@ fn file_order_tests_the_far_disc_first_and_then_the_near_one() {
         (3, 3, 2, 0)
     );
 }
+
+/// The kD traversal reports each cell with the part of the ray in it: the lecture's rayNear
+/// and rayFar. The middle cut of the two discs' cell [1.5, 8.5] is x = 5; the ray from x = 10
+/// is in the right cell for t in [1.5, 5] and would reach the left one for t in [5, 8.5].
+#[test]
+fn kd_traversal_reports_the_clipped_segments() {
+    use accelviz_core::kd::{KdBuilder, KdMiddleSplit, KdTraversalStack};
+    let shapes = scene();
+    let bounds = shapes.all_bounds();
+    let params = BuildParams {
+        max_leaf_size: 1,
+        ..BuildParams::default()
+    };
+    let tree = KdMiddleSplit.build(&bounds, &params);
+    assert_eq!(tree.nodes[0].split, 5.0);
+    let ray = Ray::try_new(DVec2::new(10.0, 0.0), DVec2::new(-1.0, 0.0)).unwrap();
+    let mut observers = (Recorder::default(), Counters::default());
+    let hit = accelviz_core::kd::traverse(
+        &tree,
+        &shapes,
+        &ray,
+        &TraceOptions::default(),
+        &mut KdTraversalStack::new(),
+        &mut observers,
+    );
+    assert_eq!(hit.map(|hit| (hit.primitive, hit.t)), Some((1, 1.5)));
+    let [below, above] = tree.nodes[0].children();
+    assert_eq!(
+        observers.0.steps,
+        vec![
+            Step::BoxTested {
+                node: 0,
+                t_enter: 1.5,
+                t_exit: 8.5,
+                hit: true
+            },
+            Step::CellEntered {
+                node: 0,
+                t_near: 1.5,
+                t_far: 8.5
+            },
+            Step::CellEntered {
+                node: above,
+                t_near: 1.5,
+                t_far: 5.0
+            },
+            Step::PrimitiveTested {
+                primitive: 1,
+                t_hit: Some(1.5)
+            },
+            Step::ClosestHitUpdated {
+                primitive: 1,
+                t: 1.5
+            },
+            Step::NodeCulled {
+                node: below,
+                t_enter: 5.0,
+                t_closest: 1.5
+            },
+        ]
+    );
+    assert_eq!(
+        observers.1.nodes_visited, 2,
+        "a cell entered counts as a node visited"
+    );
+    assert_eq!(accelviz_core::counters_of(&observers.0.steps), observers.1);
+}

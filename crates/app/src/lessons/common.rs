@@ -4,6 +4,7 @@
 use accelviz_core::bvh::{
     self, BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, SweepSah,
 };
+use accelviz_core::kd::{self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdSah, KdTree};
 use accelviz_core::{
     Hit, Order, PrimitiveSet, Ray, Recorder, ShapeSet, Step, TraceOptions, brute_force,
 };
@@ -76,6 +77,68 @@ impl BvhRule {
             }
             .build(&bounds, &params),
         }
+    }
+}
+
+/// The kD builders a lesson can pick.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KdRule {
+    /// Cut the cell in the middle of its longest axis.
+    Middle,
+    /// Cut at the median primitive.
+    Median,
+    /// The SAH with the empty-space bonus.
+    Sah,
+}
+
+impl KdRule {
+    /// Name for the user.
+    pub fn label(self) -> &'static str {
+        match self {
+            KdRule::Middle => "middle",
+            KdRule::Median => "median",
+            KdRule::Sah => "SAH",
+        }
+    }
+
+    /// Builds a kD-tree over `shapes` with this rule and the scene's settings.
+    pub fn build(self, shapes: &ShapeSet<DVec2>, settings: &SceneSettings) -> KdTree<DVec2> {
+        let bounds = shapes.all_bounds();
+        let params = BuildParams {
+            max_leaf_size: settings.max_leaf_size,
+            cost: settings.cost(),
+        };
+        match self {
+            KdRule::Middle => KdMiddleSplit.build(&bounds, &params),
+            KdRule::Median => KdMedianSplit.build(&bounds, &params),
+            KdRule::Sah => KdSah.build(&bounds, &params),
+        }
+    }
+}
+
+/// Records the one kD traversal on a ray.
+pub fn record_kd(
+    tree: &KdTree<DVec2>,
+    shapes: &ShapeSet<DVec2>,
+    ray: &Ray<DVec2>,
+    order: Order,
+) -> Recording {
+    let mut recorder = Recorder::default();
+    let options = TraceOptions {
+        order,
+        ..TraceOptions::default()
+    };
+    let hit = kd::traverse(
+        tree,
+        shapes,
+        ray,
+        &options,
+        &mut kd::KdTraversalStack::new(),
+        &mut recorder,
+    );
+    Recording {
+        steps: recorder.steps,
+        hit,
     }
 }
 
@@ -156,6 +219,16 @@ pub fn describe_step(step: &Step<f64>, node_name: impl Fn(u32) -> String) -> Str
             }
         }
         Step::NodeEntered { node } => format!("enter {}", node_name(node)),
+        Step::CellEntered {
+            node,
+            t_near,
+            t_far,
+        } => format!(
+            "enter {} with the ray clipped to it: t in [{}, {}]",
+            node_name(node),
+            number(t_near),
+            number(t_far)
+        ),
         Step::NodeCulled {
             node,
             t_enter,

@@ -13,10 +13,15 @@ use crate::editor::EditableScene;
 use crate::timeline::Timeline;
 
 pub mod bounding_volumes;
+pub mod build_steps;
 pub mod bvh;
 pub mod common;
+pub mod compare;
+pub mod cost_split;
+pub mod kd;
 pub mod near_first;
 pub mod slab;
+pub mod splits;
 pub mod tree_diagram;
 pub mod trivial;
 
@@ -81,7 +86,7 @@ pub trait Lesson {
 }
 
 /// The lesson files, embedded, in the lecture's order.
-pub const LESSON_FILES: [(&str, &str); 5] = [
+pub const LESSON_FILES: [(&str, &str); 9] = [
     (
         "assets/lessons/01-trivial.ron",
         include_str!("../../../../assets/lessons/01-trivial.ron"),
@@ -99,20 +104,40 @@ pub const LESSON_FILES: [(&str, &str); 5] = [
         include_str!("../../../../assets/lessons/04-bvh.ron"),
     ),
     (
+        "assets/lessons/05-kd-tree.ron",
+        include_str!("../../../../assets/lessons/05-kd-tree.ron"),
+    ),
+    (
         "assets/lessons/06-near-first.ron",
         include_str!("../../../../assets/lessons/06-near-first.ron"),
+    ),
+    (
+        "assets/lessons/07-middle-median-sah.ron",
+        include_str!("../../../../assets/lessons/07-middle-median-sah.ron"),
+    ),
+    (
+        "assets/lessons/08-cost-optimised-split.ron",
+        include_str!("../../../../assets/lessons/08-cost-optimised-split.ron"),
+    ),
+    (
+        "assets/lessons/09-building-is-optimisation.ron",
+        include_str!("../../../../assets/lessons/09-building-is-optimisation.ron"),
     ),
 ];
 
 /// Every lesson, in the lecture's order. A lesson file that fails to parse (only possible
 /// while editing the assets; a test parses them all) becomes an error entry, not a crash.
 pub fn registry() -> Vec<Result<Box<dyn Lesson>, String>> {
-    let makers: [fn(LessonText) -> Box<dyn Lesson>; 5] = [
+    let makers: [fn(LessonText) -> Box<dyn Lesson>; 9] = [
         |text| Box::new(trivial::TrivialLoop::new(text)),
         |text| Box::new(bounding_volumes::BoundingVolumesLesson::new(text)),
         |text| Box::new(slab::SlabLesson::new(text)),
         |text| Box::new(bvh::BvhLesson::new(text)),
+        |text| Box::new(kd::KdLesson::new(text)),
         |text| Box::new(near_first::NearFirstLesson::new(text)),
+        |text| Box::new(splits::SplitsLesson::new(text)),
+        |text| Box::new(cost_split::CostSplitLesson::new(text)),
+        |text| Box::new(build_steps::BuildStepsLesson::new(text)),
     ];
     LESSON_FILES
         .iter()

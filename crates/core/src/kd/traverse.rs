@@ -98,7 +98,7 @@ where
             observer.node_culled(node_index, t_near, search.t_closest);
             continue;
         }
-        observer.node_entered(node_index);
+        observer.cell_entered(node_index, t_near, t_far);
         let node = &tree.nodes[node_index as usize];
         if node.is_leaf() {
             // Test the leaf's primitives (once per ray with the mailbox).
