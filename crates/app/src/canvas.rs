@@ -152,9 +152,15 @@ impl Canvas {
         points as f64 / self.view.points_per_unit
     }
 
+    /// Whether a screen rectangle can be seen on the canvas (drawing what cannot is skipped,
+    /// which keeps a frame of a 10k-shape scene cheap when zoomed in).
+    fn visible(&self, rect: Rect) -> bool {
+        self.rect.intersects(rect.expand(2.0))
+    }
+
     /// Outlines a box, optionally filled.
     pub fn box_outline(&self, bounds: &Aabb<DVec2>, stroke: Stroke, fill: Option<Color32>) {
-        if bounds.is_empty() {
+        if bounds.is_empty() || !self.visible(self.screen_rect(bounds)) {
             return;
         }
         // A flat box still shows: at least one point wide on screen.
@@ -172,8 +178,18 @@ impl Canvas {
             .rect_stroke(rect, 0.0, stroke, StrokeKind::Middle);
     }
 
-    /// Draws a shape: filled disc or box, or a thick segment.
+    /// Draws a shape: filled disc or box, or a thick segment. A shape a few points across is
+    /// drawn as a filled square: it looks the same, with a fraction of the triangles.
     pub fn shape(&self, shape: &Shape<DVec2>, fill: Color32, stroke: Stroke) {
+        let screen = self.screen_rect(&shape.bounds());
+        if !self.visible(screen) {
+            return;
+        }
+        if screen.width().max(screen.height()) < 4.0 && !matches!(shape, Shape::Segment(_)) {
+            let dot = Rect::from_center_size(screen.center(), screen.size().max(Vec2::splat(1.5)));
+            self.painter.rect_filled(dot, 0.0, stroke.color);
+            return;
+        }
         match shape {
             Shape::Sphere(sphere) => {
                 let center = self.to_screen(sphere.center);
@@ -271,6 +287,121 @@ impl Canvas {
                 .rect_filled(backing, 3.0, Color32::from_black_alpha(140));
             self.painter.galley(pos, galley, *color);
             pos.y += 20.0;
+        }
+    }
+}
+
+/// Many simple shapes in one mesh, drawn with one paint call: what a frame with thousands of
+/// primitives and boxes can afford (egui would otherwise tessellate each with anti-aliased
+/// edges). Lessons use it above a few hundred shapes; below that, each shape is drawn on its own.
+#[derive(Default)]
+pub struct Batch {
+    mesh: egui::Mesh,
+}
+
+impl Batch {
+    /// A filled rectangle.
+    pub fn rect(&mut self, rect: Rect, color: Color32) {
+        self.mesh.add_colored_rect(rect, color);
+    }
+
+    /// A line of `width` points as one quad.
+    pub fn line(&mut self, from: Pos2, to: Pos2, width: f32, color: Color32) {
+        let along = to - from;
+        let across = Vec2::new(-along.y, along.x).normalized() * (width * 0.5);
+        let first = self.mesh.vertices.len() as u32;
+        for pos in [from - across, from + across, to + across, to - across] {
+            self.mesh.colored_vertex(pos, color);
+        }
+        self.mesh.add_triangle(first, first + 1, first + 2);
+        self.mesh.add_triangle(first, first + 2, first + 3);
+    }
+
+    /// Room for `vertices` more vertices and `triangles` more triangles, so a large batch is
+    /// allocated once rather than grown (growing dominated a 10k-shape frame).
+    pub fn reserve(&mut self, vertices: usize, triangles: usize) {
+        self.mesh.vertices.reserve(vertices);
+        self.mesh.indices.reserve(triangles * 3);
+    }
+
+    /// A rectangle's outline of `width` points: a frame of eight vertices, the outer corners
+    /// and the inner ones, and eight triangles.
+    pub fn rect_outline(&mut self, rect: Rect, width: f32, color: Color32) {
+        let half = width * 0.5;
+        let outer = rect.expand(half);
+        let inner = rect.shrink(half.min(rect.width() * 0.5).min(rect.height() * 0.5));
+        let first = self.mesh.vertices.len() as u32;
+        for frame in [outer, inner] {
+            for corner in [
+                frame.left_top(),
+                frame.right_top(),
+                frame.right_bottom(),
+                frame.left_bottom(),
+            ] {
+                self.mesh.colored_vertex(corner, color);
+            }
+        }
+        for side in 0..4 {
+            let (outer_a, outer_b) = (first + side, first + (side + 1) % 4);
+            let (inner_a, inner_b) = (outer_a + 4, outer_b + 4);
+            self.mesh.add_triangle(outer_a, outer_b, inner_b);
+            self.mesh.add_triangle(outer_a, inner_b, inner_a);
+        }
+    }
+
+    /// A filled disc as a fan, with more sides the larger it is.
+    pub fn disc(&mut self, center: Pos2, radius: f32, color: Color32) {
+        let sides = (radius * 1.5).clamp(6.0, 40.0) as u32;
+        let first = self.mesh.vertices.len() as u32;
+        self.mesh.colored_vertex(center, color);
+        for side in 0..sides {
+            let angle = side as f32 / sides as f32 * std::f32::consts::TAU;
+            self.mesh
+                .colored_vertex(center + Vec2::new(angle.cos(), angle.sin()) * radius, color);
+        }
+        for side in 0..sides {
+            self.mesh
+                .add_triangle(first, first + 1 + side, first + 1 + (side + 1) % sides);
+        }
+    }
+}
+
+impl Canvas {
+    /// Adds a shape to a batch (culled when off the canvas).
+    pub fn batch_shape(&self, batch: &mut Batch, shape: &Shape<DVec2>, color: Color32) {
+        let screen = self.screen_rect(&shape.bounds());
+        if !self.visible(screen) {
+            return;
+        }
+        match shape {
+            Shape::Sphere(sphere) if screen.width() >= 4.0 => batch.disc(
+                self.to_screen(sphere.center),
+                (sphere.radius * self.view.points_per_unit) as f32,
+                color,
+            ),
+            Shape::Segment([from, to]) => {
+                batch.line(self.to_screen(*from), self.to_screen(*to), 2.0, color)
+            }
+            _ => batch.rect(
+                screen.union(Rect::from_center_size(screen.center(), Vec2::splat(1.5))),
+                color,
+            ),
+        }
+    }
+
+    /// Adds a box outline to a batch (culled when off the canvas or under a point across).
+    pub fn batch_box(&self, batch: &mut Batch, bounds: &Aabb<DVec2>, width: f32, color: Color32) {
+        let screen = self.screen_rect(bounds);
+        if bounds.is_empty() || !self.visible(screen) || screen.width().max(screen.height()) < 1.0 {
+            return;
+        }
+        batch.rect_outline(screen, width, color);
+    }
+
+    /// Paints a batch.
+    pub fn draw_batch(&self, batch: Batch) {
+        if !batch.mesh.is_empty() {
+            self.painter.add(egui::Shape::mesh(batch.mesh));
         }
     }
 }

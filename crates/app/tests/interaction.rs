@@ -5,6 +5,7 @@ use accelviz_app::AccelvizApp;
 use accelviz_app::lessons::common::BvhRule;
 use accelviz_app::lessons::near_first::{NearFirstLesson, ORDERS};
 use accelviz_app::lessons::slab::SlabLesson;
+use accelviz_app::lessons::splits::SplitsLesson;
 use accelviz_app::lessons::{LESSON_FILES, Lesson, LessonText};
 use accelviz_core::bvh::{TraversalStack, traverse};
 use accelviz_core::{Counters, TraceOptions};
@@ -193,4 +194,46 @@ fn dragging_the_ray_changes_the_slab_intervals() {
     let (_, after) = harness.state().record().expect("box and ray");
     assert_ne!(before.t_near, after.t_near, "the near crossings moved");
     assert_ne!(before.t_far, after.t_far, "the far crossings moved");
+}
+
+#[test]
+fn hovering_a_sah_candidate_selects_it() {
+    let lesson = SplitsLesson::new(lesson_text("07-middle-median-sah.ron"));
+    let mut harness = lesson_harness(lesson);
+    harness.run();
+    assert_eq!(
+        harness.state().selected_candidate(),
+        None,
+        "nothing is selected before hovering"
+    );
+    let candidates = harness.state().candidates();
+    assert!(
+        candidates.len() > 10,
+        "the root has many candidates: {}",
+        candidates.len()
+    );
+    // Three candidates across the curve, each hovered in turn.
+    for index in [1, candidates.len() / 2, candidates.len() - 2] {
+        let candidate = candidates[index];
+        let position = harness
+            .state()
+            .candidate_screen_position(&candidate)
+            .expect("the plot was drawn");
+        harness.hover_at(position);
+        harness.run();
+        let selected = harness
+            .state()
+            .selected_candidate()
+            .expect("a candidate is selected");
+        assert_eq!(
+            selected.position, candidate.position,
+            "hovering candidate {index} selects its position"
+        );
+        // The formula shows the selected candidate's numbers.
+        let cost = format!("{:.3}", selected.cost);
+        assert!(
+            harness.query_all_by_label_contains(&cost).count() >= 1,
+            "the formula shows the cost {cost}"
+        );
+    }
 }

@@ -52,3 +52,27 @@ fn every_lesson_matches_its_snapshot() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// The BVH lesson on a 10k-shape scene, the frame bench's case: shapes and boxes drawn as one
+/// batched mesh each.
+#[test]
+fn a_ten_thousand_shape_scene_matches_its_snapshot() {
+    let mut harness = harness();
+    let titles = harness.state().titles();
+    harness.state_mut().selected = titles
+        .iter()
+        .position(|title| title.contains("hierarchy"))
+        .expect("the BVH lesson");
+    let scene = harness
+        .state_mut()
+        .lesson_mut()
+        .and_then(|lesson| lesson.scene_mut())
+        .expect("a scene");
+    scene.scene.shapes =
+        accelviz_scene::scene2d::generate(accelviz_scene::scene2d::Layout::Clustered, 10_000, 1);
+    scene.scene.settings.max_leaf_size = 2;
+    scene.view.placed = false;
+    scene.touch();
+    harness.run();
+    harness.snapshot("bvh_10k");
+}

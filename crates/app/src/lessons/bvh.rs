@@ -4,7 +4,7 @@
 //! primitives, SAH cost, why it is a leaf), and the traversal stepped.
 
 use accelviz_core::bvh::Bvh;
-use accelviz_core::curve::bvh_curve;
+use accelviz_core::curve::{CostCurve, bvh_curve};
 use accelviz_core::{Order, PrimitiveSet, Step};
 use egui::{Color32, Stroke};
 use glam::DVec2;
@@ -12,7 +12,7 @@ use glam::DVec2;
 use super::common::{self, BvhRule, Recording};
 use super::tree_diagram::TreeShape;
 use super::{Lesson, LessonText};
-use crate::canvas::{Canvas, depth_color, faded, palette};
+use crate::canvas::{Batch, Canvas, depth_color, faded, palette};
 use crate::editor::{EditableScene, Editing};
 use crate::timeline::Timeline;
 
@@ -115,6 +115,9 @@ pub struct BvhLesson {
     depth_range: (usize, usize),
     hovered: Option<u32>,
     selected: Option<u32>,
+    /// The selected node's cost curve (for "why it is a leaf"), kept until the tree or the
+    /// selection changes.
+    node_curve: Option<(u32, CostCurve)>,
 }
 
 impl BvhLesson {
@@ -137,9 +140,10 @@ impl BvhLesson {
             built_rule: BvhRule::Sah,
             recording: Recording::default(),
             timeline: Timeline::default(),
-            depth_range: (0, 64),
+            depth_range: (0, usize::MAX),
             hovered: None,
             selected: Some(0),
+            node_curve: None,
         }
     }
 
@@ -165,6 +169,7 @@ impl BvhLesson {
             self.selected = Some(0);
         }
         self.hovered = None;
+        self.node_curve = None;
         self.built = Some(built);
         self.built_revision = self.scene.revision;
         self.built_rule = self.rule;
@@ -251,22 +256,23 @@ impl Lesson for BvhLesson {
         self.refresh();
         let Some(built) = &self.built else { return };
         let max_depth = built.shape.max_depth();
-        ui.horizontal(|ui| {
-            ui.label("Depths shown");
-            let (mut low, mut high) = self.depth_range;
-            high = high.min(max_depth);
-            ui.add(
-                egui::DragValue::new(&mut low)
-                    .range(0..=max_depth)
-                    .prefix("from "),
-            );
-            ui.add(
-                egui::DragValue::new(&mut high)
-                    .range(low..=max_depth)
-                    .prefix("to "),
-            );
-            self.depth_range = (low.min(high), high);
-        });
+        // The depths whose boxes are drawn: a range, so one level can be shown at a time.
+        let (mut low, mut high) = self.depth_range;
+        high = high.min(max_depth);
+        ui.add(egui::Slider::new(&mut low, 0..=max_depth).text("shallowest depth shown"));
+        ui.add(egui::Slider::new(&mut high, 0..=max_depth).text("deepest depth shown"));
+        if low > high {
+            // Dragging one past the other moves both.
+            if (low, high) != self.depth_range {
+                if low != self.depth_range.0 {
+                    high = low;
+                } else {
+                    low = high;
+                }
+            }
+        }
+        // The deepest level stays "all the way down" when the tree grows.
+        self.depth_range = (low, if high >= max_depth { usize::MAX } else { high });
         ui.separator();
         ui.heading("Tree");
         let count = self.scene.scene.shapes.len();
@@ -313,7 +319,19 @@ impl Lesson for BvhLesson {
         );
         ui.separator();
         if let Some(node) = self.selected {
-            node_inspector_ui(ui, built, node, &self.scene, count);
+            if self
+                .node_curve
+                .as_ref()
+                .is_none_or(|(cached, _)| *cached != node)
+            {
+                let boxes = self.scene.scene.shapes.all_bounds();
+                let cost = self.scene.scene.settings.cost();
+                let curve = bvh_curve(&boxes, &built.primitives[node as usize], &cost, None);
+                self.node_curve = Some((node, curve));
+            }
+            if let Some((_, curve)) = &self.node_curve {
+                node_inspector_ui(ui, built, node, &self.scene, count, self.rule, curve);
+            }
         }
     }
 
@@ -367,9 +385,21 @@ impl Lesson for BvhLesson {
                 .find(|(primitive, _)| *primitive as usize == index)
                 .map(|(_, hit)| if *hit { palette::HIT } else { palette::MISS })
         });
+        let mut batch = (built.bvh.nodes.len() > common::BATCH_ABOVE).then(|| {
+            let mut batch = Batch::default();
+            batch.reserve(built.bvh.nodes.len() * 8, built.bvh.nodes.len() * 8);
+            batch
+        });
         for (node, entry) in built.bvh.nodes.iter().enumerate() {
             let depth = built.shape.depth[node];
             if depth < low || depth > high {
+                continue;
+            }
+            if let Some(batch) = &mut batch
+                && self.hovered != Some(node as u32)
+                && self.selected != Some(node as u32)
+            {
+                canvas.batch_box(batch, &entry.bounds, 1.0, depth_color(depth));
                 continue;
             }
             let color = depth_color(depth);
@@ -378,6 +408,9 @@ impl Lesson for BvhLesson {
             let fill = highlighted.then(|| faded(color, 30));
             let width = if highlighted { 3.0 } else { 1.5 };
             canvas.box_outline(&entry.bounds, Stroke::new(width, color), fill);
+        }
+        if let Some(batch) = batch {
+            canvas.draw_batch(batch);
         }
         // What the traversal has done so far: boxes it tested, hit or missed.
         for step in shown {
@@ -440,13 +473,15 @@ fn node_inspector_ui(
     node: u32,
     scene: &EditableScene,
     count: usize,
+    rule: BvhRule,
+    curve: &CostCurve,
 ) {
     let Some(entry) = built.bvh.nodes.get(node as usize) else {
         return;
     };
     let settings = &scene.scene.settings;
     let cost = settings.cost();
-    ui.heading(format!("Node {}", node_name(built, node, count)));
+    ui.heading(format!("Selected: {}", node_name(built, node, count)));
     ui.label(format!(
         "depth {}, box [{:.2}, {:.2}] × [{:.2}, {:.2}], perimeter {:.2}",
         built.shape.depth[node as usize],
@@ -464,8 +499,6 @@ fn node_inspector_ui(
         cost.traversal_cost,
         cost.intersection_cost
     ));
-    let boxes = scene.scene.shapes.all_bounds();
-    let curve = bvh_curve(&boxes, primitives, &cost, None);
     let best = curve.best.map(|mark| mark.cost);
     let leaf_cost = curve.leaf_cost;
     match built.shape.children[node as usize] {
@@ -478,10 +511,10 @@ fn node_inspector_ui(
                     settings.max_leaf_size
                 ),
                 Some(best_cost) => format!(
-                    "it is a leaf: {} primitives ≤ max leaf size {} (a split would cost {best_cost:.3} < leaf {leaf_cost:.3}; the {} rule stops at the size)",
+                    "it is a leaf: {} primitives ≤ max leaf size {}, where the {} rule stops (the SAH would split: {best_cost:.3} < leaf {leaf_cost:.3})",
                     primitives.len(),
                     settings.max_leaf_size,
-                    "chosen"
+                    rule.label()
                 ),
                 None => format!(
                     "it is a leaf of {} primitives with no split candidate",

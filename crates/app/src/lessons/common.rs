@@ -12,7 +12,7 @@ use accelviz_scene::document::SceneSettings;
 use egui::{Color32, Stroke};
 use glam::DVec2;
 
-use crate::canvas::{Canvas, faded, palette};
+use crate::canvas::{Batch, Canvas, faded, palette};
 
 /// The fill of a shape nobody is looking at, readable on either theme.
 pub fn shape_fill(ui: &egui::Ui) -> Color32 {
@@ -23,6 +23,9 @@ pub fn shape_fill(ui: &egui::Ui) -> Color32 {
     }
 }
 
+/// Above this many shapes or boxes, they are drawn as one batched mesh.
+pub const BATCH_ABOVE: usize = 300;
+
 /// Draws every shape; `color_of` picks a colour for shapes that stand out.
 pub fn draw_shapes(
     ui: &egui::Ui,
@@ -31,6 +34,16 @@ pub fn draw_shapes(
     color_of: impl Fn(usize) -> Option<Color32>,
 ) {
     let plain = shape_fill(ui);
+    if shapes.shapes.len() > BATCH_ABOVE {
+        let mut batch = Batch::default();
+        // A disc takes up to 41 vertices; boxes and segments 4.
+        batch.reserve(shapes.shapes.len() * 16, shapes.shapes.len() * 14);
+        for (index, shape) in shapes.shapes.iter().enumerate() {
+            canvas.batch_shape(&mut batch, shape, color_of(index).unwrap_or(plain));
+        }
+        canvas.draw_batch(batch);
+        return;
+    }
     for (index, shape) in shapes.shapes.iter().enumerate() {
         let color = color_of(index).unwrap_or(plain);
         canvas.shape(shape, faded(color, 200), Stroke::new(1.0, color));

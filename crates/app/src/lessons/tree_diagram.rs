@@ -77,8 +77,17 @@ impl TreeShape {
             return None;
         }
         let row_height = 34.0;
-        let height = (self.max_depth() + 1) as f32 * row_height + 10.0;
         let width = ui.available_width().max(120.0);
+        // Levels too crowded to tell nodes apart (a few points each) are left out.
+        let mut per_depth = vec![0usize; self.max_depth() + 1];
+        for &depth in &self.depth {
+            per_depth[depth] += 1;
+        }
+        let shown_depth = per_depth
+            .iter()
+            .position(|&count| count as f32 * 4.0 > width)
+            .map_or(self.max_depth(), |crowded| crowded.saturating_sub(1));
+        let height = (shown_depth + 1) as f32 * row_height + 10.0;
         let (rect, response) = ui.allocate_exact_size(Vec2::new(width, height), Sense::click());
         let painter = ui.painter_at(rect);
         let column_width = (width - 20.0) / self.leaf_count.max(1) as f32;
@@ -90,6 +99,9 @@ impl TreeShape {
         };
         let line_color = ui.visuals().weak_text_color();
         for (node, children) in self.children.iter().enumerate() {
+            if self.depth[node] >= shown_depth {
+                continue;
+            }
             if let Some(children) = children {
                 for child in children {
                     painter.line_segment(
@@ -99,10 +111,21 @@ impl TreeShape {
                 }
             }
         }
-        let radius = (column_width * 0.42).clamp(3.0, 11.0);
+        let widest = per_depth[..=shown_depth]
+            .iter()
+            .copied()
+            .max()
+            .unwrap_or(1)
+            .max(1);
+        let radius = ((width - 20.0) / widest as f32 * 0.42)
+            .min(column_width * 0.42)
+            .clamp(3.0, 11.0);
         let pointer = response.hover_pos();
         let mut under_pointer = None;
         for node in 0..self.children.len() as u32 {
+            if self.depth[node as usize] > shown_depth {
+                continue;
+            }
             let center = position(node);
             let base = depth_color(self.depth[node as usize]);
             let fill = emphasis(node).unwrap_or(base);
@@ -129,6 +152,19 @@ impl TreeShape {
             {
                 under_pointer = Some(node);
             }
+        }
+        if shown_depth < self.max_depth() {
+            painter.text(
+                rect.right_bottom() - Vec2::new(4.0, 2.0),
+                Align2::RIGHT_BOTTOM,
+                format!(
+                    "depths {}..{} not drawn: too many nodes",
+                    shown_depth + 1,
+                    self.max_depth()
+                ),
+                FontId::proportional(10.0),
+                ui.visuals().weak_text_color(),
+            );
         }
         if response.clicked() {
             *selected = under_pointer.or(*selected);

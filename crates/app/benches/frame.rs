@@ -1,0 +1,60 @@
+//! Frame cost: the CPU time of one frame of the app (the lesson's UI code, then egui's
+//! tessellation into triangles) with a 10k-primitive 2D scene and its whole BVH drawn, on the
+//! BVH lesson. Target: under 8 ms on the README's machine. Rendering the triangles is the GPU's
+//! (or lavapipe's) work and is not counted.
+
+use accelviz_app::AccelvizApp;
+use accelviz_scene::document::{GeneratorEntry, LayoutEntry};
+use accelviz_scene::scene2d::{Layout, generate};
+use criterion::{Criterion, criterion_group, criterion_main};
+
+fn frame(ctx: &egui::Context, app: &mut AccelvizApp) -> usize {
+    let input = egui::RawInput {
+        screen_rect: Some(egui::Rect::from_min_size(
+            egui::Pos2::ZERO,
+            egui::vec2(1400.0, 860.0),
+        )),
+        ..Default::default()
+    };
+    let output = ctx.run_ui(input, |ui| app.contents_ui(ui));
+    let meshes = ctx.tessellate(output.shapes, output.pixels_per_point);
+    meshes.len()
+}
+
+fn frame_cost(c: &mut Criterion) {
+    let ctx = egui::Context::default();
+    let mut app = AccelvizApp::new();
+    let titles = app.titles();
+    app.selected = titles
+        .iter()
+        .position(|title| title.contains("hierarchy"))
+        .expect("the BVH lesson");
+    let shapes = generate(Layout::Uniform, 10_000, 1);
+    let scene = app
+        .lesson_mut()
+        .and_then(|lesson| lesson.scene_mut())
+        .expect("the BVH lesson has a scene");
+    scene.scene.shapes = shapes;
+    scene.scene.settings.max_leaf_size = 2;
+    scene.generator = GeneratorEntry {
+        layout: LayoutEntry::Uniform,
+        count: 10_000,
+        seed: 1,
+    };
+    scene.view.placed = false;
+    scene.touch();
+    // The first frames build the tree and fit the view; the benchmark times the frames after.
+    for _ in 0..3 {
+        frame(&ctx, &mut app);
+    }
+    c.bench_function("frame: BVH lesson, 10k shapes, whole tree drawn", |b| {
+        b.iter(|| frame(&ctx, &mut app))
+    });
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(20);
+    targets = frame_cost
+}
+criterion_main!(benches);
