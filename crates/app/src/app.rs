@@ -212,9 +212,13 @@ impl AccelvizApp {
             selected + 1
         );
         log::info!("{line}");
-        ui.ctx()
-            .send_viewport_cmd(egui::ViewportCommand::Title(format!("accelviz: {title}")));
-        crate::files::set_page_title(&format!("accelviz: {title}, step {shown} of {len}"));
+        // The desktop names the window; the browser's page title says the step as well.
+        if cfg!(target_arch = "wasm32") {
+            crate::files::set_page_title(&format!("accelviz: {title}, step {shown} of {len}"));
+        } else {
+            ui.ctx()
+                .send_viewport_cmd(egui::ViewportCommand::Title(format!("accelviz: {title}")));
+        }
     }
 }
 
