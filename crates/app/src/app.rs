@@ -174,19 +174,23 @@ impl AccelvizApp {
     fn apply_file_events(&mut self) {
         for event in self.files.take_events() {
             match event {
-                FileEvent::Opened { name, text } => match Scene2d::parse(&text, &name) {
-                    Ok(scene) => {
-                        if let Some(editable) =
-                            self.lesson_mut().and_then(|lesson| lesson.scene_mut())
-                        {
-                            editable.replace(scene);
-                            self.status = Some((format!("opened {name}"), false));
-                        }
-                    }
-                    Err(error) => self.status = Some((error.to_string(), true)),
-                },
+                FileEvent::Opened { name, text } => self.open_scene_text(&name, &text),
                 FileEvent::Failed(message) => self.status = Some((message, true)),
             }
+        }
+    }
+
+    /// Opens a scene document's text into the current lesson; a bad document leaves the
+    /// scene as it was and says why (file, line, problem) in the status line.
+    pub fn open_scene_text(&mut self, name: &str, text: &str) {
+        match Scene2d::parse(text, name) {
+            Ok(scene) => {
+                if let Some(editable) = self.lesson_mut().and_then(|lesson| lesson.scene_mut()) {
+                    editable.replace(scene);
+                    self.status = Some((format!("opened {name}"), false));
+                }
+            }
+            Err(error) => self.status = Some((error.to_string(), true)),
         }
     }
 

@@ -237,3 +237,44 @@ fn hovering_a_sah_candidate_selects_it() {
         );
     }
 }
+
+#[test]
+fn a_saved_scene_opens_in_another_lesson_and_a_broken_one_is_refused() {
+    let mut app = AccelvizApp::new();
+    let saved = app
+        .lesson_mut()
+        .and_then(|lesson| lesson.scene_mut())
+        .expect("lesson 1 has a scene")
+        .scene
+        .to_ron();
+    app.selected = 3;
+    app.open_scene_text("saved.ron", &saved);
+    let opened = app
+        .lesson_mut()
+        .and_then(|lesson| lesson.scene_mut())
+        .expect("scene")
+        .scene
+        .clone();
+    assert_eq!(
+        opened.shapes.shapes.len(),
+        16,
+        "lesson 1's sixteen shapes are in lesson 4 now"
+    );
+    assert_eq!(app.status, Some(("opened saved.ron".to_owned(), false)));
+
+    let broken = saved.replacen("Disc(", "Dics(", 1);
+    app.open_scene_text("broken.ron", &broken);
+    let (message, problem) = app.status.clone().expect("a message");
+    assert!(problem, "reported as a problem");
+    assert!(
+        message.starts_with("broken.ron:") && message.contains("Dics"),
+        "{message}"
+    );
+    let after = app
+        .lesson_mut()
+        .and_then(|lesson| lesson.scene_mut())
+        .expect("scene")
+        .scene
+        .clone();
+    assert_eq!(after, opened, "a broken file changes nothing");
+}
