@@ -20,12 +20,12 @@ enum Volume {
 }
 
 /// How one ray of the fan fares.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 enum Fate {
     /// Missed the volume: rejected at the cost of one cheap test.
     Rejected,
-    /// Hit the volume and the object.
-    Hit,
+    /// Hit the volume and the object, first at `t`.
+    Hit(f64),
     /// Hit the volume but missed the object: every primitive tested for nothing.
     Wasted,
 }
@@ -120,17 +120,16 @@ impl BoundingVolumesLesson {
                 };
                 let fate = if !volume_hit {
                     Fate::Rejected
-                } else if brute_force(
-                    &self.scene.scene.shapes,
-                    &ray,
-                    &TraceOptions::default(),
-                    &mut accelviz_core::NoObserver,
-                )
-                .is_some()
-                {
-                    Fate::Hit
                 } else {
-                    Fate::Wasted
+                    match brute_force(
+                        &self.scene.scene.shapes,
+                        &ray,
+                        &TraceOptions::default(),
+                        &mut accelviz_core::NoObserver,
+                    ) {
+                        Some(hit) => Fate::Hit(hit.t),
+                        None => Fate::Wasted,
+                    }
                 };
                 Some((ray, fate))
             })
@@ -162,12 +161,13 @@ impl Lesson for BoundingVolumesLesson {
             self.volume = volume;
             let fan = self.fan(&volumes);
             self.volume = previous;
-            let count = |fate| fan.iter().filter(|(_, f)| *f == fate).count();
+            let count =
+                |wanted: fn(&Fate) -> bool| fan.iter().filter(|(_, fate)| wanted(fate)).count();
             rows.push((
                 volume,
-                count(Fate::Rejected),
-                count(Fate::Hit),
-                count(Fate::Wasted),
+                count(|fate| *fate == Fate::Rejected),
+                count(|fate| matches!(fate, Fate::Hit(_))),
+                count(|fate| *fate == Fate::Wasted),
             ));
         }
         egui::Grid::new("volumes table")
@@ -248,10 +248,15 @@ impl Lesson for BoundingVolumesLesson {
         for (ray, fate) in &fan {
             let color = match fate {
                 Fate::Rejected => faded(ui.visuals().weak_text_color(), 90),
-                Fate::Hit => faded(palette::HIT, 170),
+                Fate::Hit(_) => faded(palette::HIT, 170),
                 Fate::Wasted => palette::RAY,
             };
-            let t_end = canvas.clip_t(ray.origin, ray.direction, f64::INFINITY);
+            // A ray that hits the object stops there.
+            let t_stop = match fate {
+                Fate::Hit(t) => *t,
+                _ => f64::INFINITY,
+            };
+            let t_end = canvas.clip_t(ray.origin, ray.direction, t_stop);
             canvas.painter.line_segment(
                 [
                     canvas.to_screen(ray.origin),
