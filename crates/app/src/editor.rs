@@ -234,6 +234,17 @@ impl EditableScene {
         }
     }
 
+    /// The toolbar, then a canvas filling the space left (fitted to the scene and `extra`
+    /// the first time), with the user's edits applied. What most lessons start their canvas
+    /// with; they rebuild afterwards if the revision moved.
+    pub fn canvas_ui(&mut self, ui: &mut Ui, extra: Option<Aabb<DVec2>>) -> Canvas {
+        self.toolbar_ui(ui);
+        let bounds = extra.map_or(self.bounds(), |extra| self.bounds().union(extra));
+        let canvas = Canvas::allocate(ui, ui.available_size(), &mut self.view, &bounds, false);
+        self.interact(ui, &canvas);
+        canvas
+    }
+
     /// Handles the user's clicks and drags on `canvas`; returns whether the scene changed.
     pub fn interact(&mut self, ui: &Ui, canvas: &Canvas) -> bool {
         self.last_canvas = Some((canvas.rect, canvas.view));

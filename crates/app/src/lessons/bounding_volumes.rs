@@ -9,7 +9,7 @@ use glam::DVec2;
 
 use super::common;
 use super::{Lesson, LessonText};
-use crate::canvas::{Canvas, faded, palette};
+use crate::canvas::{faded, palette};
 use crate::editor::{EditableScene, Editing};
 
 /// Which bounding volume the rays are tested against.
@@ -209,19 +209,9 @@ impl Lesson for BoundingVolumesLesson {
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        self.scene.toolbar_ui(ui);
-        let mut volumes = self.volumes();
-        let bounds = self.scene.bounds().union(volumes.sphere.bounds());
-        let canvas = Canvas::allocate(
-            ui,
-            ui.available_size(),
-            &mut self.scene.view,
-            &bounds,
-            false,
-        );
-        if self.scene.interact(ui, &canvas) {
-            volumes = self.volumes();
-        }
+        let sphere_bounds = self.volumes().sphere.bounds();
+        let canvas = self.scene.canvas_ui(ui, Some(sphere_bounds));
+        let volumes = self.volumes();
         // The volumes, filled: what the object leaves uncovered is the void.
         let sphere_center = canvas.to_screen(volumes.sphere.center);
         let sphere_radius = (volumes.sphere.radius * canvas.view.points_per_unit) as f32;

@@ -17,7 +17,7 @@ use super::common::number;
 use super::compare::draw_kd_splits;
 use super::kd::BuiltKd;
 use super::{Lesson, LessonText};
-use crate::canvas::{Canvas, faded, palette};
+use crate::canvas::{faded, palette};
 use crate::editor::{EditableScene, Editing};
 use crate::timeline::Timeline;
 
@@ -384,19 +384,8 @@ impl Lesson for BuildStepsLesson {
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        self.scene.toolbar_ui(ui);
+        let canvas = self.scene.canvas_ui(ui, None);
         self.refresh();
-        let bounds = self.scene.bounds();
-        let canvas = Canvas::allocate(
-            ui,
-            ui.available_size(),
-            &mut self.scene.view,
-            &bounds,
-            false,
-        );
-        if self.scene.interact(ui, &canvas) {
-            self.refresh();
-        }
         let current = self.current();
         let shown = self.timeline.shown.min(self.steps.len());
         let Some(built) = &self.built else { return };

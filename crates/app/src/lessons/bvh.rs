@@ -12,7 +12,7 @@ use glam::DVec2;
 use super::common::{self, BvhRule, Recording};
 use super::tree_diagram::TreeShape;
 use super::{Lesson, LessonText};
-use crate::canvas::{Batch, Canvas, depth_color, faded, palette};
+use crate::canvas::{Batch, depth_color, faded, palette};
 use crate::editor::{EditableScene, Editing};
 use crate::timeline::Timeline;
 
@@ -336,19 +336,8 @@ impl Lesson for BvhLesson {
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        self.scene.toolbar_ui(ui);
+        let canvas = self.scene.canvas_ui(ui, None);
         self.refresh();
-        let bounds = self.scene.bounds();
-        let canvas = Canvas::allocate(
-            ui,
-            ui.available_size(),
-            &mut self.scene.view,
-            &bounds,
-            false,
-        );
-        if self.scene.interact(ui, &canvas) {
-            self.refresh();
-        }
         let Some(built) = &self.built else { return };
         let count = self.scene.scene.shapes.len();
         let shown = &self.recording.steps[..self.timeline.shown.min(self.recording.steps.len())];
@@ -371,20 +360,7 @@ impl Lesson for BvhLesson {
         if canvas.response.clicked() && pointer_node.is_some() && self.scene.selected.is_none() {
             self.selected = pointer_node;
         }
-        let tested_primitives: Vec<(u32, bool)> = shown
-            .iter()
-            .filter_map(|step| match step {
-                Step::PrimitiveTested { primitive, t_hit } => Some((*primitive, t_hit.is_some())),
-                _ => None,
-            })
-            .collect();
-        common::draw_shapes(ui, &canvas, &self.scene.scene.shapes, |index| {
-            tested_primitives
-                .iter()
-                .rev()
-                .find(|(primitive, _)| *primitive as usize == index)
-                .map(|(_, hit)| if *hit { palette::HIT } else { palette::MISS })
-        });
+        common::draw_tested_shapes(ui, &canvas, &self.scene.scene.shapes, shown, None);
         let mut batch = (built.bvh.nodes.len() > common::BATCH_ABOVE).then(|| {
             let mut batch = Batch::default();
             batch.reserve(built.bvh.nodes.len() * 8, built.bvh.nodes.len() * 8);

@@ -50,6 +50,39 @@ pub fn draw_shapes(
     }
 }
 
+/// Draws every shape, coloured by the last test of it in `steps` (green hit, red missed),
+/// `current` in the "now" colour.
+pub fn draw_tested_shapes(
+    ui: &egui::Ui,
+    canvas: &Canvas,
+    shapes: &ShapeSet<DVec2>,
+    steps: &[Step<f64>],
+    current: Option<usize>,
+) {
+    let mut tested: Vec<Option<bool>> = vec![None; shapes.shapes.len()];
+    for step in steps {
+        if let Step::PrimitiveTested { primitive, t_hit } = step
+            && let Some(entry) = tested.get_mut(*primitive as usize)
+        {
+            *entry = Some(t_hit.is_some());
+        }
+    }
+    draw_shapes(ui, canvas, shapes, |index| {
+        if Some(index) == current {
+            return Some(palette::CURRENT);
+        }
+        tested[index].map(|hit| if hit { palette::HIT } else { palette::MISS })
+    });
+}
+
+/// The parameters every builder gets from a scene's settings.
+fn build_params(settings: &SceneSettings) -> BuildParams {
+    BuildParams {
+        max_leaf_size: settings.max_leaf_size,
+        cost: settings.cost(),
+    }
+}
+
 /// The BVH builders a lesson can pick, the lecture's rules first.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum BvhRule {
@@ -77,10 +110,7 @@ impl BvhRule {
     /// Builds a BVH over `shapes` with this rule and the scene's settings.
     pub fn build(self, shapes: &ShapeSet<DVec2>, settings: &SceneSettings) -> Bvh<DVec2> {
         let bounds = shapes.all_bounds();
-        let params = BuildParams {
-            max_leaf_size: settings.max_leaf_size,
-            cost: settings.cost(),
-        };
+        let params = build_params(settings);
         match self {
             BvhRule::Middle => MiddleSplit.build(&bounds, &params),
             BvhRule::Median => MedianSplit.build(&bounds, &params),
@@ -117,10 +147,7 @@ impl KdRule {
     /// Builds a kD-tree over `shapes` with this rule and the scene's settings.
     pub fn build(self, shapes: &ShapeSet<DVec2>, settings: &SceneSettings) -> KdTree<DVec2> {
         let bounds = shapes.all_bounds();
-        let params = BuildParams {
-            max_leaf_size: settings.max_leaf_size,
-            cost: settings.cost(),
-        };
+        let params = build_params(settings);
         match self {
             KdRule::Middle => KdMiddleSplit.build(&bounds, &params),
             KdRule::Median => KdMedianSplit.build(&bounds, &params),

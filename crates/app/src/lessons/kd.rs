@@ -11,7 +11,7 @@ use glam::DVec2;
 use super::common::{self, KdRule, Recording, number};
 use super::tree_diagram::TreeShape;
 use super::{Lesson, LessonText};
-use crate::canvas::{Canvas, depth_color, faded, palette};
+use crate::canvas::{depth_color, faded, palette};
 use crate::editor::{EditableScene, Editing};
 use crate::timeline::Timeline;
 
@@ -332,19 +332,8 @@ impl Lesson for KdLesson {
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        self.scene.toolbar_ui(ui);
+        let canvas = self.scene.canvas_ui(ui, None);
         self.refresh();
-        let bounds = self.scene.bounds();
-        let canvas = Canvas::allocate(
-            ui,
-            ui.available_size(),
-            &mut self.scene.view,
-            &bounds,
-            false,
-        );
-        if self.scene.interact(ui, &canvas) {
-            self.refresh();
-        }
         let Some(built) = &self.built else { return };
         let shown = &self.recording.steps[..self.timeline.shown.min(self.recording.steps.len())];
         // The leaf cell under the pointer lights up (and its node in the tree).
@@ -364,20 +353,7 @@ impl Lesson for KdLesson {
                 Some(faded(palette::CURRENT, 30)),
             );
         }
-        let tested: Vec<(u32, bool)> = shown
-            .iter()
-            .filter_map(|step| match step {
-                Step::PrimitiveTested { primitive, t_hit } => Some((*primitive, t_hit.is_some())),
-                _ => None,
-            })
-            .collect();
-        common::draw_shapes(ui, &canvas, &self.scene.scene.shapes, |index| {
-            tested
-                .iter()
-                .rev()
-                .find(|(primitive, _)| *primitive as usize == index)
-                .map(|(_, hit)| if *hit { palette::HIT } else { palette::MISS })
-        });
+        common::draw_tested_shapes(ui, &canvas, &self.scene.scene.shapes, shown, None);
         // Split lines across their cells, coloured by depth; the root cell outlined.
         canvas.box_outline(&built.tree.bounds, Stroke::new(1.5, depth_color(0)), None);
         for (index, node) in built.tree.nodes.iter().enumerate() {

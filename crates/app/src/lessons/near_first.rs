@@ -99,20 +99,7 @@ impl NearFirstLesson {
             return canvas;
         };
         let shown = self.shown(pane);
-        let tested: Vec<(u32, bool)> = shown
-            .iter()
-            .filter_map(|step| match step {
-                Step::PrimitiveTested { primitive, t_hit } => Some((*primitive, t_hit.is_some())),
-                _ => None,
-            })
-            .collect();
-        common::draw_shapes(ui, &canvas, &self.scene.scene.shapes, |index| {
-            tested
-                .iter()
-                .rev()
-                .find(|(primitive, _)| *primitive as usize == index)
-                .map(|(_, hit)| if *hit { palette::HIT } else { palette::MISS })
-        });
+        common::draw_tested_shapes(ui, &canvas, &self.scene.scene.shapes, shown, None);
         let faint = faded(ui.visuals().weak_text_color(), 70);
         for entry in &built.bvh.nodes {
             canvas.box_outline(&entry.bounds, Stroke::new(1.0, faint), None);

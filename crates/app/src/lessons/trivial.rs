@@ -11,7 +11,7 @@ use glam::DVec2;
 
 use super::common::{self, BvhRule, Recording};
 use super::{Lesson, LessonText};
-use crate::canvas::{Canvas, palette};
+use crate::canvas::palette;
 use crate::editor::{EditableScene, Editing};
 use crate::timeline::Timeline;
 
@@ -183,39 +183,15 @@ impl Lesson for TrivialLoop {
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        self.scene.toolbar_ui(ui);
+        let canvas = self.scene.canvas_ui(ui, None);
         self.refresh();
-        let bounds = self.scene.bounds();
-        let canvas = Canvas::allocate(
-            ui,
-            ui.available_size(),
-            &mut self.scene.view,
-            &bounds,
-            false,
-        );
-        if self.scene.interact(ui, &canvas) {
-            self.refresh();
-        }
         let shown = self.shown();
         let current = match shown.last() {
             Some(Step::PrimitiveTested { primitive, .. }) => Some(*primitive as usize),
             Some(Step::ClosestHitUpdated { primitive, .. }) => Some(*primitive as usize),
             _ => None,
         };
-        let mut tested: Vec<Option<bool>> = vec![None; self.scene.scene.shapes.len()];
-        for step in shown {
-            if let Step::PrimitiveTested { primitive, t_hit } = step
-                && let Some(entry) = tested.get_mut(*primitive as usize)
-            {
-                *entry = Some(t_hit.is_some());
-            }
-        }
-        common::draw_shapes(ui, &canvas, &self.scene.scene.shapes, |index| {
-            if Some(index) == current {
-                return Some(palette::CURRENT);
-            }
-            tested[index].map(|hit| if hit { palette::HIT } else { palette::MISS })
-        });
+        common::draw_tested_shapes(ui, &canvas, &self.scene.scene.shapes, shown, current);
         let closest = common::closest_so_far(shown);
         match self.scene.ray() {
             Ok(ray) => common::draw_ray(&canvas, &ray, closest.map(|(_, t)| t)),
@@ -230,11 +206,14 @@ impl Lesson for TrivialLoop {
             );
         }
         self.scene.draw_handles(&canvas);
-        let tested_count = tested.iter().filter(|entry| entry.is_some()).count();
+        let tested_count = shown
+            .iter()
+            .filter(|step| matches!(step, Step::PrimitiveTested { .. }))
+            .count();
         canvas.caption(&[(
             format!(
                 "tested {tested_count} of {}: red missed, green hit, blue now",
-                tested.len()
+                self.scene.scene.shapes.len()
             ),
             Color32::WHITE,
         )]);
