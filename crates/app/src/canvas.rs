@@ -178,6 +178,23 @@ impl Canvas {
             .rect_stroke(rect, 0.0, stroke, StrokeKind::Middle);
     }
 
+    /// A split: the line `axis = position` across `cell` (a kD plane, or a candidate split).
+    pub fn split_line(&self, cell: &Aabb<DVec2>, axis: usize, position: f64, stroke: Stroke) {
+        let (from, to) = if axis == 0 {
+            (
+                DVec2::new(position, cell.min.y),
+                DVec2::new(position, cell.max.y),
+            )
+        } else {
+            (
+                DVec2::new(cell.min.x, position),
+                DVec2::new(cell.max.x, position),
+            )
+        };
+        self.painter
+            .line_segment([self.to_screen(from), self.to_screen(to)], stroke);
+    }
+
     /// Draws a shape: filled disc or box, or a thick segment. A shape a few points across is
     /// drawn as a filled square: it looks the same, with a fraction of the triangles.
     pub fn shape(&self, shape: &Shape<DVec2>, fill: Color32, stroke: Stroke) {

@@ -14,7 +14,6 @@ use egui_plot::{HLine, Line, Plot, PlotPoints, VLine};
 use glam::DVec2;
 
 use super::common::number;
-use super::compare::draw_kd_splits;
 use super::kd::BuiltKd;
 use super::{Lesson, LessonText};
 use crate::canvas::{faded, palette};
@@ -146,7 +145,7 @@ impl BuildStepsLesson {
     fn curve(&mut self, node: u32) -> Option<&CostCurve> {
         let built = self.built.as_ref()?;
         if self.curves[node as usize].is_none() {
-            let path = path_of(built, node);
+            let path = built.shape.path_to(node);
             let (cell, primitives) = kd_node_primitives(&built.tree, &path).ok()?;
             let boxes = self.scene.scene.shapes.all_bounds();
             let cost = self.scene.scene.settings.cost();
@@ -168,7 +167,8 @@ impl BuildStepsLesson {
         let Some(built) = &self.built else {
             return Vec::new();
         };
-        let Ok((_, mut primitives)) = kd_node_primitives(&built.tree, &path_of(built, node)) else {
+        let Ok((_, mut primitives)) = kd_node_primitives(&built.tree, &built.shape.path_to(node))
+        else {
             return Vec::new();
         };
         let shapes = &self.scene.scene.shapes;
@@ -246,19 +246,6 @@ impl BuildStepsLesson {
             },
         }
     }
-}
-
-/// The L/R path from the root to `node`.
-fn path_of(built: &BuiltKd, node: u32) -> String {
-    let mut steps = Vec::new();
-    let mut current = node;
-    while let Some(parent) = built.shape.parent[current as usize] {
-        let right =
-            built.shape.children[parent as usize].is_some_and(|[_, right]| right == current);
-        steps.push(if right { 'R' } else { 'L' });
-        current = parent;
-    }
-    steps.iter().rev().collect()
 }
 
 impl Lesson for BuildStepsLesson {
@@ -399,7 +386,9 @@ impl Lesson for BuildStepsLesson {
             .collect();
         let partial = partial_tree(built, &chosen);
         let node_primitives = current
-            .and_then(|step| kd_node_primitives(&built.tree, &path_of(built, step.node())).ok())
+            .and_then(|step| {
+                kd_node_primitives(&built.tree, &built.shape.path_to(step.node())).ok()
+            })
             .map(|(_, primitives)| primitives)
             .unwrap_or_default();
         super::common::draw_shapes(ui, &canvas, &self.scene.scene.shapes, |index| {
@@ -407,7 +396,7 @@ impl Lesson for BuildStepsLesson {
                 .contains(&(index as u32))
                 .then_some(palette::RAY)
         });
-        draw_kd_splits(&canvas, &partial);
+        partial.draw_splits(&canvas, None);
         let Some(step) = current else {
             canvas.box_outline(&built.tree.bounds, Stroke::new(2.0, palette::CURRENT), None);
             return;
@@ -442,20 +431,10 @@ impl Lesson for BuildStepsLesson {
             }
             BuildStep::Choose { .. } => {
                 let split = built.tree.nodes[node as usize];
-                let axis = split.axis as usize;
-                let (from, to) = if axis == 0 {
-                    (
-                        DVec2::new(split.split, cell.min.y),
-                        DVec2::new(split.split, cell.max.y),
-                    )
-                } else {
-                    (
-                        DVec2::new(cell.min.x, split.split),
-                        DVec2::new(cell.max.x, split.split),
-                    )
-                };
-                canvas.painter.line_segment(
-                    [canvas.to_screen(from), canvas.to_screen(to)],
+                canvas.split_line(
+                    &cell,
+                    split.axis as usize,
+                    split.split,
                     Stroke::new(4.0, palette::CURRENT),
                 );
             }

@@ -277,35 +277,11 @@ impl Lesson for BvhLesson {
         ui.heading("Tree");
         let count = self.scene.scene.shapes.len();
         let shown = &self.recording.steps[..self.timeline.shown.min(self.recording.steps.len())];
-        let visited: Vec<u32> = shown
-            .iter()
-            .filter_map(|step| match step {
-                Step::NodeEntered { node } => Some(*node),
-                _ => None,
-            })
-            .collect();
-        let missed: Vec<u32> = shown
-            .iter()
-            .filter_map(|step| match step {
-                Step::BoxTested {
-                    node, hit: false, ..
-                } => Some(*node),
-                Step::NodeCulled { node, .. } => Some(*node),
-                _ => None,
-            })
-            .collect();
+        let emphasis = common::traversal_emphasis(shown, built.bvh.nodes.len());
         let hovered = built.shape.ui(
             ui,
             |node| node_name(built, node, count),
-            |node| {
-                if missed.contains(&node) {
-                    Some(faded(palette::MISS, 200))
-                } else if visited.contains(&node) {
-                    Some(palette::HIT)
-                } else {
-                    None
-                }
-            },
+            |node| emphasis[node as usize],
             self.hovered,
             &mut self.selected,
         );

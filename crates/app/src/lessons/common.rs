@@ -75,6 +75,29 @@ pub fn draw_tested_shapes(
     });
 }
 
+/// A tree node's colour after the first steps of a traversal: red if its box was missed or
+/// it was skipped, green if it was entered (the tree diagrams' emphasis).
+pub fn traversal_emphasis(steps: &[Step<f64>], node_count: usize) -> Vec<Option<Color32>> {
+    let mut emphasis = vec![None; node_count];
+    for step in steps {
+        let (node, color) = match *step {
+            Step::NodeEntered { node } | Step::CellEntered { node, .. } => (node, palette::HIT),
+            Step::BoxTested {
+                node, hit: false, ..
+            }
+            | Step::NodeCulled { node, .. } => (node, faded(palette::MISS, 200)),
+            _ => continue,
+        };
+        if let Some(entry) = emphasis.get_mut(node as usize) {
+            // A miss or a skip is final; an entry does not hide it.
+            if *entry != Some(faded(palette::MISS, 200)) {
+                *entry = Some(color);
+            }
+        }
+    }
+    emphasis
+}
+
 /// The parameters every builder gets from a scene's settings.
 fn build_params(settings: &SceneSettings) -> BuildParams {
     BuildParams {

@@ -144,7 +144,7 @@ impl Comparison {
                     canvas.box_outline(&entry.bounds, Stroke::new(1.2, faded(color, 220)), None);
                 }
             }
-            BuiltTree::Kd(built) => draw_kd_splits(canvas, built),
+            BuiltTree::Kd(built) => built.draw_splits(canvas, None),
         }
         let [first, second, third] = self.summary(pane);
         canvas.caption(&[
@@ -184,32 +184,6 @@ impl Comparison {
             .inner;
         scene.view = view;
         canvases
-    }
-}
-
-/// Draws a kD-tree's cells: the root cell and each split line across its node's cell.
-pub fn draw_kd_splits(canvas: &Canvas, built: &BuiltKd) {
-    canvas.box_outline(&built.tree.bounds, Stroke::new(1.2, depth_color(0)), None);
-    for (index, node) in built.tree.nodes.iter().enumerate() {
-        if node.is_leaf() {
-            continue;
-        }
-        let cell = &built.cells[index];
-        let (from, to) = if node.axis == 0 {
-            (
-                DVec2::new(node.split, cell.min.y),
-                DVec2::new(node.split, cell.max.y),
-            )
-        } else {
-            (
-                DVec2::new(cell.min.x, node.split),
-                DVec2::new(cell.max.x, node.split),
-            )
-        };
-        canvas.painter.line_segment(
-            [canvas.to_screen(from), canvas.to_screen(to)],
-            Stroke::new(1.2, depth_color(built.shape.depth[index] + 1)),
-        );
     }
 }
 

@@ -11,7 +11,7 @@ use glam::DVec2;
 use super::common::{self, KdRule, Recording, number};
 use super::tree_diagram::TreeShape;
 use super::{Lesson, LessonText};
-use crate::canvas::{depth_color, faded, palette};
+use crate::canvas::{Canvas, depth_color, faded, palette};
 use crate::editor::{EditableScene, Editing};
 use crate::timeline::Timeline;
 
@@ -68,6 +68,28 @@ impl BuiltKd {
             }
         }
         Self { tree, cells, shape }
+    }
+
+    /// Draws the cells: the root cell, and each node's split line across its cell, coloured by
+    /// depth; `emphasized`'s line thicker.
+    pub fn draw_splits(&self, canvas: &Canvas, emphasized: Option<u32>) {
+        canvas.box_outline(&self.tree.bounds, Stroke::new(1.5, depth_color(0)), None);
+        for (index, node) in self.tree.nodes.iter().enumerate() {
+            if node.is_leaf() {
+                continue;
+            }
+            let width = if emphasized == Some(index as u32) {
+                3.0
+            } else {
+                1.5
+            };
+            canvas.split_line(
+                &self.cells[index],
+                node.axis as usize,
+                node.split,
+                Stroke::new(width, depth_color(self.shape.depth[index] + 1)),
+            );
+        }
     }
 
     /// Whether `node` is its parent's near child for a ray going `direction`: the child the
@@ -284,20 +306,7 @@ impl Lesson for KdLesson {
             stats.sah_cost
         ));
         let shown = self.shown();
-        let entered: Vec<u32> = shown
-            .iter()
-            .filter_map(|step| match step {
-                Step::CellEntered { node, .. } => Some(*node),
-                _ => None,
-            })
-            .collect();
-        let culled: Vec<u32> = shown
-            .iter()
-            .filter_map(|step| match step {
-                Step::NodeCulled { node, .. } => Some(*node),
-                _ => None,
-            })
-            .collect();
+        let emphasis = common::traversal_emphasis(shown, built.tree.nodes.len());
         let hovered = built.shape.ui(
             ui,
             |node| match built.tree.nodes[node as usize].is_leaf() {
@@ -314,15 +323,7 @@ impl Lesson for KdLesson {
                     )
                 }
             },
-            |node| {
-                if culled.contains(&node) {
-                    Some(faded(palette::MISS, 200))
-                } else if entered.contains(&node) {
-                    Some(palette::HIT)
-                } else {
-                    None
-                }
-            },
+            |node| emphasis[node as usize],
             self.hovered,
             &mut self.selected,
         );
@@ -354,38 +355,12 @@ impl Lesson for KdLesson {
             );
         }
         common::draw_tested_shapes(ui, &canvas, &self.scene.scene.shapes, shown, None);
-        // Split lines across their cells, coloured by depth; the root cell outlined.
-        canvas.box_outline(&built.tree.bounds, Stroke::new(1.5, depth_color(0)), None);
-        for (index, node) in built.tree.nodes.iter().enumerate() {
-            if node.is_leaf() {
-                continue;
-            }
-            let cell = &built.cells[index];
-            let axis = node.axis as usize;
-            let (from, to) = if axis == 0 {
-                (
-                    DVec2::new(node.split, cell.min.y),
-                    DVec2::new(node.split, cell.max.y),
-                )
-            } else {
-                (
-                    DVec2::new(cell.min.x, node.split),
-                    DVec2::new(cell.max.x, node.split),
-                )
-            };
-            let width = if self
-                .hovered
-                .is_some_and(|hovered| built.shape.parent[hovered as usize] == Some(index as u32))
-            {
-                3.0
-            } else {
-                1.5
-            };
-            canvas.painter.line_segment(
-                [canvas.to_screen(from), canvas.to_screen(to)],
-                Stroke::new(width, depth_color(built.shape.depth[index] + 1)),
-            );
-        }
+        // The hovered cell's plane (its parent's) stands out.
+        built.draw_splits(
+            &canvas,
+            self.hovered
+                .and_then(|node| built.shape.parent[node as usize]),
+        );
         let Ok(ray) = self.scene.ray() else {
             canvas.caption(&[(
                 "No ray: drag its head away from its origin".to_owned(),

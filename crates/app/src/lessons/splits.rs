@@ -94,7 +94,7 @@ impl SplitsLesson {
                 bvh_curve(&boxes, &built.primitives[self.node as usize], &cost, bins)
             }
             BuiltTree::Kd(built) => {
-                let path = path_to(&built.shape.parent, &built.shape.children, self.node);
+                let path = built.shape.path_to(self.node);
                 let (cell, primitives) = kd_node_primitives(&built.tree, &path).ok()?;
                 kd_curve(&boxes, &primitives, &cell, &cost, bins)
             }
@@ -191,19 +191,10 @@ impl SplitsLesson {
             Stroke::new(2.0, palette::Y_AXIS),
             Some(faded(palette::Y_AXIS, 35)),
         );
-        let (from, to) = if axis == 0 {
-            (
-                DVec2::new(candidate.position, node_box.min.y),
-                DVec2::new(candidate.position, node_box.max.y),
-            )
-        } else {
-            (
-                DVec2::new(node_box.min.x, candidate.position),
-                DVec2::new(node_box.max.x, candidate.position),
-            )
-        };
-        canvas.painter.line_segment(
-            [canvas.to_screen(from), canvas.to_screen(to)],
+        canvas.split_line(
+            &node_box,
+            axis,
+            candidate.position,
             Stroke::new(3.0, palette::CURRENT),
         );
     }
@@ -295,18 +286,6 @@ impl SplitsLesson {
                 .copied();
         }
     }
-}
-
-/// The path (L/R from the root) to `node`.
-fn path_to(parents: &[Option<u32>], children: &[Option<[u32; 2]>], node: u32) -> String {
-    let mut steps = Vec::new();
-    let mut current = node;
-    while let Some(parent) = parents[current as usize] {
-        let right = children[parent as usize].is_some_and(|[_, right]| right == current);
-        steps.push(if right { 'R' } else { 'L' });
-        current = parent;
-    }
-    steps.iter().rev().collect()
 }
 
 /// The lecture's cost formula with a candidate's numbers filled in.

@@ -57,6 +57,18 @@ impl TreeShape {
         column
     }
 
+    /// The path from the root to `node`: `L` or `R` per step (the core's node paths).
+    pub fn path_to(&self, node: u32) -> String {
+        let mut steps = Vec::new();
+        let mut current = node;
+        while let Some(parent) = self.parent[current as usize] {
+            let right = self.children[parent as usize].is_some_and(|[_, right]| right == current);
+            steps.push(if right { 'R' } else { 'L' });
+            current = parent;
+        }
+        steps.iter().rev().collect()
+    }
+
     /// The deepest level.
     pub fn max_depth(&self) -> usize {
         self.depth.iter().copied().max().unwrap_or(0)
