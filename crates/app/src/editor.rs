@@ -57,6 +57,27 @@ pub struct Editing {
     pub generator: bool,
 }
 
+impl Editing {
+    /// Everything: the ray, the shapes, the generator.
+    pub const ALL: Self = Self {
+        ray: true,
+        shapes: true,
+        generator: true,
+    };
+    /// The ray and the shapes by hand (the scene is a fixed exhibit, not a generated one).
+    pub const BY_HAND: Self = Self {
+        ray: true,
+        shapes: true,
+        generator: false,
+    };
+    /// The shapes and the generator (lessons about building, with no ray).
+    pub const SHAPES: Self = Self {
+        ray: false,
+        shapes: true,
+        generator: true,
+    };
+}
+
 /// A scene being looked at and edited.
 #[derive(Clone, Debug)]
 pub struct EditableScene {

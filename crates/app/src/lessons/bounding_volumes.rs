@@ -73,14 +73,7 @@ fn shape_area(shape: &Shape<DVec2>) -> f64 {
 impl BoundingVolumesLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(
-            text.scene.clone(),
-            Editing {
-                ray: true,
-                shapes: true,
-                generator: false,
-            },
-        );
+        let scene = EditableScene::new(text.scene.clone(), Editing::BY_HAND);
         Self {
             text,
             scene,

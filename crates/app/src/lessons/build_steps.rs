@@ -98,14 +98,7 @@ pub struct BuildStepsLesson {
 impl BuildStepsLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(
-            text.scene.clone(),
-            Editing {
-                ray: false,
-                shapes: true,
-                generator: true,
-            },
-        );
+        let scene = EditableScene::new(text.scene.clone(), Editing::SHAPES);
         Self {
             text,
             scene,

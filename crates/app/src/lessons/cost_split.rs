@@ -26,14 +26,7 @@ pub struct CostSplitLesson {
 impl CostSplitLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(
-            text.scene.clone(),
-            Editing {
-                ray: false,
-                shapes: true,
-                generator: true,
-            },
-        );
+        let scene = EditableScene::new(text.scene.clone(), Editing::SHAPES);
         Self {
             text,
             scene,

@@ -34,14 +34,7 @@ pub struct NearFirstLesson {
 impl NearFirstLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(
-            text.scene.clone(),
-            Editing {
-                ray: true,
-                shapes: true,
-                generator: true,
-            },
-        );
+        let scene = EditableScene::new(text.scene.clone(), Editing::ALL);
         Self {
             text,
             scene,

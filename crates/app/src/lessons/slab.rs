@@ -62,14 +62,7 @@ pub struct SlabLesson {
 impl SlabLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(
-            text.scene.clone(),
-            Editing {
-                ray: true,
-                shapes: true,
-                generator: false,
-            },
-        );
+        let scene = EditableScene::new(text.scene.clone(), Editing::BY_HAND);
         let mut timeline = Timeline::default();
         timeline.set_len(STEP_CAPTIONS.len() - 1);
         timeline.shown = timeline.len;

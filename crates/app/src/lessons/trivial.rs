@@ -36,14 +36,7 @@ struct GrowthPoint {
 impl TrivialLoop {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(
-            text.scene.clone(),
-            Editing {
-                ray: true,
-                shapes: true,
-                generator: true,
-            },
-        );
+        let scene = EditableScene::new(text.scene.clone(), Editing::ALL);
         Self {
             text,
             scene,
