@@ -180,6 +180,11 @@ impl Canvas {
 
     /// A split: the line `axis = position` across `cell` (a kD plane, or a candidate split).
     pub fn split_line(&self, cell: &Aabb<DVec2>, axis: usize, position: f64, stroke: Stroke) {
+        let [from, to] = self.split_ends(cell, axis, position);
+        self.painter.line_segment([from, to], stroke);
+    }
+
+    fn split_ends(&self, cell: &Aabb<DVec2>, axis: usize, position: f64) -> [Pos2; 2] {
         let (from, to) = if axis == 0 {
             (
                 DVec2::new(position, cell.min.y),
@@ -191,8 +196,45 @@ impl Canvas {
                 DVec2::new(cell.max.x, position),
             )
         };
-        self.painter
-            .line_segment([self.to_screen(from), self.to_screen(to)], stroke);
+        [self.to_screen(from), self.to_screen(to)]
+    }
+
+    /// Many box outlines: one by one when few, as one batched mesh when many.
+    pub fn box_outlines(&self, boxes: impl ExactSizeIterator<Item = (Aabb<DVec2>, Stroke)>) {
+        if boxes.len() <= BATCH_ABOVE {
+            for (bounds, stroke) in boxes {
+                self.box_outline(&bounds, stroke, None);
+            }
+            return;
+        }
+        let mut batch = Batch::default();
+        batch.reserve(boxes.len() * 8, boxes.len() * 8);
+        for (bounds, stroke) in boxes {
+            self.batch_box(&mut batch, &bounds, stroke.width, stroke.color);
+        }
+        self.draw_batch(batch);
+    }
+
+    /// Many split lines (`cell`, `axis`, `position`): one by one when few, batched when many.
+    pub fn split_lines(
+        &self,
+        lines: impl ExactSizeIterator<Item = (Aabb<DVec2>, usize, f64, Stroke)>,
+    ) {
+        if lines.len() <= BATCH_ABOVE {
+            for (cell, axis, position, stroke) in lines {
+                self.split_line(&cell, axis, position, stroke);
+            }
+            return;
+        }
+        let mut batch = Batch::default();
+        batch.reserve(lines.len() * 4, lines.len() * 2);
+        for (cell, axis, position, stroke) in lines {
+            let [from, to] = self.split_ends(&cell, axis, position);
+            if self.visible(Rect::from_two_pos(from, to)) {
+                batch.line(from, to, stroke.width, stroke.color);
+            }
+        }
+        self.draw_batch(batch);
     }
 
     /// Draws a shape: filled disc or box, or a thick segment. A shape a few points across is
@@ -307,6 +349,9 @@ impl Canvas {
         }
     }
 }
+
+/// Above this many shapes, boxes or lines, a lesson draws them as one batched mesh.
+pub const BATCH_ABOVE: usize = 300;
 
 /// Many simple shapes in one mesh, drawn with one paint call: what a frame with thousands of
 /// primitives and boxes can afford (egui would otherwise tessellate each with anti-aliased

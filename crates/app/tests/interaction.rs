@@ -278,3 +278,35 @@ fn a_saved_scene_opens_in_another_lesson_and_a_broken_one_is_refused() {
         .clone();
     assert_eq!(after, opened, "a broken file changes nothing");
 }
+
+/// Every lesson takes a large generated scene (as a student's "generate n = 5000" makes) and
+/// keeps drawing: no panic, and the lesson still animates or plots.
+#[test]
+fn every_lesson_copes_with_a_large_scene() {
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(1400.0, 860.0))
+        .build_ui_state(
+            |ui, app: &mut AccelvizApp| app.contents_ui(ui),
+            AccelvizApp::new(),
+        );
+    for index in 0..harness.state().lesson_count() {
+        harness.state_mut().selected = index;
+        let scene = harness
+            .state_mut()
+            .lesson_mut()
+            .and_then(|lesson| lesson.scene_mut())
+            .expect("every lesson has a scene");
+        scene.scene.shapes =
+            accelviz_scene::scene2d::generate(accelviz_scene::scene2d::Layout::Clustered, 5_000, 9);
+        scene.touch();
+        harness.run_steps(2);
+        if let Some((timeline, _)) = harness
+            .state_mut()
+            .lesson_mut()
+            .and_then(|lesson| lesson.timeline())
+        {
+            timeline.shown = timeline.len;
+        }
+        harness.run_steps(2);
+    }
+}

@@ -12,7 +12,7 @@ use glam::DVec2;
 use super::common::{self, BvhRule, Recording};
 use super::tree_diagram::TreeShape;
 use super::{Lesson, LessonText};
-use crate::canvas::{Batch, depth_color, faded, palette};
+use crate::canvas::{BATCH_ABOVE, Batch, depth_color, faded, palette};
 use crate::editor::{EditableScene, Editing};
 use crate::timeline::Timeline;
 
@@ -330,7 +330,7 @@ impl Lesson for BvhLesson {
             self.selected = pointer_node;
         }
         common::draw_tested_shapes(ui, &canvas, &self.scene.scene.shapes, shown, None);
-        let mut batch = (built.bvh.nodes.len() > common::BATCH_ABOVE).then(|| {
+        let mut batch = (built.bvh.nodes.len() > BATCH_ABOVE).then(|| {
             let mut batch = Batch::default();
             batch.reserve(built.bvh.nodes.len() * 8, built.bvh.nodes.len() * 8);
             batch

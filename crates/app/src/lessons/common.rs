@@ -12,7 +12,7 @@ use accelviz_scene::document::SceneSettings;
 use egui::{Color32, Stroke};
 use glam::DVec2;
 
-use crate::canvas::{Batch, Canvas, faded, palette};
+use crate::canvas::{BATCH_ABOVE, Batch, Canvas, faded, palette};
 
 /// The fill of a shape nobody is looking at, readable on either theme.
 pub fn shape_fill(ui: &egui::Ui) -> Color32 {
@@ -22,9 +22,6 @@ pub fn shape_fill(ui: &egui::Ui) -> Color32 {
         Color32::from_gray(110)
     }
 }
-
-/// Above this many shapes or boxes, they are drawn as one batched mesh.
-pub const BATCH_ABOVE: usize = 300;
 
 /// Draws every shape; `color_of` picks a colour for shapes that stand out.
 pub fn draw_shapes(

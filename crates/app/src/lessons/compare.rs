@@ -139,10 +139,10 @@ impl Comparison {
         common::draw_shapes(ui, canvas, &scene.scene.shapes, |_| None);
         match &self.trees[pane] {
             BuiltTree::Bvh(built) => {
-                for (node, entry) in built.bvh.nodes.iter().enumerate() {
+                canvas.box_outlines(built.bvh.nodes.iter().enumerate().map(|(node, entry)| {
                     let color = depth_color(built.shape.depth[node]);
-                    canvas.box_outline(&entry.bounds, Stroke::new(1.2, faded(color, 220)), None);
-                }
+                    (entry.bounds, Stroke::new(1.2, faded(color, 220)))
+                }))
             }
             BuiltTree::Kd(built) => built.draw_splits(canvas, None),
         }

@@ -74,22 +74,19 @@ impl BuiltKd {
     /// depth; `emphasized`'s line thicker.
     pub fn draw_splits(&self, canvas: &Canvas, emphasized: Option<u32>) {
         canvas.box_outline(&self.tree.bounds, Stroke::new(1.5, depth_color(0)), None);
-        for (index, node) in self.tree.nodes.iter().enumerate() {
-            if node.is_leaf() {
-                continue;
-            }
+        let interior: Vec<usize> = (0..self.tree.nodes.len())
+            .filter(|&index| !self.tree.nodes[index].is_leaf())
+            .collect();
+        canvas.split_lines(interior.into_iter().map(|index| {
+            let node = &self.tree.nodes[index];
             let width = if emphasized == Some(index as u32) {
                 3.0
             } else {
                 1.5
             };
-            canvas.split_line(
-                &self.cells[index],
-                node.axis as usize,
-                node.split,
-                Stroke::new(width, depth_color(self.shape.depth[index] + 1)),
-            );
-        }
+            let stroke = Stroke::new(width, depth_color(self.shape.depth[index] + 1));
+            (self.cells[index], node.axis as usize, node.split, stroke)
+        }));
     }
 
     /// Whether `node` is its parent's near child for a ray going `direction`: the child the

@@ -94,9 +94,13 @@ impl NearFirstLesson {
         let shown = self.shown(pane);
         common::draw_tested_shapes(ui, &canvas, &self.scene.scene.shapes, shown, None);
         let faint = faded(ui.visuals().weak_text_color(), 70);
-        for entry in &built.bvh.nodes {
-            canvas.box_outline(&entry.bounds, Stroke::new(1.0, faint), None);
-        }
+        canvas.box_outlines(
+            built
+                .bvh
+                .nodes
+                .iter()
+                .map(|entry| (entry.bounds, Stroke::new(1.0, faint))),
+        );
         for step in shown {
             match step {
                 Step::NodeEntered { node } => canvas.box_outline(
