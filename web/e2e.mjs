@@ -1,6 +1,7 @@
 // End-to-end test of the browser build (web/pkg, made by scripts/build-web) in headless
 // Chromium: the page loads, the canvas shows the app (checked from a screenshot), a click on a
-// lesson and on "step" change what is shown, and no error reaches the console.
+// lesson and on "step" change what is shown (every lesson is opened in turn), and no error
+// reaches the console.
 //
 // The app reports its lesson and step in the page title and the console (app.rs,
 // `report_position`); clicks go to fixed places of its layout at the viewport size below.
@@ -136,8 +137,24 @@ try {
   const first = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-start.png') }));
   check(colourCount(first) > 50, `the canvas shows the app (${colourCount(first)} colours in the screenshot)`);
 
-  // The lesson list: the fourth entry is the BVH lesson.
-  await page.mouse.click(90, 142);
+  // Every lesson of the list, in turn: each opens and draws.
+  const lessonCount = 9;
+  for (let index = 0; index < lessonCount; index++) {
+    await page.mouse.click(90, 65 + 23 * index);
+    const wanted = `${index + 1}. `;
+    await page.waitForFunction((text) => document.title.includes(text), wanted, { timeout: 20_000 })
+      .catch(() => {});
+    await page.waitForTimeout(200);
+    const title = await page.title();
+    const shot = decodePng(await page.screenshot({
+      path: path.join(shotDir, `web-lesson-${String(index + 1).padStart(2, '0')}.png`),
+    }));
+    check(title.includes(wanted) && colourCount(shot) > 50,
+      `lesson ${index + 1} opens and draws: "${title}" (${colourCount(shot)} colours)`);
+  }
+
+  // The BVH lesson, fourth in the list, for the step test.
+  await page.mouse.click(90, 65 + 23 * 3);
   await page.waitForFunction(() => document.title.includes('hierarchy'), null, { timeout: 10_000 })
     .catch(() => {});
   const lessonTitle = await page.title();

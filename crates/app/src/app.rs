@@ -26,10 +26,20 @@ impl Default for AccelvizApp {
 }
 
 impl AccelvizApp {
-    /// The app on its default lesson, the lecture's first.
+    /// The app on its default lesson, the lecture's first, with the embedded lesson files.
     pub fn new() -> Self {
+        Self::with_lessons(lessons::registry())
+    }
+
+    /// The app with lesson files read from `assets_dir` where they exist there (see
+    /// [`lessons::registry_from`]).
+    pub fn with_assets(assets_dir: &std::path::Path) -> Self {
+        Self::with_lessons(lessons::registry_from(Some(assets_dir)))
+    }
+
+    fn with_lessons(lessons: Vec<Result<Box<dyn Lesson>, String>>) -> Self {
         Self {
-            lessons: lessons::registry(),
+            lessons,
             selected: 0,
             status: None,
             files: FileChannel::default(),

@@ -10,10 +10,15 @@ fn main() -> eframe::Result {
             .with_min_inner_size([900.0, 560.0]),
         ..Default::default()
     };
+    // Lesson files are read from ACCELVIZ_ASSETS, or ./assets when run from the repository,
+    // so edits to them show at the next start; the embedded copies serve everywhere else.
+    let assets = std::env::var_os("ACCELVIZ_ASSETS")
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| std::path::PathBuf::from("assets"));
     eframe::run_native(
         "accelviz",
         options,
-        Box::new(|_creation| Ok(Box::new(accelviz_app::AccelvizApp::new()))),
+        Box::new(move |_creation| Ok(Box::new(accelviz_app::AccelvizApp::with_assets(&assets)))),
     )
 }
 

@@ -76,3 +76,36 @@ fn a_ten_thousand_shape_scene_matches_its_snapshot() {
     harness.run();
     harness.snapshot("bvh_10k");
 }
+
+/// Lesson files on disk override the embedded ones (a lecturer's edit shows at the next start);
+/// a broken one becomes an entry that names its file and line, and the other lessons still load.
+#[test]
+fn lesson_files_on_disk_override_the_embedded_ones() {
+    let dir = std::env::temp_dir().join(format!("accelviz-lessons-{}", std::process::id()));
+    std::fs::create_dir_all(dir.join("lessons")).unwrap();
+    let (first_path, first_text) = LESSON_FILES[0];
+    let edited = first_text.replace("1. The trivial loop", "1. The loop, edited");
+    std::fs::write(dir.join(first_path.trim_start_matches("assets/")), edited).unwrap();
+    let (second_path, second_text) = LESSON_FILES[1];
+    let broken = second_text.replacen("title:", "titel:", 1);
+    std::fs::write(dir.join(second_path.trim_start_matches("assets/")), broken).unwrap();
+
+    let app = AccelvizApp::with_assets(&dir);
+    let titles = app.titles();
+    assert_eq!(titles[0], "1. The loop, edited");
+    assert_eq!(titles[1], "(lesson file broken)");
+    assert_eq!(
+        titles[2], "3. The slab test",
+        "files not on disk come embedded"
+    );
+    let lessons = accelviz_app::lessons::registry_from(Some(&dir));
+    let error = lessons[1]
+        .as_ref()
+        .err()
+        .expect("the broken file is an error");
+    assert!(
+        error.contains("02-bounding-volumes.ron:3:") && error.contains("titel"),
+        "{error}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -56,6 +56,7 @@ pub enum ShapeEntry {
 
 /// The ray: from `origin` towards `toward` (its direction is `toward − origin`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct RayEntry {
     /// Where it starts.
     pub origin: (f64, f64),
@@ -86,6 +87,7 @@ impl From<LayoutEntry> for Layout {
 
 /// A seeded generator: the same three values give the same shapes on every machine.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct GeneratorEntry {
     /// Where shapes go.
     pub layout: LayoutEntry,
@@ -97,7 +99,7 @@ pub struct GeneratorEntry {
 
 /// How structures over the scene are built and costed.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
+#[serde(default, deny_unknown_fields)]
 pub struct SceneSettings {
     /// A node with this many primitives or fewer becomes a leaf.
     pub max_leaf_size: usize,
@@ -137,6 +139,7 @@ impl SceneSettings {
 
 /// A scene document as written.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct SceneDocument {
     /// The shapes, numbered from 0 in this order.
     #[serde(default)]

@@ -27,6 +27,7 @@ pub mod trivial;
 
 /// A lesson's text and scene, as written in `assets/lessons/NAME.ron`.
 #[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct LessonFile {
     /// Shown in the lesson list and above the canvas.
     pub title: String,
@@ -125,9 +126,16 @@ pub const LESSON_FILES: [(&str, &str); 9] = [
     ),
 ];
 
-/// Every lesson, in the lecture's order. A lesson file that fails to parse (only possible
-/// while editing the assets; a test parses them all) becomes an error entry, not a crash.
+/// Every lesson, in the lecture's order, from the embedded lesson files. A lesson file that
+/// fails to parse becomes an error entry naming the file and line, not a crash.
 pub fn registry() -> Vec<Result<Box<dyn Lesson>, String>> {
+    registry_from(None)
+}
+
+/// Every lesson, reading each lesson file from `assets_dir` (the folder holding `lessons/`)
+/// where it exists there, so a lecturer can edit a lesson's text or scene and restart the app
+/// without rebuilding it; the embedded file otherwise.
+pub fn registry_from(assets_dir: Option<&std::path::Path>) -> Vec<Result<Box<dyn Lesson>, String>> {
     let makers: [fn(LessonText) -> Box<dyn Lesson>; 9] = [
         |text| Box::new(trivial::TrivialLoop::new(text)),
         |text| Box::new(bounding_volumes::BoundingVolumesLesson::new(text)),
@@ -142,10 +150,20 @@ pub fn registry() -> Vec<Result<Box<dyn Lesson>, String>> {
     LESSON_FILES
         .iter()
         .zip(makers)
-        .map(|((path, text), make)| {
-            LessonText::parse(text, path)
-                .map(make)
-                .map_err(|error| error.to_string())
+        .map(|((path, embedded), make)| {
+            let on_disk = assets_dir.and_then(|dir| {
+                let file = dir.join(path.trim_start_matches("assets/"));
+                file.is_file().then(|| {
+                    let shown = file.display().to_string();
+                    accelviz_scene::error::read_text(&shown).map(|text| (shown, text))
+                })
+            });
+            let parsed = match on_disk {
+                Some(Ok((shown, text))) => LessonText::parse(&text, &shown),
+                Some(Err(error)) => Err(error),
+                None => LessonText::parse(embedded, path),
+            };
+            parsed.map(make).map_err(|error| error.to_string())
         })
         .collect()
 }
