@@ -140,7 +140,7 @@ try {
   // Every lesson of the list, in turn: each opens and draws.
   const lessonCount = 9;
   for (let index = 0; index < lessonCount; index++) {
-    await page.mouse.click(90, 65 + 23 * index);
+    await page.mouse.click(60, 65 + 23 * index);
     const wanted = `${index + 1}. `;
     await page.waitForFunction((text) => document.title.includes(text), wanted, { timeout: 20_000 })
       .catch(() => {});
@@ -154,7 +154,7 @@ try {
   }
 
   // The BVH lesson, fourth in the list, for the step test.
-  await page.mouse.click(90, 65 + 23 * 3);
+  await page.mouse.click(60, 65 + 23 * 3);
   await page.waitForFunction(() => document.title.includes('hierarchy'), null, { timeout: 10_000 })
     .catch(() => {});
   const lessonTitle = await page.title();

@@ -153,12 +153,15 @@ impl AccelvizApp {
         ui.add_space(6.0);
         ui.label(RichText::new("Lessons").strong());
         ui.add_space(4.0);
-        for (index, title) in self.titles().into_iter().enumerate() {
-            if ui.selectable_label(self.selected == index, title).clicked() {
-                self.selected = index;
-                self.status = None;
+        // Full-width entries: easy to hit from a projector's remote mouse.
+        ui.with_layout(egui::Layout::top_down_justified(egui::Align::LEFT), |ui| {
+            for (index, title) in self.titles().into_iter().enumerate() {
+                if ui.selectable_label(self.selected == index, title).clicked() {
+                    self.selected = index;
+                    self.status = None;
+                }
             }
-        }
+        });
         ui.add_space(12.0);
         ui.label(
             RichText::new(

@@ -300,16 +300,13 @@ impl Lesson for KdLesson {
         let hovered = built.shape.ui(
             ui,
             |node| match built.tree.nodes[node as usize].is_leaf() {
-                true => format!(
-                    "leaf {node}: {} primitives",
-                    built.tree.nodes[node as usize].count
-                ),
+                true => format!("{} prims", built.tree.nodes[node as usize].count),
                 false => {
                     let entry = &built.tree.nodes[node as usize];
                     format!(
-                        "node {node}: {} = {}",
+                        "{} = {:.1}",
                         ["x", "y"][entry.axis as usize % 2],
-                        number(entry.split)
+                        entry.split
                     )
                 }
             },

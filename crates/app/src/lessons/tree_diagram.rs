@@ -150,7 +150,8 @@ impl TreeShape {
                 };
                 painter.circle_stroke(center, radius + 3.0, Stroke::new(2.5, color));
             }
-            if radius >= 8.0 {
+            // A label only where its level leaves room for one under each node.
+            if radius >= 8.0 && per_depth[self.depth[node as usize]] as f32 * 64.0 <= width {
                 painter.text(
                     center + Vec2::new(0.0, radius + 6.0),
                     Align2::CENTER_CENTER,
