@@ -70,6 +70,7 @@ impl AccelvizApp {
 
     /// Everything the app draws in a frame.
     pub fn contents_ui(&mut self, ui: &mut Ui) {
+        self.selected = self.selected.min(self.lessons.len().saturating_sub(1));
         self.apply_file_events();
         egui::Panel::top("top bar").show(ui, |ui| self.top_bar_ui(ui));
         let selected = self.selected;
@@ -130,6 +131,15 @@ impl AccelvizApp {
                 .clicked()
             {
                 self.files.open();
+            }
+            if ui
+                .add_enabled(has_scene, egui::Button::new("Reset scene"))
+                .on_hover_text("Back to the lesson's own scene")
+                .clicked()
+                && let Some(lesson) = self.lesson_mut()
+            {
+                lesson.reset_scene();
+                self.status = None;
             }
             if ui
                 .add_enabled(has_scene, egui::Button::new("Save scene…"))

@@ -277,6 +277,19 @@ fn a_saved_scene_opens_in_another_lesson_and_a_broken_one_is_refused() {
         .scene
         .clone();
     assert_eq!(after, opened, "a broken file changes nothing");
+
+    app.lesson_mut().expect("lesson 4").reset_scene();
+    let reset = app
+        .lesson_mut()
+        .and_then(|lesson| lesson.scene_mut())
+        .expect("scene")
+        .scene
+        .clone();
+    assert_eq!(
+        reset.shapes.shapes.len(),
+        5,
+        "reset puts back the slide's A to E"
+    );
 }
 
 /// Every lesson takes a large generated scene (as a student's "generate n = 5000" makes) and

@@ -74,6 +74,14 @@ pub trait Lesson {
     /// The scene, for saving and opening; `None` if the lesson has none to save.
     fn scene_mut(&mut self) -> Option<&mut EditableScene>;
 
+    /// Puts back the scene the lesson file starts with (after edits, or a scene opened).
+    fn reset_scene(&mut self) {
+        let scene = self.text().scene.clone();
+        if let Some(editable) = self.scene_mut() {
+            editable.replace(scene);
+        }
+    }
+
     /// The animation's timeline and a caption for its current step, if the lesson animates.
     fn timeline(&mut self) -> Option<(&mut Timeline, String)> {
         None
