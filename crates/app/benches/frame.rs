@@ -16,7 +16,9 @@ fn frame(ctx: &egui::Context, app: &mut AccelvizApp) -> usize {
         )),
         ..Default::default()
     };
-    let output = ctx.run_ui(input, |ui| app.contents_ui(ui));
+    let mut output = ctx.run_ui(input, |ui| app.contents_ui(ui));
+    // No renderer takes the font texture's updates here.
+    output.textures_delta.clear();
     let meshes = ctx.tessellate(output.shapes, output.pixels_per_point);
     meshes.len()
 }
