@@ -209,9 +209,23 @@ impl SplitsLesson {
         let leaf_cost = curve.leaf_cost;
         let axis_name = ["x", "y"][axis.min(1)];
         let selected = self.selected;
+        let (low, high) = exact
+            .iter()
+            .map(|candidate| candidate.cost)
+            .chain([leaf_cost])
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), cost| {
+                (low.min(cost), high.max(cost))
+            });
+        let headroom = if high > low {
+            high + (high - low) * 0.8
+        } else {
+            high + 1.0
+        };
         let response = Plot::new("sah cost curve")
             .height(height)
-            .legend(Legend::default())
+            .legend(Legend::default().position(egui_plot::Corner::RightTop))
+            // Headroom above the curve for the legend.
+            .include_y(headroom)
             .x_axis_label(format!("split position on {axis_name}"))
             .y_axis_label("SAH cost")
             .allow_scroll(false)
@@ -220,17 +234,23 @@ impl SplitsLesson {
             .allow_double_click_reset(false)
             .show(ui, |plot| {
                 // A kD plane position can carry two candidates (a primitive's end and the next
-                // one's start); the line runs through the cheaper, the dots show every one.
+                // one's start), and candidates a hair apart would draw a spike no wider than
+                // a pixel: the line runs through the cheapest of each pixel-wide group, the
+                // dots show every one.
+                let span = exact.last().map_or(0.0, |last| last.position)
+                    - exact.first().map_or(0.0, |first| first.position);
+                let merge = span * 2e-3;
                 let mut lowest: Vec<[f64; 2]> = Vec::with_capacity(exact.len());
                 for candidate in &exact {
                     match lowest.last_mut() {
-                        Some(last) if last[0] == candidate.position => {
+                        Some(last) if candidate.position - last[0] <= merge => {
                             last[1] = last[1].min(candidate.cost)
                         }
                         _ => lowest.push([candidate.position, candidate.cost]),
                     }
                 }
-                plot.line(Line::new("SAH cost", PlotPoints::new(lowest)).color(palette::RAY));
+                // No name: the dots' legend entry stands for both.
+                plot.line(Line::new("", PlotPoints::new(lowest)).color(palette::RAY));
                 let dots: PlotPoints = exact.iter().map(|c| [c.position, c.cost]).collect();
                 plot.points(
                     Points::new("every candidate (exact)", dots)
