@@ -1,7 +1,7 @@
 // End-to-end test of the browser build (web/pkg, made by scripts/build-web) in headless
 // Chromium: the page loads, the canvas shows the app (checked from a screenshot), a click on a
-// lesson and on "step" change what is shown (every lesson is opened in turn), and no error
-// reaches the console.
+// lesson and on "step" change what is shown (every lesson is opened in turn), a scene is
+// downloaded and uploaded, and no error reaches the console.
 //
 // The app reports its lesson and step in the page title and the console (app.rs,
 // `report_position`); clicks go to fixed places of its layout at the viewport size below.
@@ -171,6 +171,31 @@ try {
   await page.waitForTimeout(300);
   const stepped = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-step.png') }));
   check(differingShare(lesson, stepped) > 0.0005, `the step changed the picture (${(100 * differingShare(lesson, stepped)).toFixed(2)} % of pixels)`);
+
+  // Download the scene: "Save scene…" in the top bar (its place with lesson 4's title).
+  const [download] = await Promise.all([
+    page.waitForEvent('download', { timeout: 10_000 }),
+    page.mouse.click(564, 12),
+  ]);
+  const saved = fs.readFileSync(await download.path(), 'utf8');
+  check(download.suggestedFilename() === 'scene.ron' && saved.includes('Segment(') && saved.includes('ray:'),
+    `"Save scene…" downloads the scene (${download.suggestedFilename()}, ${saved.length} bytes)`);
+
+  // Upload a scene: "Open scene…" opens the browser's file chooser.
+  const upload = '(shapes: [Disc(center: (20, 20), radius: 5), Box(min: (40, 40), max: (60, 50))],' +
+    ' ray: (origin: (0, 0), toward: (1, 1)))';
+  const file = { name: 'upload.ron', mimeType: 'text/plain', buffer: Buffer.from(upload) };
+  const [chooser] = await Promise.all([
+    page.waitForEvent('filechooser', { timeout: 10_000 }),
+    page.mouse.click(370, 12),
+  ]);
+  await chooser.setFiles(file);
+  for (let tries = 0; tries < 50 && !logLines.some((line) => line.includes('opened upload.ron')); tries++) {
+    await page.waitForTimeout(100);
+  }
+  check(logLines.some((line) => line.includes('accelviz: opened upload.ron')), '"Open scene…" uploads a scene into the lesson');
+  const uploaded = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-uploaded.png') }));
+  check(differingShare(stepped, uploaded) > 0.02, `the uploaded scene is drawn (${(100 * differingShare(stepped, uploaded)).toFixed(1)} % of pixels changed)`);
 
   check(consoleErrors.length === 0, `no console errors${consoleErrors.length ? ': ' + consoleErrors.join(' | ') : ''}`);
   if (failures.length) console.log('console:\n  ' + logLines.join('\n  '));

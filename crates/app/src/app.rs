@@ -210,10 +210,14 @@ impl AccelvizApp {
             Ok(scene) => {
                 if let Some(editable) = self.lesson_mut().and_then(|lesson| lesson.scene_mut()) {
                     editable.replace(scene);
+                    log::info!("accelviz: opened {name}");
                     self.status = Some((format!("opened {name}"), false));
                 }
             }
-            Err(error) => self.status = Some((error.to_string(), true)),
+            Err(error) => {
+                log::warn!("accelviz: {error}");
+                self.status = Some((error.to_string(), true));
+            }
         }
     }
 
