@@ -74,18 +74,15 @@ impl AccelvizApp {
         self.apply_file_events();
         egui::Panel::top("top bar").show(ui, |ui| self.top_bar_ui(ui));
         let selected = self.selected;
-        let timeline_caption = self
-            .lesson_mut()
-            .and_then(|lesson| lesson.timeline().map(|(_, caption)| caption));
-        if let Some(caption) = timeline_caption {
+        // The lesson's timeline is asked for once a frame: its caption can cost a lookup.
+        let mut position = (0, 0);
+        if let Some((timeline, caption)) = self.lesson_mut().and_then(|lesson| lesson.timeline()) {
             egui::Panel::bottom("timeline").show(ui, |ui| {
                 ui.add_space(4.0);
-                if let Some((timeline, _)) = self.lesson_mut().and_then(|lesson| lesson.timeline())
-                {
-                    timeline.ui(ui, &caption);
-                }
+                timeline.ui(ui, &caption);
                 ui.add_space(2.0);
             });
+            position = (timeline.shown, timeline.len);
         }
         egui::Panel::left("lessons")
             .resizable(false)
@@ -111,7 +108,7 @@ impl AccelvizApp {
                 lesson.canvas_ui(ui);
             }
         });
-        self.report_position(ui);
+        self.report_position(ui, position);
     }
 
     fn top_bar_ui(&mut self, ui: &mut Ui) {
@@ -223,16 +220,8 @@ impl AccelvizApp {
 
     /// Logs each change of lesson or step once (the browser test reads these lines) and puts
     /// them in the page title on the web.
-    fn report_position(&mut self, ui: &Ui) {
+    fn report_position(&mut self, ui: &Ui, (shown, len): (usize, usize)) {
         let selected = self.selected;
-        let (shown, len) = self
-            .lesson_mut()
-            .and_then(|lesson| {
-                lesson
-                    .timeline()
-                    .map(|(timeline, _)| (timeline.shown, timeline.len))
-            })
-            .unwrap_or((0, 0));
         if self.reported == Some((selected, shown, len)) {
             return;
         }

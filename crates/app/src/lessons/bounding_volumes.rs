@@ -36,6 +36,25 @@ pub struct BoundingVolumesLesson {
     scene: EditableScene,
     volume: Volume,
     fan_size: usize,
+    /// The volumes and both fans, for the scene revision and fan size they were made for:
+    /// the fans test every shape per ray, so they are not redone every frame.
+    measured: Option<Measured>,
+}
+
+/// The volumes around the scene, and each ray of the fan with its fate under each volume.
+struct Measured {
+    key: (u64, usize),
+    volumes: BoundingVolumes<DVec2>,
+    fans: [Vec<(Ray<DVec2>, Fate)>; 2],
+}
+
+impl Volume {
+    fn index(self) -> usize {
+        match self {
+            Volume::Aabb => 0,
+            Volume::Sphere => 1,
+        }
+    }
 }
 
 /// Points on every shape's outline; a disc's are pushed out so their polygon encloses it.
@@ -79,6 +98,7 @@ impl BoundingVolumesLesson {
             scene,
             volume: Volume::Aabb,
             fan_size: 31,
+            measured: None,
         }
     }
 
@@ -90,9 +110,24 @@ impl BoundingVolumesLesson {
         BoundingVolumes::new(&points, object_area)
     }
 
+    /// The volumes and fans of the current scene (made again only after an edit).
+    fn measured(&mut self) -> &Measured {
+        let key = (self.scene.revision, self.fan_size);
+        if self
+            .measured
+            .as_ref()
+            .is_none_or(|measured| measured.key != key)
+        {
+            let volumes = self.volumes();
+            let fans = [Volume::Aabb, Volume::Sphere].map(|volume| self.fan(&volumes, volume));
+            self.measured = Some(Measured { key, volumes, fans });
+        }
+        self.measured.as_ref().expect("made above")
+    }
+
     /// A fan of rays from the ray's origin spanning the bounding sphere (and a little more),
-    /// with each ray's fate under the chosen volume.
-    fn fan(&self, volumes: &BoundingVolumes<DVec2>) -> Vec<(Ray<DVec2>, Fate)> {
+    /// with each ray's fate under `volume`.
+    fn fan(&self, volumes: &BoundingVolumes<DVec2>, volume: Volume) -> Vec<(Ray<DVec2>, Fate)> {
         let origin = self.scene.scene.ray_origin;
         let to_center = volumes.sphere.center - origin;
         let distance = to_center.length();
@@ -107,7 +142,7 @@ impl BoundingVolumesLesson {
                 let angle = center_angle - half_angle + 2.0 * half_angle * share;
                 let ray = Ray::try_new(origin, DVec2::new(angle.cos(), angle.sin())).ok()?;
                 let (box_hit, sphere_hit) = volumes.reject_tests(&ray);
-                let volume_hit = match self.volume {
+                let volume_hit = match volume {
                     Volume::Aabb => box_hit,
                     Volume::Sphere => sphere_hit,
                 };
@@ -140,7 +175,6 @@ impl Lesson for BoundingVolumesLesson {
     }
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui) {
-        let volumes = self.volumes();
         ui.horizontal(|ui| {
             ui.label("Test rays against");
             ui.selectable_value(&mut self.volume, Volume::Aabb, "the box (AABB)");
@@ -148,12 +182,11 @@ impl Lesson for BoundingVolumesLesson {
         });
         ui.add(egui::Slider::new(&mut self.fan_size, 2..=101).text("rays in the fan"));
         ui.separator();
+        let measured = self.measured();
+        let volumes = measured.volumes;
         let mut rows = Vec::new();
         for volume in [Volume::Aabb, Volume::Sphere] {
-            let previous = self.volume;
-            self.volume = volume;
-            let fan = self.fan(&volumes);
-            self.volume = previous;
+            let fan = &measured.fans[volume.index()];
             let count =
                 |wanted: fn(&Fate) -> bool| fan.iter().filter(|(_, fate)| wanted(fate)).count();
             rows.push((
@@ -202,9 +235,12 @@ impl Lesson for BoundingVolumesLesson {
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        let sphere_bounds = self.volumes().sphere.bounds();
+        let sphere_bounds = self.measured().volumes.sphere.bounds();
         let canvas = self.scene.canvas_ui(ui, Some(sphere_bounds));
-        let volumes = self.volumes();
+        let volume = self.volume;
+        let measured = self.measured();
+        let volumes = measured.volumes;
+        let fan = measured.fans[volume.index()].clone();
         // The volumes, filled: what the object leaves uncovered is the void.
         let sphere_center = canvas.to_screen(volumes.sphere.center);
         let sphere_radius = (volumes.sphere.radius * canvas.view.points_per_unit) as f32;
@@ -227,7 +263,6 @@ impl Lesson for BoundingVolumesLesson {
             Stroke::new(2.0, palette::BOX),
             Some(faded(palette::BOX, box_alpha)),
         );
-        let fan = self.fan(&volumes);
         for (ray, fate) in &fan {
             let color = match fate {
                 Fate::Rejected => faded(ui.visuals().weak_text_color(), 90),

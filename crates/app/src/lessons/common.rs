@@ -176,32 +176,6 @@ impl KdRule {
     }
 }
 
-/// Records the one kD traversal on a ray.
-pub fn record_kd(
-    tree: &KdTree<DVec2>,
-    shapes: &ShapeSet<DVec2>,
-    ray: &Ray<DVec2>,
-    order: Order,
-) -> Recording {
-    let mut recorder = Recorder::default();
-    let options = TraceOptions {
-        order,
-        ..TraceOptions::default()
-    };
-    let hit = kd::traverse(
-        tree,
-        shapes,
-        ray,
-        &options,
-        &mut kd::KdTraversalStack::new(),
-        &mut recorder,
-    );
-    Recording {
-        steps: recorder.steps,
-        hit,
-    }
-}
-
 /// One recorded trace: every step, and the answer.
 #[derive(Clone, Debug, Default)]
 pub struct Recording {
@@ -209,6 +183,25 @@ pub struct Recording {
     pub steps: Vec<Step<f64>>,
     /// The closest hit.
     pub hit: Option<Hit<f64>>,
+}
+impl Recording {
+    /// Runs `trace` with a recorder and keeps its steps and answer.
+    fn of(trace: impl FnOnce(&mut Recorder<f64>) -> Option<Hit<f64>>) -> Self {
+        let mut recorder = Recorder::default();
+        let hit = trace(&mut recorder);
+        Self {
+            steps: recorder.steps,
+            hit,
+        }
+    }
+}
+
+/// The options of a recorded trace: the core's defaults in the given order.
+fn options_in(order: Order) -> TraceOptions {
+    TraceOptions {
+        order,
+        ..TraceOptions::default()
+    }
 }
 
 /// Records the one BVH traversal on a ray.
@@ -218,33 +211,40 @@ pub fn record_bvh(
     ray: &Ray<DVec2>,
     order: Order,
 ) -> Recording {
-    let mut recorder = Recorder::default();
-    let options = TraceOptions {
-        order,
-        ..TraceOptions::default()
-    };
-    let hit = bvh::traverse(
-        bvh,
-        shapes,
-        ray,
-        &options,
-        &mut bvh::TraversalStack::new(),
-        &mut recorder,
-    );
-    Recording {
-        steps: recorder.steps,
-        hit,
-    }
+    Recording::of(|recorder| {
+        bvh::traverse(
+            bvh,
+            shapes,
+            ray,
+            &options_in(order),
+            &mut bvh::TraversalStack::new(),
+            recorder,
+        )
+    })
+}
+
+/// Records the one kD traversal on a ray.
+pub fn record_kd(
+    tree: &KdTree<DVec2>,
+    shapes: &ShapeSet<DVec2>,
+    ray: &Ray<DVec2>,
+    order: Order,
+) -> Recording {
+    Recording::of(|recorder| {
+        kd::traverse(
+            tree,
+            shapes,
+            ray,
+            &options_in(order),
+            &mut kd::KdTraversalStack::new(),
+            recorder,
+        )
+    })
 }
 
 /// Records the trivial loop (every primitive in file order) on a ray.
 pub fn record_brute_force(shapes: &ShapeSet<DVec2>, ray: &Ray<DVec2>) -> Recording {
-    let mut recorder = Recorder::default();
-    let hit = brute_force(shapes, ray, &TraceOptions::default(), &mut recorder);
-    Recording {
-        steps: recorder.steps,
-        hit,
-    }
+    Recording::of(|recorder| brute_force(shapes, ray, &TraceOptions::default(), recorder))
 }
 
 /// The closest hit after the first steps of a recording: primitive and t.
