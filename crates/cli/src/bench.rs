@@ -10,7 +10,7 @@ use anyhow::{Result, bail};
 use clap::Args;
 
 use crate::json::JsonObject;
-use crate::spec::{Accel, AccelSpec, Stacks};
+use crate::spec::{Accel, AccelSpec};
 use crate::{BuildArgs, Precision, TraceArgs, convert_rays, load_mesh};
 
 #[derive(Args, Debug)]
@@ -240,7 +240,7 @@ fn measure<V: Vector3>(
             trace_ms = trace_ms.min(start.elapsed().as_secs_f64() * 1e3);
         }
         let mut counters = Counters::default();
-        let mut stack = Stacks::default();
+        let mut stack = accelviz_core::TraversalStacks::default();
         for ray in &rays {
             accel.trace(ray, &options, &mut stack, &mut counters);
         }
@@ -273,7 +273,7 @@ fn trace_all<V: Vector3>(
     threads: usize,
 ) -> usize {
     let trace_chunk = |chunk: &[Ray<V>]| {
-        let mut stack = Stacks::default();
+        let mut stack = accelviz_core::TraversalStacks::default();
         chunk
             .iter()
             .filter(|ray| {

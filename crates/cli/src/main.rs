@@ -21,7 +21,7 @@ use accelviz_scene::rays::RaySpec;
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
-use crate::spec::{AccelSpec, Stacks};
+use crate::spec::AccelSpec;
 
 /// Ray-tracing acceleration structures, measured.
 #[derive(Parser, Debug)]
@@ -121,6 +121,7 @@ impl BuildArgs {
                 intersection_cost: self.intersection_cost,
                 empty_bonus: self.empty_bonus,
             },
+            ..BuildParams::default()
         })
     }
 }
@@ -218,7 +219,7 @@ fn query_in<V: Vector3>(
     let rays = convert_rays::<V>(rays, &args.rays)?;
     let (accel, _) = spec.build(&triangles, params);
     let options = args.trace.options();
-    let mut stack = Stacks::default();
+    let mut stack = accelviz_core::TraversalStacks::default();
     let mut output = String::with_capacity(rays.len() * 32);
     for ray in &rays {
         match accel.trace(ray, &options, &mut stack, &mut NoObserver) {

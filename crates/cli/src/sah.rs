@@ -1,9 +1,11 @@
 //! `accelviz-cli sah`: the SAH cost of every candidate split of one node, as text, JSON or CSV.
 
-use accelviz_core::bvh::{BuildParams, Builder, SweepSah};
+use accelviz_core::bvh::BuildParams;
 use accelviz_core::curve::{self, Candidate, CostCurve, Mark};
-use accelviz_core::kd::{KdBuilder, KdSahPresorted};
-use accelviz_core::{Aabb, PrimitiveSet, ShapeSet, TriangleSet, Vector};
+use accelviz_core::{
+    Aabb, Built, Family, NoBuildObserver, PrimitiveSet, ShapeSet, SplitRule, Structure,
+    TriangleSet, Vector,
+};
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use glam::{DVec2, DVec3, Vec2, Vec3};
@@ -13,7 +15,7 @@ use crate::{BuildArgs, Precision, load_mesh};
 
 /// Which kind of tree.
 #[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
-pub enum Structure {
+pub enum StructureArg {
     /// Bounding volume hierarchy: candidates split the primitives by centroid.
     Bvh,
     /// kD-tree: candidates are planes through the primitives' bounds.
@@ -42,7 +44,7 @@ pub struct SahArgs {
     scene2d: Option<String>,
     /// The kind of tree.
     #[arg(long, value_enum)]
-    structure: Structure,
+    structure: StructureArg,
     /// The node: a path of L (left, below the plane) and R steps from the root, in the tree
     /// the exact SAH builder makes (bvh:sah-sweep, kd:sah). Default: the root.
     #[arg(long, default_value = "")]
@@ -129,19 +131,14 @@ fn curve_of<V: Vector, P: PrimitiveSet<V>>(
         bail!("the scene holds no primitives");
     }
     // The exact SAH builders make the tree the path walks.
-    let node = &args.node;
-    let mut curve = match args.structure {
-        Structure::Bvh => {
-            let bvh = SweepSah.build(&bounds, params);
-            let members = curve::bvh_node_primitives(&bvh, node).context("--node")?;
-            curve::bvh_curve(&bounds, &members, &params.cost, args.bins)
-        }
-        Structure::Kd => {
-            let tree = KdSahPresorted.build(&bounds, params);
-            let (cell, members) = curve::kd_node_primitives(&tree, node).context("--node")?;
-            curve::kd_curve(&bounds, &members, &cell, &params.cost, args.bins)
-        }
+    let family = match args.structure {
+        StructureArg::Bvh => Family::Bvh,
+        StructureArg::Kd => Family::Kd,
     };
+    let structure = Structure::lecture(family, SplitRule::Sah);
+    let built = Built::new(structure, primitives, params, &mut NoBuildObserver);
+    let node = built.facts.node_at(&args.node).context("--node")?;
+    let mut curve = curve::node_curve(&built, node, &bounds, &params.cost, args.bins);
     keep_axis(&mut curve, args.axis);
     let dimensions = V::DIM;
     Ok(if args.json {
@@ -226,8 +223,8 @@ fn json(curve: &CostCurve, args: &SahArgs, dimensions: usize) -> String {
         .string(
             "structure",
             match args.structure {
-                Structure::Bvh => "bvh",
-                Structure::Kd => "kd",
+                StructureArg::Bvh => "bvh",
+                StructureArg::Kd => "kd",
             },
         )
         .string("node", &args.node)
@@ -235,7 +232,7 @@ fn json(curve: &CostCurve, args: &SahArgs, dimensions: usize) -> String {
         .number("area", curve.area)
         .number("c_trav", model.traversal_cost)
         .number("c_isect", model.intersection_cost);
-    if args.structure == Structure::Kd {
+    if args.structure == StructureArg::Kd {
         object = object.number("empty_bonus", model.empty_bonus);
     }
     object = object
@@ -294,8 +291,8 @@ fn text(curve: &CostCurve, args: &SahArgs, params: &BuildParams, dimensions: usi
     let mut out = format!(
         "{} {node}: {} primitives, area {:.6e}, C_trav {}, C_isect {}\n",
         match args.structure {
-            Structure::Bvh => "BVH",
-            Structure::Kd => "kD-tree",
+            StructureArg::Bvh => "BVH",
+            StructureArg::Kd => "kD-tree",
         },
         curve.count,
         curve.area,
@@ -336,7 +333,7 @@ fn text(curve: &CostCurve, args: &SahArgs, params: &BuildParams, dimensions: usi
     }
     // The BVH builder splits every node above the leaf size, and smaller ones when a split
     // is cheaper; the kD builder splits when a cut is cheaper than the leaf.
-    let small = args.structure == Structure::Kd || curve.count <= params.max_leaf_size;
+    let small = args.structure == StructureArg::Kd || curve.count <= params.max_leaf_size;
     let verdict = match curve.best {
         Some(best) if best.cost < curve.leaf_cost => "split: the best cut is cheaper than the leaf",
         Some(_) if !small => "split: more primitives than --max-leaf-size",

@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::{
-    Counters, HitTest, NoObserver, Order, PrimitiveSet, Query, Ray, Real, TraceOptions,
+    Counters, HitTest, NoObserver, Order, PrimitiveSet, Query, Ray, Real, Structure, TraceOptions,
     TriangleSet, Vector3, brute_force,
 };
 use accelviz_scene::rays::{RaySpec, random_rays, surface_aim_rays};
@@ -14,7 +14,7 @@ use clap::Args;
 use glam::{DVec3, Vec3};
 
 use crate::plot::{Point, Scatter};
-use crate::spec::{AccelSpec, Stacks};
+use crate::spec::AccelSpec;
 use crate::{BuildArgs, convert_rays, load_mesh};
 
 #[derive(Args, Debug)]
@@ -44,21 +44,6 @@ pub struct TradeoffArgs {
     #[command(flatten)]
     build: BuildArgs,
 }
-
-/// The structures compared.
-const STRUCTURES: [&str; 11] = [
-    "bvh:middle",
-    "bvh:median",
-    "bvh:sah-binned:4",
-    "bvh:sah-binned:8",
-    "bvh:sah-binned:16",
-    "bvh:sah-binned:32",
-    "bvh:sah-sweep",
-    "kd:middle",
-    "kd:median",
-    "kd:sah",
-    "kd:sah-perfect",
-];
 
 /// The switches, each against the first (near-first, f32, fast): `(order, f64, watertight)`.
 const VARIANTS: [(Order, bool, bool); 5] = [
@@ -104,10 +89,11 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     if mesh.triangles.is_empty() {
         bail!("{}: the mesh has no triangles", args.mesh);
     }
-    let specs: Vec<AccelSpec> = STRUCTURES
-        .iter()
-        .map(|name| AccelSpec::parse(name))
-        .collect::<Result<_>>()?;
+    // Every structure of the catalogue (the binned SAH at a few bin counts).
+    let specs: Vec<AccelSpec> = Structure::compared()
+        .into_iter()
+        .map(AccelSpec::Tree)
+        .collect();
     let (ray_specs, source) = if args.aimed {
         let all = surface_aim_rays(&mesh.triangles, args.seed);
         let stride = all.len().div_ceil(args.rays).max(1);
@@ -135,7 +121,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     }
     // Table order: by structure, then the variants in their listed order.
     rows.sort_by_key(|row| {
-        let structure = STRUCTURES.iter().position(|s| *s == row.structure);
+        let structure = specs.iter().position(|spec| spec.name() == row.structure);
         let variant = VARIANTS
             .iter()
             .position(|v| *v == (row.order, row.f64, row.watertight));
@@ -302,7 +288,7 @@ fn measure<V: Vector3>(spec: &AccelSpec, setup: &Setup<'_>) -> Result<Vec<Row>> 
         }
         .with_robust(watertight);
         debug_assert_eq!(options.hit_test == HitTest::Watertight, watertight);
-        let mut stacks = Stacks::default();
+        let mut stacks = accelviz_core::TraversalStacks::default();
         let mut trace_ms = f64::INFINITY;
         for _ in 0..repeat {
             let start = Instant::now();

@@ -7,13 +7,11 @@
 
 use std::hint::black_box;
 
-use accelviz_core::bvh::{
-    BinnedSah, BuildParams, Builder, MedianSplit, MiddleSplit, SweepSah, TraversalStack, traverse,
-};
-use accelviz_core::kd::{self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdSah, KdSahPresorted};
+use accelviz_core::bvh::{BinnedSah, BuildParams, Builder, TraversalStack, traverse};
+use accelviz_core::kd::{self, KdBuilder, KdSah, KdSahPresorted};
 use accelviz_core::{
-    Aabb, NoObserver, Order, PrimitiveSet, Ray, SahCost, SlabRay, TraceOptions, TriangleSet, curve,
-    slab_clip,
+    Aabb, CATALOGUE, NoObserver, Order, PrimitiveSet, Ray, SahCost, SlabRay, TraceOptions,
+    TriangleSet, curve, slab_clip,
 };
 use accelviz_scene::builtin::{lumpy_grid_sphere, lumpy_sphere};
 use accelviz_scene::rays::random_rays;
@@ -39,34 +37,19 @@ fn slab(c: &mut Criterion) {
     });
 }
 
+/// Every structure of the catalogue, built the way the CLI builds it.
 fn builders(c: &mut Criterion) {
     let mesh = lumpy_sphere();
     let triangles = TriangleSet::<Vec3>::from_f64(&mesh.triangles);
-    let bounds = triangles.all_bounds();
     let params = BuildParams::default();
     let mut group = c.benchmark_group("build lumpy sphere");
     group.sample_size(10);
-    group.bench_function("middle", |b| b.iter(|| MiddleSplit.build(&bounds, &params)));
-    group.bench_function("median", |b| b.iter(|| MedianSplit.build(&bounds, &params)));
-    group.bench_function("sah-binned:16", |b| {
-        b.iter(|| BinnedSah { bins: 16 }.build(&bounds, &params))
-    });
-    group.bench_function("sah-sweep", |b| b.iter(|| SweepSah.build(&bounds, &params)));
-    group.bench_function("kd:middle", |b| {
-        b.iter(|| KdMiddleSplit.build(&bounds, &params))
-    });
-    group.bench_function("kd:median", |b| {
-        b.iter(|| KdMedianSplit.build(&bounds, &params))
-    });
-    group.bench_function("kd:sah", |b| {
-        b.iter(|| KdSahPresorted.build(&bounds, &params))
-    });
-    group.bench_function("kd:sah-per-node", |b| {
-        b.iter(|| KdSah.build(&bounds, &params))
-    });
-    group.bench_function("kd:sah-perfect", |b| {
-        b.iter(|| KdSahPresorted.build_with_perfect_splits(&triangles, &params))
-    });
+    for entry in &CATALOGUE {
+        let structure = entry.structure;
+        group.bench_function(structure.name(), |b| {
+            b.iter(|| structure.build(&triangles, &params))
+        });
+    }
     group.finish();
 }
 

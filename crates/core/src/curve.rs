@@ -12,10 +12,11 @@
 //! between two bins (binned).
 
 use crate::aabb::Aabb;
-use crate::bvh::{Bvh, build_binned, build_sweep};
-use crate::kd::{self, KdTree};
+use crate::bvh::{build_binned, build_sweep};
+use crate::kd;
 use crate::math::{Real, Vector};
 use crate::sah::SahCost;
+use crate::structure::{Built, Family};
 
 /// One candidate split with the parts of its cost:
 /// `cost = C_trav + P(L)·N_L·C_isect + P(R)·N_R·C_isect` (kD: discounted by the empty bonus
@@ -102,119 +103,31 @@ pub struct CostCurve {
     pub binned: Option<BinnedCurve>,
 }
 
-/// What can be wrong with a node path such as `LRL`.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-pub enum NodePathError {
-    /// A step is neither `L` nor `R`.
-    #[error("node path: step {position} is {step:?}; use L and R")]
-    BadStep {
-        /// Where in the path (1-based).
-        position: usize,
-        /// What was there.
-        step: char,
-    },
-    /// The path goes on below a leaf.
-    #[error("node path: the node after {depth} steps is a leaf; the path is too long")]
-    PastLeaf {
-        /// The leaf's depth.
-        depth: usize,
-    },
-}
-
-/// Follows a path of `L` (left, below the plane) and `R` steps from the root.
-fn walk(
-    path: &str,
-    mut children_of: impl FnMut(u32) -> Option<[u32; 2]>,
-    mut entered: impl FnMut(u32, usize),
-) -> Result<u32, NodePathError> {
-    // Check the whole path before walking, so a typo is named as such wherever it is.
-    let mut sides = Vec::with_capacity(path.len());
-    for (index, step) in path.chars().enumerate() {
-        sides.push(match step.to_ascii_uppercase() {
-            'L' => 0,
-            'R' => 1,
-            step => {
-                return Err(NodePathError::BadStep {
-                    position: index + 1,
-                    step,
-                });
-            }
-        });
-    }
-    let mut node = 0;
-    for (depth, side) in sides.into_iter().enumerate() {
-        let children = children_of(node).ok_or(NodePathError::PastLeaf { depth })?;
-        entered(node, side);
-        node = children[side];
-    }
-    Ok(node)
-}
-
 fn bounds_array<V: Vector>(bounds: &Aabb<V>) -> [[f64; 2]; 3] {
     let (min, max) = (bounds.min.to_f64_array(), bounds.max.to_f64_array());
     [[min[0], max[0]], [min[1], max[1]], [min[2], max[2]]]
 }
 
-/// The primitives of the BVH node at `path`.
-pub fn bvh_node_primitives<V: Vector>(bvh: &Bvh<V>, path: &str) -> Result<Vec<u32>, NodePathError> {
-    let node = walk(
-        path,
-        |node| {
-            let node = &bvh.nodes[node as usize];
-            (!node.is_leaf()).then(|| node.children())
-        },
-        |_, _| {},
-    )?;
-    Ok(primitives_below(node, |index| {
-        let node = &bvh.nodes[index as usize];
-        if node.is_leaf() {
-            Ok(bvh.leaf_primitives(node))
-        } else {
-            Err(node.children())
-        }
-    }))
-}
-
-/// The primitives in the leaves below `node`, sorted, each once: `open(node)` gives a leaf's
-/// primitives, or an interior node's children.
-fn primitives_below<'a>(node: u32, open: impl Fn(u32) -> Result<&'a [u32], [u32; 2]>) -> Vec<u32> {
-    let mut primitives = Vec::new();
-    let mut pending = vec![node];
-    while let Some(index) = pending.pop() {
-        match open(index) {
-            Ok(leaf) => primitives.extend_from_slice(leaf),
-            Err(children) => pending.extend(children),
-        }
+/// The cost curve of `node` of a built structure: [`bvh_curve`] or [`kd_curve`] with the
+/// node's primitives (and cell), with binned candidates when `bins` is given.
+pub fn node_curve<V: Vector>(
+    built: &Built<V>,
+    node: u32,
+    primitive_bounds: &[Aabb<V>],
+    cost: &SahCost,
+    bins: Option<usize>,
+) -> CostCurve {
+    let primitives = built.primitives_below(node);
+    match built.tree.family() {
+        Family::Bvh => bvh_curve(primitive_bounds, &primitives, cost, bins),
+        Family::Kd => kd_curve(
+            primitive_bounds,
+            &primitives,
+            &built.facts.bounds[node as usize],
+            cost,
+            bins,
+        ),
     }
-    // A kD primitive reaching several leaves below the node is one of its primitives once.
-    primitives.sort_unstable();
-    primitives.dedup();
-    primitives
-}
-
-/// The cell and primitives of the kD node at `path`.
-pub fn kd_node_primitives<V: Vector>(
-    tree: &KdTree<V>,
-    path: &str,
-) -> Result<(Aabb<V>, Vec<u32>), NodePathError> {
-    let mut cell = tree.bounds;
-    let node = walk(
-        path,
-        |node| {
-            let node = &tree.nodes[node as usize];
-            (!node.is_leaf()).then(|| node.children())
-        },
-        |node, side| cell = KdTree::child_cells(&tree.nodes[node as usize], &cell)[side],
-    )?;
-    let primitives = primitives_below(node, |index| {
-        let node = &tree.nodes[index as usize];
-        if node.is_leaf() {
-            Ok(tree.leaf_primitives(node))
-        } else {
-            Err(node.children())
-        }
-    });
-    Ok((cell, primitives))
 }
 
 fn best_of(axes: &[Vec<Candidate>]) -> Option<Mark> {

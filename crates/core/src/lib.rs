@@ -18,14 +18,20 @@
 //! - [`bvh`]: four builders ([`bvh::MiddleSplit`], [`bvh::MedianSplit`], [`bvh::BinnedSah`],
 //!   [`bvh::SweepSah`]) sharing one [`SahCost`], one traversal, a validator and statistics.
 //! - [`observer`]: how traversal reports each step (nothing, counts, or a full record).
+//! - [`structure`]: the catalogue of every structure (`bvh:middle` … `kd:sah-perfect`), built
+//!   into a [`Tree`]; [`build_observer`]: how a builder reports each node and why it made each
+//!   leaf; [`facts`]: what views show about a tree (boxes, cells, paths, depths), computed once.
 //!
 //! No file IO, no UI: this crate builds for `wasm32-unknown-unknown`.
 
 pub mod aabb;
 pub mod bounding;
 pub mod brute;
+pub mod build_observer;
 pub mod bvh;
 pub mod curve;
+pub mod facts;
+pub mod format;
 pub mod kd;
 pub mod math;
 pub mod observer;
@@ -36,9 +42,12 @@ pub mod sah;
 mod search;
 pub mod slab;
 pub mod stats;
+pub mod structure;
 
 pub use aabb::{Aabb, Aabb2, Aabb3};
 pub use brute::brute_force;
+pub use build_observer::{BuildObserver, BuildRecorder, BuildStep, LeafReason, NoBuildObserver};
+pub use facts::{Hierarchy, TreeFacts};
 pub use math::{Real, Vector, Vector3};
 pub use observer::{Counters, NoObserver, Observer, Recorder, Step, counters_of};
 pub use primitive::{
@@ -49,3 +58,4 @@ pub use ray::{Ray, Ray2, Ray3, RayError};
 pub use sah::SahCost;
 pub use slab::{SlabRay, SlabRecord, slab_clip, slab_record};
 pub use stats::TreeStats;
+pub use structure::{Built, CATALOGUE, Family, SplitRule, Structure, TraversalStacks, Tree};

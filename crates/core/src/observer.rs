@@ -21,6 +21,11 @@ pub trait Observer<S: Real> {
     fn cell_entered(&mut self, node: u32, _t_near: S, _t_far: S) {
         self.node_entered(node);
     }
+    /// kD traversal: the ray's part in cell `node` is empty (the ray does not reach that side
+    /// of its parent's plane inside the parent's cell), so the cell is not entered: the
+    /// lecture's `if empty(ray) return`.
+    #[inline(always)]
+    fn cell_missed(&mut self, _node: u32) {}
     /// A node waiting on the stack was skipped: it is entered only beyond the closest hit.
     #[inline(always)]
     fn node_culled(&mut self, _node: u32, _t_enter: S, _t_closest: S) {}
@@ -117,6 +122,11 @@ pub enum Step<S: Real> {
         /// Where it ends.
         t_far: S,
     },
+    /// See [`Observer::cell_missed`].
+    CellMissed {
+        /// The kD node.
+        node: u32,
+    },
     /// See [`Observer::node_culled`].
     NodeCulled {
         /// The node.
@@ -173,6 +183,9 @@ impl<S: Real> Observer<S> for Recorder<S> {
             t_far,
         });
     }
+    fn cell_missed(&mut self, node: u32) {
+        self.steps.push(Step::CellMissed { node });
+    }
     fn node_culled(&mut self, node: u32, t_enter: S, t_closest: S) {
         self.steps.push(Step::NodeCulled {
             node,
@@ -207,6 +220,7 @@ impl<S: Real> Step<S> {
                 t_near,
                 t_far,
             } => observer.cell_entered(node, t_near, t_far),
+            Step::CellMissed { node } => observer.cell_missed(node),
             Step::NodeCulled {
                 node,
                 t_enter,
@@ -247,6 +261,11 @@ impl<S: Real, A: Observer<S>, B: Observer<S>> Observer<S> for (A, B) {
     fn cell_entered(&mut self, node: u32, t_near: S, t_far: S) {
         self.0.cell_entered(node, t_near, t_far);
         self.1.cell_entered(node, t_near, t_far);
+    }
+    #[inline(always)]
+    fn cell_missed(&mut self, node: u32) {
+        self.0.cell_missed(node);
+        self.1.cell_missed(node);
     }
     #[inline(always)]
     fn node_culled(&mut self, node: u32, t_enter: S, t_closest: S) {

@@ -1,8 +1,6 @@
-//! Measurements of a built tree (BVH or kD-tree).
+//! Measurements of a built tree (BVH or kD-tree), or of one subtree of it.
 
-use crate::aabb::Aabb;
-use crate::bvh::Bvh;
-use crate::kd::KdTree;
+use crate::facts::{Hierarchy, TreeFacts};
 use crate::math::{Real, Vector};
 use crate::sah::SahCost;
 
@@ -21,105 +19,64 @@ pub struct TreeStats {
     pub max_leaf_size: usize,
     /// Mean primitives per leaf.
     pub mean_leaf_size: f64,
+    /// Primitives listed in leaves, counting a kD primitive once in every leaf that lists it.
+    pub primitive_references: usize,
+    /// Leaves that list nothing (kD cells of empty space).
+    pub empty_leaf_count: usize,
+    /// The share of the root's area (2D) or volume (3D) that empty leaves cover: space a ray
+    /// crosses without a single test.
+    pub empty_leaf_share: f64,
     /// The SAH cost of the whole tree: `Σ_interior C_trav·A(n)/A(root) +
     /// Σ_leaves N·C_isect·A(n)/A(root)`, the expected cost of a random ray through the root
     /// (A is a node's box in a BVH, its cell in a kD-tree).
     pub sah_cost: f64,
 }
 
-/// Adds up nodes as a walk from the root meets them.
-struct Tally<'a> {
-    stats: TreeStats,
-    cost: &'a SahCost,
-    root_area: f64,
-    leaf_primitives: usize,
-}
-
-impl<'a> Tally<'a> {
-    fn new(node_count: usize, root_area: f64, cost: &'a SahCost) -> Self {
-        Self {
-            stats: TreeStats {
-                node_count,
-                min_leaf_size: usize::MAX,
-                ..TreeStats::default()
-            },
-            cost,
-            root_area,
-            leaf_primitives: 0,
-        }
-    }
-
-    fn relative(&self, area: f64) -> f64 {
-        if self.root_area > 0.0 {
-            area / self.root_area
-        } else {
-            1.0
-        }
-    }
-
-    fn leaf(&mut self, area: f64, count: usize, depth: usize) {
-        let weight = self.relative(area);
-        let stats = &mut self.stats;
-        stats.leaf_count += 1;
-        stats.max_depth = stats.max_depth.max(depth);
-        stats.min_leaf_size = stats.min_leaf_size.min(count);
-        stats.max_leaf_size = stats.max_leaf_size.max(count);
-        stats.sah_cost += weight * self.cost.leaf_cost(count);
-        self.leaf_primitives += count;
-    }
-
-    fn interior(&mut self, area: f64) {
-        self.stats.sah_cost += self.relative(area) * self.cost.traversal_cost;
-    }
-
-    fn finish(mut self) -> TreeStats {
-        self.stats.mean_leaf_size = self.leaf_primitives as f64 / self.stats.leaf_count as f64;
-        self.stats
-    }
-}
-
 impl TreeStats {
-    /// Measures `bvh` with the cost constants `cost`.
-    pub fn of_bvh<V: Vector>(bvh: &Bvh<V>, cost: &SahCost) -> Self {
-        let Some(root) = bvh.nodes.first() else {
+    /// Measures `tree` with the cost constants `cost`.
+    pub fn of<V: Vector>(tree: &impl Hierarchy<V>, cost: &SahCost) -> Self {
+        if tree.node_count() == 0 {
             return Self::default();
-        };
-        let mut tally = Tally::new(bvh.nodes.len(), root.bounds.area().to_f64(), cost);
-        let mut pending = vec![(0u32, 0usize)];
-        while let Some((index, depth)) = pending.pop() {
-            let node = &bvh.nodes[index as usize];
-            let area = node.bounds.area().to_f64();
-            if node.is_leaf() {
-                tally.leaf(area, node.count as usize, depth);
-            } else {
-                tally.interior(area);
-                pending.extend(node.children().map(|child| (child, depth + 1)));
-            }
         }
-        tally.finish()
+        Self::of_subtree(&TreeFacts::of(tree), 0, cost)
     }
 
-    /// Measures `tree` with the cost constants `cost` (a straddling primitive counts in every
-    /// leaf that lists it).
-    pub fn of_kd<V: Vector>(tree: &KdTree<V>, cost: &SahCost) -> Self {
-        if tree.nodes.is_empty() {
-            return Self::default();
-        }
-        let mut tally = Tally::new(tree.nodes.len(), tree.bounds.area().to_f64(), cost);
-        let mut pending: Vec<(u32, Aabb<V>, usize)> = vec![(0, tree.bounds, 0)];
-        while let Some((index, cell, depth)) = pending.pop() {
-            let node = &tree.nodes[index as usize];
-            let area = cell.area().to_f64();
-            if node.is_leaf() {
-                tally.leaf(area, node.count as usize, depth);
-            } else {
-                tally.interior(area);
-                let cells = KdTree::child_cells(node, &cell);
-                for (child, cell) in node.children().into_iter().zip(cells) {
-                    pending.push((child, cell, depth + 1));
+    /// Measures the subtree of `node` as if it were a tree of its own: depths from `node`, and
+    /// costs and shares relative to its box or cell (the SAH cost of that subtree).
+    pub fn of_subtree<V: Vector>(facts: &TreeFacts<V>, node: u32, cost: &SahCost) -> Self {
+        let top = &facts.bounds[node as usize];
+        let (top_area, top_measure) = (top.area().to_f64(), top.measure().to_f64());
+        let relative = |value: f64, whole: f64| if whole > 0.0 { value / whole } else { 1.0 };
+        let top_depth = facts.depth[node as usize];
+        let mut stats = Self {
+            min_leaf_size: usize::MAX,
+            ..Self::default()
+        };
+        for at in facts.subtree(node) {
+            let bounds = &facts.bounds[at as usize];
+            let weight = relative(bounds.area().to_f64(), top_area);
+            stats.node_count += 1;
+            if !facts.is_leaf(at) {
+                stats.sah_cost += weight * cost.traversal_cost;
+                continue;
+            }
+            let size = facts.leaf_sizes[at as usize] as usize;
+            stats.leaf_count += 1;
+            stats.max_depth = stats
+                .max_depth
+                .max((facts.depth[at as usize] - top_depth) as usize);
+            stats.min_leaf_size = stats.min_leaf_size.min(size);
+            stats.max_leaf_size = stats.max_leaf_size.max(size);
+            stats.primitive_references += size;
+            stats.sah_cost += weight * cost.leaf_cost(size);
+            if size == 0 {
+                stats.empty_leaf_count += 1;
+                if top_measure > 0.0 {
+                    stats.empty_leaf_share += bounds.measure().to_f64() / top_measure;
                 }
             }
         }
-        tally.finish()
+        stats.mean_leaf_size = stats.primitive_references as f64 / stats.leaf_count as f64;
+        stats
     }
 }

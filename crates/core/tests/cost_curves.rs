@@ -8,7 +8,8 @@ use accelviz_core::bvh::{BinnedSah, BuildParams, Builder, SweepSah};
 use accelviz_core::curve::{self, CostCurve};
 use accelviz_core::kd::{KdBuilder, KdSah, KdSahPresorted};
 use accelviz_core::{
-    Aabb, PrimitiveSet, Real, SahCost, Shape, ShapeSet, Sphere, TriangleSet, Vector,
+    Aabb, Built, LeafReason, NoBuildObserver, PrimitiveSet, Real, SahCost, Shape, ShapeSet, Sphere,
+    Structure, Tree, TreeFacts, TriangleSet, Vector,
 };
 use glam::{DVec2, DVec3};
 use proptest::prelude::*;
@@ -155,15 +156,26 @@ fn check_curves<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Result<(), Tes
         );
     }
     // The builder cut where the curve is lowest, at every interior node; and kept leaves
-    // where no cut was cheaper than the leaf.
-    let mut pending = vec![(0u32, String::new())];
-    while let Some((index, path)) = pending.pop() {
-        let (node_cell, members) = curve::kd_node_primitives(&tree, &path).unwrap();
-        let node_curve = curve::kd_curve(&bounds, &members, &node_cell, &cost, None);
+    // where no cut was cheaper than the leaf, for the reason the curve shows.
+    let built = Built::new(Structure::KdSah, primitives, &params, &mut NoBuildObserver);
+    prop_assert_eq!(&built.tree, &Tree::Kd(tree.clone()));
+    for index in 0..built.facts.node_count() as u32 {
+        let path = built.facts.path_to(index);
+        prop_assert_eq!(built.facts.node_at(&path), Ok(index));
+        let members = built.primitives_below(index);
+        let node_curve = curve::node_curve(&built, index, &bounds, &cost, None);
         let node = &tree.nodes[index as usize];
         if node.is_leaf() {
             if let Some(best) = node_curve.best {
                 prop_assert!(members.len() <= 1 || best.cost >= node_curve.leaf_cost - 1e-12);
+            }
+            if let Some(LeafReason::LeafCheaper {
+                leaf_cost,
+                split_cost: Some(split_cost),
+            }) = built.facts.leaf_reason(index)
+            {
+                prop_assert_eq!(leaf_cost, node_curve.leaf_cost);
+                prop_assert!(close(split_cost, node_curve.best.unwrap().cost));
             }
             continue;
         }
@@ -173,9 +185,6 @@ fn check_curves<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Result<(), Tes
             (node.axis as usize, node.split.to_f64())
         );
         prop_assert!(best.cost < node_curve.leaf_cost);
-        let [left, right] = node.children();
-        pending.push((left, format!("{path}L")));
-        pending.push((right, format!("{path}R")));
     }
 
     // BVH: the same three facts, with the sweep builder and the binned one.
@@ -196,7 +205,7 @@ fn check_curves<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Result<(), Tes
     }
     let sweep = SweepSah.build(&bounds, &params);
     let [left, _] = sweep.nodes[0].children();
-    let left_count = curve::bvh_node_primitives(&sweep, "L").unwrap().len();
+    let left_count = TreeFacts::of(&sweep).primitives_below(&sweep, left).len();
     let best = bvh_curve.best.unwrap();
     let best_candidate = bvh_curve.axes[best.axis]
         .iter()
@@ -214,8 +223,9 @@ fn check_curves<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Result<(), Tes
         .iter()
         .reduce(|a, b| if b.cost < a.cost { b } else { a });
     if let Some(cheapest) = cheapest_on_axis {
-        let left_count = curve::bvh_node_primitives(&binned_builder, "L")
-            .unwrap()
+        let [left, _] = binned_builder.nodes[0].children();
+        let left_count = TreeFacts::of(&binned_builder)
+            .primitives_below(&binned_builder, left)
             .len();
         prop_assert_eq!(left_count, cheapest.count_left);
     }

@@ -8,25 +8,13 @@ mod common;
 
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::kd::{self, KdBuilder, KdMiddleSplit, KdSah, KdTree};
-use accelviz_core::{PrimitiveSet, Ray, TriangleSet};
+use accelviz_core::{PrimitiveSet, Ray, TreeFacts, TriangleSet};
 use common::assert_agrees_with_brute_force;
 use glam::DVec3;
 
 /// The primitives listed in the leaves below `node`, sorted, without repeats.
 fn primitives_below(tree: &KdTree<DVec3>, node: u32) -> Vec<u32> {
-    let mut found = Vec::new();
-    let mut pending = vec![node];
-    while let Some(index) = pending.pop() {
-        let node = &tree.nodes[index as usize];
-        if node.is_leaf() {
-            found.extend_from_slice(tree.leaf_primitives(node));
-        } else {
-            pending.extend(node.children());
-        }
-    }
-    found.sort_unstable();
-    found.dedup();
-    found
+    TreeFacts::of(tree).primitives_below(tree, node)
 }
 
 /// A triangle in the plane `y = height`, spanning `x_low..x_high` and `z` 0..1.

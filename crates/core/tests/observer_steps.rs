@@ -221,3 +221,64 @@ fn kd_traversal_reports_the_clipped_segments() {
     );
     assert_eq!(accelviz_core::counters_of(&observers.0.steps), observers.1);
 }
+
+/// A ray that stays on one side of a plane: the other side's part of it is empty, which the
+/// traversal reports (the lecture's `if empty(ray) return`) without entering that cell. The
+/// ray goes straight up at x = 2, left of the plane x = 5, through disc 0's cell only.
+#[test]
+fn kd_traversal_reports_the_side_a_ray_never_reaches() {
+    use accelviz_core::kd::{KdBuilder, KdMiddleSplit, KdTraversalStack};
+    let shapes = scene();
+    let bounds = shapes.all_bounds();
+    let params = BuildParams {
+        max_leaf_size: 1,
+        ..BuildParams::default()
+    };
+    let tree = KdMiddleSplit.build(&bounds, &params);
+    let ray = Ray::try_new(DVec2::new(2.0, -10.0), DVec2::new(0.0, 1.0)).unwrap();
+    let mut observers = (Recorder::default(), Counters::default());
+    let hit = accelviz_core::kd::traverse(
+        &tree,
+        &shapes,
+        &ray,
+        &TraceOptions::default(),
+        &mut KdTraversalStack::new(),
+        &mut observers,
+    );
+    assert_eq!(hit.map(|hit| (hit.primitive, hit.t)), Some((0, 9.5)));
+    let [below, above] = tree.nodes[0].children();
+    assert_eq!(
+        observers.0.steps,
+        vec![
+            Step::BoxTested {
+                node: 0,
+                t_enter: 9.5,
+                t_exit: 10.5,
+                hit: true
+            },
+            Step::CellEntered {
+                node: 0,
+                t_near: 9.5,
+                t_far: 10.5
+            },
+            Step::CellMissed { node: above },
+            Step::CellEntered {
+                node: below,
+                t_near: 9.5,
+                t_far: 10.5
+            },
+            Step::PrimitiveTested {
+                primitive: 0,
+                t_hit: Some(9.5)
+            },
+            Step::ClosestHitUpdated {
+                primitive: 0,
+                t: 9.5
+            },
+        ]
+    );
+    assert_eq!(
+        observers.1.nodes_visited, 2,
+        "a cell the ray misses is not visited"
+    );
+}

@@ -3,11 +3,10 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-use accelviz_core::bvh::{
-    BinnedSah, BuildParams, Builder, SweepSah, TraversalStack, traverse, validate,
+use accelviz_core::bvh::BuildParams;
+use accelviz_core::{
+    NoObserver, Structure, TraceOptions, TraversalStacks, Tree, TriangleSet, Vector3, brute_force,
 };
-use accelviz_core::kd::{self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdTraversalStack};
-use accelviz_core::{NoObserver, PrimitiveSet, TraceOptions, TriangleSet, Vector3, brute_force};
 use accelviz_scene::Mesh;
 use accelviz_scene::obj::load_obj;
 use accelviz_scene::rays::random_rays;
@@ -24,39 +23,41 @@ fn shared_mesh(name: &str) -> Mesh {
 
 fn agree<V: Vector3>(mesh: &Mesh, ray_count: usize, options: TraceOptions) -> usize {
     let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
-    let bounds = triangles.all_bounds();
-    let trees = [
-        BinnedSah::default().build(&bounds, &BuildParams::default()),
-        SweepSah.build(&bounds, &BuildParams::default()),
-    ];
-    for bvh in &trees {
-        validate(bvh, &bounds).unwrap();
+    let params = BuildParams::default();
+    let trees: Vec<(Structure, Tree<V>)> = [
+        Structure::BvhSahBinned { bins: 16 },
+        Structure::BvhSahSweep,
+        Structure::KdMiddle,
+        Structure::KdMedian,
+    ]
+    .into_iter()
+    .map(|structure| (structure, structure.build(&triangles, &params)))
+    .collect();
+    for (structure, tree) in &trees {
+        // The kD validator is O(leaves × primitives): the property tests run it everywhere,
+        // here only on the smaller meshes.
+        if matches!(tree, Tree::Bvh(_)) || mesh.triangles.len() <= 25_000 {
+            structure.validate(tree, &triangles).unwrap();
+        }
+        // Real meshes stay far inside the default kD budget: it bounds runaway builds only.
+        assert!(
+            tree.kd_limits()
+                .is_none_or(|limits| limits.lowered_from.is_none()),
+            "{} {}: {:?}",
+            mesh.name,
+            structure.name(),
+            tree.kd_limits()
+        );
     }
-    let kd_trees = [
-        KdMiddleSplit.build(&bounds, &BuildParams::default()),
-        KdMedianSplit.build(&bounds, &BuildParams::default()),
-    ];
-    let mut stack = TraversalStack::new();
-    let mut kd_stack = KdTraversalStack::new();
+    let mut stacks = TraversalStacks::default();
     let mut hits = 0;
     for spec in random_rays(&mesh.bounds(), ray_count, 3) {
         let ray = spec.to_ray::<V>().unwrap();
         let expected = brute_force(&triangles, &ray, &options, &mut NoObserver);
         hits += expected.is_some() as usize;
-        for bvh in &trees {
-            let got = traverse(bvh, &triangles, &ray, &options, &mut stack, &mut NoObserver);
-            assert_eq!(got, expected, "{}: {ray:?}", mesh.name);
-        }
-        for tree in &kd_trees {
-            let got = kd::traverse(
-                tree,
-                &triangles,
-                &ray,
-                &options,
-                &mut kd_stack,
-                &mut NoObserver,
-            );
-            assert_eq!(got, expected, "{} kD: {ray:?}", mesh.name);
+        for (structure, tree) in &trees {
+            let got = tree.trace(&triangles, &ray, &options, &mut stacks, &mut NoObserver);
+            assert_eq!(got, expected, "{} {}: {ray:?}", mesh.name, structure.name());
         }
     }
     hits

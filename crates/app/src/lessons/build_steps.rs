@@ -6,7 +6,8 @@
 //! once, split stably; the core's tests assert both build the same tree). Each node's sweep is
 //! the core's cost curve, the builders' own sweep.
 
-use accelviz_core::curve::{CostCurve, kd_curve, kd_node_primitives};
+use accelviz_core::TreeFacts;
+use accelviz_core::curve::{CostCurve, kd_curve};
 use accelviz_core::kd::{KdBuilder, KdSah, KdSahPresorted, KdTree};
 use accelviz_core::{Aabb, PrimitiveSet};
 use egui::{Color32, RichText, Stroke};
@@ -121,6 +122,7 @@ impl BuildStepsLesson {
         let params = accelviz_core::bvh::BuildParams {
             max_leaf_size: self.scene.scene.settings.max_leaf_size,
             cost: self.scene.scene.settings.cost(),
+            ..Default::default()
         };
         let tree: KdTree<DVec2> = match self.way {
             Way::SortAtEachNode => KdSah.build(&bounds, &params),
@@ -139,7 +141,12 @@ impl BuildStepsLesson {
         let built = self.built.as_ref()?;
         if self.curves[node as usize].is_none() {
             let path = built.shape.path_to(node);
-            let (cell, primitives) = kd_node_primitives(&built.tree, &path).ok()?;
+            let _ = path;
+            let facts = TreeFacts::of(&built.tree);
+            let (cell, primitives) = (
+                facts.bounds[node as usize],
+                facts.primitives_below(&built.tree, node),
+            );
             let boxes = self.scene.scene.shapes.all_bounds();
             let cost = self.scene.scene.settings.cost();
             self.curves[node as usize] = Some(kd_curve(&boxes, &primitives, &cell, &cost, None));
@@ -160,10 +167,7 @@ impl BuildStepsLesson {
         let Some(built) = &self.built else {
             return Vec::new();
         };
-        let Ok((_, mut primitives)) = kd_node_primitives(&built.tree, &built.shape.path_to(node))
-        else {
-            return Vec::new();
-        };
+        let mut primitives = TreeFacts::of(&built.tree).primitives_below(&built.tree, node);
         let shapes = &self.scene.scene.shapes;
         primitives.sort_by(|&a, &b| {
             shapes.bounds(a as usize).min[axis]
@@ -379,10 +383,7 @@ impl Lesson for BuildStepsLesson {
             .collect();
         let partial = partial_tree(built, &chosen);
         let node_primitives = current
-            .and_then(|step| {
-                kd_node_primitives(&built.tree, &built.shape.path_to(step.node())).ok()
-            })
-            .map(|(_, primitives)| primitives)
+            .map(|step| TreeFacts::of(&built.tree).primitives_below(&built.tree, step.node()))
             .unwrap_or_default();
         super::common::draw_shapes(ui, &canvas, &self.scene.scene.shapes, |index| {
             node_primitives

@@ -100,6 +100,7 @@ fn build_params(settings: &SceneSettings) -> BuildParams {
     BuildParams {
         max_leaf_size: settings.max_leaf_size,
         cost: settings.cost(),
+        ..BuildParams::default()
     }
 }
 
@@ -312,6 +313,7 @@ pub fn describe_step(step: &Step<f64>, node_name: impl Fn(u32) -> String) -> Str
         Step::PrimitiveSkipped { primitive } => {
             format!("primitive {primitive} skipped: already tested (mailbox)")
         }
+        Step::CellMissed { node } => format!("{}: the ray does not reach it", node_name(node)),
     }
 }
 

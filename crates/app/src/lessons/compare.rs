@@ -69,8 +69,8 @@ impl Comparison {
         let stats = trees
             .iter()
             .map(|tree| match tree {
-                BuiltTree::Bvh(built) => TreeStats::of_bvh(&built.bvh, &cost),
-                BuiltTree::Kd(built) => TreeStats::of_kd(&built.tree, &cost),
+                BuiltTree::Bvh(built) => TreeStats::of(&built.bvh, &cost),
+                BuiltTree::Kd(built) => TreeStats::of(&built.tree, &cost),
             })
             .collect();
         let rays = measured_rays(scene);

@@ -162,6 +162,7 @@ fn code_position(step: &Step<f64>, built: &BuiltKd, direction: DVec2) -> (Vec<us
         Step::PrimitiveSkipped { primitive } => {
             (vec![2], format!("primitive {primitive} already tested"))
         }
+        Step::CellMissed { node } => (vec![1], format!("node {node}: empty(ray), return")),
     }
 }
 
@@ -285,7 +286,7 @@ impl Lesson for KdLesson {
                 }
             });
         ui.separator();
-        let stats = TreeStats::of_kd(&built.tree, &self.scene.scene.settings.cost());
+        let stats = TreeStats::of(&built.tree, &self.scene.scene.settings.cost());
         ui.label(format!(
             "{} nodes, {} leaves, depth {}, {} primitive references for {} primitives (straddlers are in both cells), SAH cost {:.2}",
             stats.node_count,

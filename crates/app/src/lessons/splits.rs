@@ -3,7 +3,8 @@
 //! the builders' own sweep and the shared `SahCost`, so the curve's minimum is the split the
 //! SAH builder made). Hovering a candidate selects it and ghosts its split in the canvas.
 
-use accelviz_core::curve::{Candidate, CostCurve, bvh_curve, kd_curve, kd_node_primitives};
+use accelviz_core::TreeFacts;
+use accelviz_core::curve::{Candidate, CostCurve, bvh_curve, kd_curve};
 use accelviz_core::{Aabb, PrimitiveSet};
 use egui::{Color32, Pos2, RichText, Stroke, Vec2};
 use egui_plot::{
@@ -87,8 +88,11 @@ impl SplitsLesson {
                 bvh_curve(&boxes, &built.primitives[self.node as usize], &cost, bins)
             }
             BuiltTree::Kd(built) => {
-                let path = built.shape.path_to(self.node);
-                let (cell, primitives) = kd_node_primitives(&built.tree, &path).ok()?;
+                let facts = TreeFacts::of(&built.tree);
+                let (cell, primitives) = (
+                    facts.bounds[self.node as usize],
+                    facts.primitives_below(&built.tree, self.node),
+                );
                 kd_curve(&boxes, &primitives, &cell, &cost, bins)
             }
         })

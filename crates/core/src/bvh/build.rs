@@ -2,6 +2,7 @@
 //! decisions into flat nodes.
 
 use crate::aabb::Aabb;
+use crate::build_observer::{BuildObserver, LeafReason, NoBuildObserver};
 use crate::bvh::tree::{Bvh, BvhNode};
 use crate::math::Vector;
 use crate::sah::SahCost;
@@ -14,16 +15,65 @@ pub struct BuildParams {
     pub max_leaf_size: usize,
     /// The SAH constants (also used to report a tree's cost).
     pub cost: SahCost,
+    /// How large a kD build may grow (a BVH never has more than `2n − 1` nodes).
+    pub kd_budget: KdBudget,
 }
 
 /// At most 8 primitives a leaf (what one cache line of indices and a few triangle tests
-/// amortise), the default [`SahCost`].
+/// amortise), the default [`SahCost`] and [`KdBudget`].
 impl Default for BuildParams {
     fn default() -> Self {
         Self {
             max_leaf_size: 8,
             cost: SahCost::default(),
+            kd_budget: KdBudget::default(),
         }
+    }
+}
+
+/// How large a kD build may grow. A kD-tree lists a primitive in every cell it reaches, so
+/// overlapping primitives cut by rules that ignore cost (middle, median, small leaves) can
+/// multiply nodes and references far beyond the primitive count before the usual depth limit
+/// (`8 + 1.3 log₂ n`, pbrt-v3 §4.4.2) stops them: 20,000 overlapping discs cut in the middle
+/// down to two per leaf make 1.6 million nodes. Past either budget the builder lowers its
+/// depth limit until the tree fits, so the tree stays whole and even, only shallower, and
+/// the tree says so ([`KdTree::limits`](crate::kd::KdTree::limits)).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct KdBudget {
+    /// The most nodes; `None` for [`KdBudget::DEFAULT_NODES_PER_PRIMITIVE`] per primitive.
+    pub max_nodes: Option<usize>,
+    /// The most primitive references in leaves (a primitive counts once in each leaf that
+    /// lists it); `None` for [`KdBudget::DEFAULT_REFERENCES_PER_PRIMITIVE`] per primitive.
+    pub max_references: Option<usize>,
+}
+
+impl KdBudget {
+    /// Nodes per primitive allowed by default: far above what cost-driven builds of real
+    /// meshes make (the SAH builds of the shared meshes make 2 to 4), so only runaway builds
+    /// are bounded.
+    pub const DEFAULT_NODES_PER_PRIMITIVE: usize = 32;
+    /// References per primitive allowed by default.
+    pub const DEFAULT_REFERENCES_PER_PRIMITIVE: usize = 32;
+    /// The budget's room for small inputs, whatever their size.
+    const FLOOR: usize = 1 << 16;
+
+    /// The node budget for `primitive_count` primitives.
+    pub fn nodes_for(&self, primitive_count: usize) -> usize {
+        self.max_nodes
+            .unwrap_or_else(|| {
+                primitive_count.saturating_mul(Self::DEFAULT_NODES_PER_PRIMITIVE) + Self::FLOOR
+            })
+            .max(1)
+    }
+
+    /// The reference budget for `primitive_count` primitives (never below the count: a single
+    /// leaf holding everything must fit).
+    pub fn references_for(&self, primitive_count: usize) -> usize {
+        self.max_references
+            .unwrap_or_else(|| {
+                primitive_count.saturating_mul(Self::DEFAULT_REFERENCES_PER_PRIMITIVE) + Self::FLOOR
+            })
+            .max(primitive_count)
     }
 }
 
@@ -32,14 +82,27 @@ pub trait Builder {
     /// A short name, e.g. `sah-binned:16`.
     fn name(&self) -> String;
 
+    /// Builds a BVH over primitives with these boxes (primitive `i` has `primitive_bounds[i]`),
+    /// telling `observer` about each node: where it splits, and why each leaf is a leaf.
+    fn build_observed<V: Vector, O: BuildObserver>(
+        &self,
+        primitive_bounds: &[Aabb<V>],
+        params: &BuildParams,
+        observer: &mut O,
+    ) -> Bvh<V>;
+
     /// Builds a BVH over primitives with these boxes (primitive `i` has `primitive_bounds[i]`).
-    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> Bvh<V>;
+    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> Bvh<V> {
+        self.build_observed(primitive_bounds, params, &mut NoBuildObserver)
+    }
 }
 
 /// A split of the range `begin..end` into `begin..mid` and `mid..end`, with what the
 /// splitter already knows of each child (its box, and its own per-node notes).
 pub(crate) struct Split<V: Vector, Info> {
     pub(crate) mid: usize,
+    /// The split's SAH cost, where the splitter weighed it.
+    pub(crate) cost: Option<f64>,
     pub(crate) left: (Aabb<V>, Info),
     pub(crate) right: (Aabb<V>, Info),
 }
@@ -55,14 +118,14 @@ pub(crate) trait RangeSplitter<V: Vector> {
     fn root(&self) -> (Aabb<V>, Self::NodeInfo);
 
     /// Reorders `begin..end` so that the left child is `begin..mid` (`begin < mid < end`), or
-    /// returns `None` to make a leaf.
+    /// says why the node stays a leaf. Called only for nodes of two or more primitives.
     fn split(
         &mut self,
         begin: usize,
         end: usize,
         node_bounds: &Aabb<V>,
         info: &Self::NodeInfo,
-    ) -> Option<Split<V, Self::NodeInfo>>;
+    ) -> Result<Split<V, Self::NodeInfo>, LeafReason>;
 
     /// The final order of the primitives: the BVH's `primitive_indices`.
     fn into_order(self) -> Vec<u32>;
@@ -70,9 +133,11 @@ pub(crate) trait RangeSplitter<V: Vector> {
 
 /// Builds the tree top down with an explicit work list (no recursion, so degenerate inputs
 /// cannot overflow the call stack). Siblings are allocated together.
-pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>>(
+pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>, O: BuildObserver>(
     mut splitter: S,
     primitive_count: usize,
+    max_leaf_size: usize,
+    observer: &mut O,
 ) -> Bvh<V> {
     if primitive_count == 0 {
         return Bvh::default();
@@ -84,18 +149,31 @@ pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>>(
         first: 0,
         count: primitive_count as u32,
     });
-    let mut work = vec![(0usize, 0usize, primitive_count, root_info)];
-    while let Some((node_index, begin, end, info)) = work.pop() {
+    let mut work = vec![(0usize, 0usize, primitive_count, root_info, 0usize)];
+    while let Some((node_index, begin, end, info, depth)) = work.pop() {
+        observer.node_started(node_index as u32, depth, end - begin);
         let node_bounds = nodes[node_index].bounds;
         let split = if end - begin > 1 {
             splitter.split(begin, end, &node_bounds, &info)
         } else {
-            None
+            Err(LeafReason::SmallEnough {
+                count: end - begin,
+                max_leaf_size,
+            })
         };
-        let Some(Split { mid, left, right }) = split else {
-            nodes[node_index].first = begin as u32;
-            nodes[node_index].count = (end - begin) as u32;
-            continue;
+        let Split {
+            mid,
+            cost,
+            left,
+            right,
+        } = match split {
+            Ok(split) => split,
+            Err(reason) => {
+                nodes[node_index].first = begin as u32;
+                nodes[node_index].count = (end - begin) as u32;
+                observer.leaf(node_index as u32, reason);
+                continue;
+            }
         };
         debug_assert!(
             begin < mid && mid < end,
@@ -111,9 +189,14 @@ pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>>(
                 count: (child_end - child_begin) as u32,
             });
         }
+        observer.split(
+            node_index as u32,
+            [left_index as u32, left_index as u32 + 1],
+            cost,
+        );
         // Right first on the work list, so the left subtree is built (and laid out) first.
-        work.push((left_index + 1, mid, end, right.1));
-        work.push((left_index, begin, mid, left.1));
+        work.push((left_index + 1, mid, end, right.1, depth + 1));
+        work.push((left_index, begin, mid, left.1, depth + 1));
     }
     Bvh {
         nodes,
@@ -127,6 +210,7 @@ pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>>(
 pub(crate) fn build_by_rule<V: Vector>(
     primitive_bounds: &[Aabb<V>],
     max_leaf_size: usize,
+    observer: &mut impl BuildObserver,
     rule: impl FnMut(&mut IndexedBoxes<'_, V>, usize, usize) -> usize,
 ) -> Bvh<V> {
     struct RuleSplitter<'a, V: Vector, R> {
@@ -150,12 +234,16 @@ pub(crate) fn build_by_rule<V: Vector>(
             end: usize,
             _node_bounds: &Aabb<V>,
             _info: &(),
-        ) -> Option<Split<V, ()>> {
-            if end - begin <= self.max_leaf_size {
-                return None;
+        ) -> Result<Split<V, ()>, LeafReason> {
+            let count = end - begin;
+            if count <= self.max_leaf_size {
+                return Err(LeafReason::SmallEnough {
+                    count,
+                    max_leaf_size: self.max_leaf_size,
+                });
             }
             let mid = (self.rule)(&mut self.boxes, begin, end);
-            Some(self.boxes.split_at(begin, mid, end))
+            Ok(self.boxes.split_at(begin, mid, end))
         }
 
         fn into_order(self) -> Vec<u32> {
@@ -163,12 +251,13 @@ pub(crate) fn build_by_rule<V: Vector>(
         }
     }
 
+    let max_leaf_size = max_leaf_size.max(1);
     let splitter = RuleSplitter {
         boxes: IndexedBoxes::new(primitive_bounds),
-        max_leaf_size: max_leaf_size.max(1),
+        max_leaf_size,
         rule,
     };
-    build_top_down(splitter, primitive_bounds.len())
+    build_top_down(splitter, primitive_bounds.len(), max_leaf_size, observer)
 }
 
 /// Primitive boxes, their centroids and a working order: the state of the splitters that
@@ -209,6 +298,7 @@ impl<'a, V: Vector> IndexedBoxes<'a, V> {
     pub(crate) fn split_at(&self, begin: usize, mid: usize, end: usize) -> Split<V, ()> {
         Split {
             mid,
+            cost: None,
             left: (self.range_bounds(begin, mid), ()),
             right: (self.range_bounds(mid, end), ()),
         }

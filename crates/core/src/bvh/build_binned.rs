@@ -8,6 +8,7 @@
 //! trade is measured by `accelviz-cli bench`. Binning one axis follows pbrt-v3 §4.3.2.
 
 use crate::aabb::Aabb;
+use crate::build_observer::{BuildObserver, LeafReason};
 use crate::bvh::build::{BuildParams, Builder, RangeSplitter, Split, build_top_down};
 use crate::bvh::tree::Bvh;
 use crate::math::{Real, Vector};
@@ -168,10 +169,13 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
         end: usize,
         node_bounds: &Aabb<V>,
         centroid_bounds: &Aabb<V>,
-    ) -> Option<Split<V, Aabb<V>>> {
+    ) -> Result<Split<V, Aabb<V>>, LeafReason> {
         let count = end - begin;
         if count <= self.max_leaf_size && self.cost.leaf_beats_any_split(count) {
-            return None;
+            return Err(LeafReason::LeafCheaper {
+                leaf_cost: self.cost.leaf_cost(count),
+                split_cost: None,
+            });
         }
         let bin_count = self.bin_count;
         // Bin along the longest axis of the centroids' box.
@@ -179,7 +183,7 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
         let Some(binning) = Binning::new(centroid_bounds, axis, bin_count) else {
             // All centroids coincide: no plane separates them. Halve big nodes anyway.
             if count <= self.max_leaf_size {
-                return None;
+                return Err(LeafReason::Inseparable { count });
             }
             let mid = begin + count / 2;
             let half = |range: &[PrimitiveRef<V>]| {
@@ -187,8 +191,9 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
                     .iter()
                     .fold(Aabb::empty(), |acc, r| acc.union(r.bounds))
             };
-            return Some(Split {
+            return Ok(Split {
                 mid,
+                cost: None,
                 left: (half(&self.refs[begin..mid]), *centroid_bounds),
                 right: (half(&self.refs[mid..end]), *centroid_bounds),
             });
@@ -219,15 +224,21 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
         );
         // The lowest and highest centroids fall in the first and last bins, so some plane
         // has primitives on both sides.
-        let (weighted, plane) = best?;
+        let Some((weighted, plane)) = best else {
+            return Err(LeafReason::Inseparable { count });
+        };
         let best_cost = self.cost.split_cost_weighted(
             node_bounds.half_area_nonempty().to_f64(),
             weighted.to_f64(),
             count,
         );
         // Keep the leaf if no split is cheaper (and the leaf is small enough).
-        if count <= self.max_leaf_size && self.cost.leaf_cost(count) <= best_cost {
-            return None;
+        let leaf_cost = self.cost.leaf_cost(count);
+        if count <= self.max_leaf_size && leaf_cost <= best_cost {
+            return Err(LeafReason::LeafCheaper {
+                leaf_cost,
+                split_cost: Some(best_cost),
+            });
         }
         // Partition by bin (Hoare's two-ended scheme: only misplaced pairs move).
         let range = &mut self.refs[begin..end];
@@ -263,8 +274,9 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
                 },
             )
         };
-        Some(Split {
+        Ok(Split {
             mid: begin + left_end,
+            cost: Some(best_cost),
             left: side(&self.bins[..plane]),
             right: side(&self.bins[plane..]),
         })
@@ -280,7 +292,12 @@ impl Builder for BinnedSah {
         format!("sah-binned:{}", self.bins)
     }
 
-    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> Bvh<V> {
+    fn build_observed<V: Vector, O: BuildObserver>(
+        &self,
+        primitive_bounds: &[Aabb<V>],
+        params: &BuildParams,
+        observer: &mut O,
+    ) -> Bvh<V> {
         // Bin indices are kept in 16 bits.
         let bin_count = self.bins.clamp(2, u16::MAX as usize);
         let splitter = Splitter {
@@ -299,6 +316,11 @@ impl Builder for BinnedSah {
             bin_of: vec![0; primitive_bounds.len()],
             right_sides: vec![(0, V::Scalar::ZERO); bin_count],
         };
-        build_top_down(splitter, primitive_bounds.len())
+        build_top_down(
+            splitter,
+            primitive_bounds.len(),
+            params.max_leaf_size.max(1),
+            observer,
+        )
     }
 }

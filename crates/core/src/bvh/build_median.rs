@@ -2,6 +2,7 @@
 //! primitive counts (equal cost) and pays no attention to how likely they are to be hit.
 
 use crate::aabb::Aabb;
+use crate::build_observer::BuildObserver;
 use crate::bvh::build::{BuildParams, Builder, build_by_rule};
 use crate::bvh::tree::Bvh;
 use crate::math::Vector;
@@ -16,10 +17,16 @@ impl Builder for MedianSplit {
         "median".into()
     }
 
-    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> Bvh<V> {
+    fn build_observed<V: Vector, O: BuildObserver>(
+        &self,
+        primitive_bounds: &[Aabb<V>],
+        params: &BuildParams,
+        observer: &mut O,
+    ) -> Bvh<V> {
         build_by_rule(
             primitive_bounds,
             params.max_leaf_size,
+            observer,
             |boxes, begin, end| {
                 // Partial sort (quickselect) puts the lower half first in linear time.
                 let axis = boxes.centroid_bounds(begin, end).largest_axis();

@@ -2,6 +2,7 @@
 //! likely to be hit and pays no attention to what they cost.
 
 use crate::aabb::Aabb;
+use crate::build_observer::BuildObserver;
 use crate::bvh::build::{BuildParams, Builder, build_by_rule};
 use crate::bvh::tree::Bvh;
 use crate::math::Vector;
@@ -19,10 +20,16 @@ impl Builder for MiddleSplit {
         "middle".into()
     }
 
-    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> Bvh<V> {
+    fn build_observed<V: Vector, O: BuildObserver>(
+        &self,
+        primitive_bounds: &[Aabb<V>],
+        params: &BuildParams,
+        observer: &mut O,
+    ) -> Bvh<V> {
         build_by_rule(
             primitive_bounds,
             params.max_leaf_size,
+            observer,
             |boxes, begin, end| {
                 // Bound the centroids and cut their longest axis in half.
                 let centroid_bounds = boxes.centroid_bounds(begin, end);

@@ -8,6 +8,7 @@
 //! level.
 
 use crate::aabb::Aabb;
+use crate::build_observer::{BuildObserver, LeafReason};
 use crate::bvh::build::{BuildParams, Builder, RangeSplitter, Split, build_top_down};
 use crate::bvh::tree::Bvh;
 use crate::math::{Real, Vector};
@@ -92,10 +93,13 @@ impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
         end: usize,
         node_bounds: &Aabb<V>,
         _info: &(),
-    ) -> Option<Split<V, ()>> {
+    ) -> Result<Split<V, ()>, LeafReason> {
         let count = end - begin;
         if count <= self.max_leaf_size && self.cost.leaf_beats_any_split(count) {
-            return None;
+            return Err(LeafReason::LeafCheaper {
+                leaf_cost: self.cost.leaf_cost(count),
+                split_cost: None,
+            });
         }
         let parent_area = node_bounds.area().to_f64();
         let mut best: Option<(f64, usize, usize)> = None; // (cost, axis, left count)
@@ -114,10 +118,16 @@ impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
                 },
             );
         }
-        let (best_cost, axis, left_count) = best?;
+        let Some((best_cost, axis, left_count)) = best else {
+            return Err(LeafReason::Inseparable { count });
+        };
         // Keep the leaf if no split is cheaper (and the leaf is small enough).
-        if count <= self.max_leaf_size && self.cost.leaf_cost(count) <= best_cost {
-            return None;
+        let leaf_cost = self.cost.leaf_cost(count);
+        if count <= self.max_leaf_size && leaf_cost <= best_cost {
+            return Err(LeafReason::LeafCheaper {
+                leaf_cost,
+                split_cost: Some(best_cost),
+            });
         }
         let mid = begin + left_count;
         // Flag the left side, then partition the other lists stably so they stay sorted.
@@ -142,8 +152,9 @@ impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
             }
             list[left_end..].copy_from_slice(&self.scratch);
         }
-        Some(Split {
+        Ok(Split {
             mid,
+            cost: Some(best_cost),
             left: (self.range_bounds(axis, begin, mid), ()),
             right: (self.range_bounds(axis, mid, end), ()),
         })
@@ -159,7 +170,12 @@ impl Builder for SweepSah {
         "sah-sweep".into()
     }
 
-    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> Bvh<V> {
+    fn build_observed<V: Vector, O: BuildObserver>(
+        &self,
+        primitive_bounds: &[Aabb<V>],
+        params: &BuildParams,
+        observer: &mut O,
+    ) -> Bvh<V> {
         let count = primitive_bounds.len();
         let centroids: Vec<V> = primitive_bounds.iter().map(Aabb::center).collect();
         // Sort once per axis (ties by number, so the tree does not depend on the sort).
@@ -179,6 +195,6 @@ impl Builder for SweepSah {
             max_leaf_size: params.max_leaf_size.max(1),
             cost: params.cost,
         };
-        build_top_down(splitter, count)
+        build_top_down(splitter, count, params.max_leaf_size.max(1), observer)
     }
 }

@@ -13,7 +13,7 @@ mod traverse;
 mod tree;
 mod validate;
 
-pub use build::{BuildParams, Builder};
+pub use build::{BuildParams, Builder, KdBudget};
 pub use build_binned::BinnedSah;
 pub use build_median::MedianSplit;
 pub use build_middle::MiddleSplit;

@@ -3,6 +3,7 @@
 //! to be entered is ignored.
 
 use crate::aabb::Aabb;
+use crate::build_observer::BuildObserver;
 use crate::bvh::BuildParams;
 use crate::kd::build::{Cut, KdBuilder, build_by_rule};
 use crate::kd::tree::KdTree;
@@ -19,11 +20,19 @@ impl KdBuilder for KdMedianSplit {
         "median".into()
     }
 
-    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> KdTree<V> {
-        let mut ends: Vec<V::Scalar> = Vec::new();
-        build_by_rule(primitive_bounds, params, |cell, primitives, bounds| {
-            Some(median_cut(cell, primitives, bounds, &mut ends))
-        })
+    fn build_observed<V: Vector, O: BuildObserver>(
+        &self,
+        primitive_bounds: &[Aabb<V>],
+        params: &BuildParams,
+        observer: &mut O,
+    ) -> KdTree<V> {
+        let ends = std::cell::RefCell::new(Vec::new());
+        build_by_rule(
+            primitive_bounds,
+            params,
+            observer,
+            |cell, primitives, bounds| median_cut(cell, primitives, bounds, &mut ends.borrow_mut()),
+        )
     }
 }
 

@@ -2,6 +2,7 @@
 //! likely to be entered; what they contain is ignored.
 
 use crate::aabb::Aabb;
+use crate::build_observer::BuildObserver;
 use crate::bvh::BuildParams;
 use crate::kd::build::{Cut, KdBuilder, build_by_rule};
 use crate::kd::tree::KdTree;
@@ -16,9 +17,14 @@ impl KdBuilder for KdMiddleSplit {
         "middle".into()
     }
 
-    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> KdTree<V> {
-        build_by_rule(primitive_bounds, params, |cell, _, _| {
-            Some(middle_cut(cell))
+    fn build_observed<V: Vector, O: BuildObserver>(
+        &self,
+        primitive_bounds: &[Aabb<V>],
+        params: &BuildParams,
+        observer: &mut O,
+    ) -> KdTree<V> {
+        build_by_rule(primitive_bounds, params, observer, |cell, _, _| {
+            middle_cut(cell)
         })
     }
 }

@@ -7,15 +7,83 @@
 //! whose O(N log² N) variant this is). Sorting at each node costs O(n log n) per level.
 
 use crate::aabb::Aabb;
+use crate::build_observer::{BuildObserver, LeafReason};
 use crate::bvh::BuildParams;
-use crate::kd::build::{KdBuilder, build_by_rule};
+use crate::kd::build::{CellSplitter, Cut, KdBuilder, build_top_down};
 use crate::kd::events::{Event, cheapest_cut, event_order, push_events};
 use crate::kd::tree::KdTree;
 use crate::math::Vector;
+use crate::sah::SahCost;
 
 /// The SAH kD builder that sorts the events at each node.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct KdSah;
+
+/// Sorts each node's events and sweeps them: the state is only reused scratch space.
+struct Splitter<'a, V: Vector> {
+    bounds: &'a [Aabb<V>],
+    cost: SahCost,
+    events_per_axis: Vec<Vec<Event<V::Scalar>>>,
+}
+
+impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
+    type NodeData = ();
+
+    fn root_data<O: BuildObserver>(&mut self, _: &Aabb<V>, _: &[u32], _: &mut O) {}
+
+    fn choose<O: BuildObserver>(
+        &mut self,
+        cell: &Aabb<V>,
+        primitives: &[u32],
+        _data: &(),
+        observer: &mut O,
+    ) -> Result<(Cut<V::Scalar>, Option<f64>), LeafReason> {
+        let leaf_cost = self.cost.leaf_cost(primitives.len());
+        if self.cost.kd_leaf_beats_any_split(primitives.len()) {
+            return Err(LeafReason::LeafCheaper {
+                leaf_cost,
+                split_cost: None,
+            });
+        }
+        // Make and sort each axis's events.
+        for (axis, events) in self.events_per_axis.iter_mut().enumerate() {
+            events.clear();
+            for &primitive in primitives {
+                push_events(
+                    events,
+                    primitive,
+                    &self.bounds[primitive as usize],
+                    cell,
+                    axis,
+                );
+            }
+            events.sort_unstable_by(event_order);
+            observer.sorted(axis);
+        }
+        // One sweep per axis costs every candidate plane.
+        let cheapest = cheapest_cut(cell, &self.events_per_axis, primitives.len(), &self.cost);
+        (0..V::DIM).for_each(|axis| observer.swept(axis));
+        match cheapest {
+            // Keep the leaf if no cut is cheaper.
+            Some((split_cost, cut)) if split_cost < leaf_cost => Ok((cut, Some(split_cost))),
+            cheapest => Err(LeafReason::LeafCheaper {
+                leaf_cost,
+                split_cost: cheapest.map(|(split_cost, _)| split_cost),
+            }),
+        }
+    }
+
+    fn divide<O: BuildObserver>(
+        &mut self,
+        _: (),
+        _: &Cut<V::Scalar>,
+        _: &Aabb<V>,
+        _: &Aabb<V>,
+        _: &mut O,
+    ) -> ((), ()) {
+        ((), ())
+    }
+}
 
 impl KdBuilder for KdSah {
     fn name(&self) -> String {
@@ -24,25 +92,16 @@ impl KdBuilder for KdSah {
 
     /// Leaves end where no cut is cheaper than the leaf (or at the depth limit);
     /// `params.max_leaf_size` is not used.
-    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> KdTree<V> {
-        let cost = params.cost;
-        let mut events_per_axis: Vec<Vec<Event<V::Scalar>>> = vec![Vec::new(); V::DIM];
-        let params = BuildParams {
-            max_leaf_size: 1,
-            ..*params
-        };
-        build_by_rule(primitive_bounds, &params, |cell, primitives, bounds| {
-            // Make and sort each axis's events, then sweep them for the cheapest cut.
-            for (axis, events) in events_per_axis.iter_mut().enumerate() {
-                events.clear();
-                for &primitive in primitives {
-                    push_events(events, primitive, &bounds[primitive as usize], cell, axis);
-                }
-                events.sort_unstable_by(event_order);
-            }
-            let (split_cost, cut) = cheapest_cut(cell, &events_per_axis, primitives.len(), &cost)?;
-            // Keep the leaf if no cut is cheaper.
-            (split_cost < cost.leaf_cost(primitives.len())).then_some(cut)
+    fn build_observed<V: Vector, O: BuildObserver>(
+        &self,
+        primitive_bounds: &[Aabb<V>],
+        params: &BuildParams,
+        observer: &mut O,
+    ) -> KdTree<V> {
+        build_top_down(primitive_bounds, params, 1, observer, || Splitter {
+            bounds: primitive_bounds,
+            cost: params.cost,
+            events_per_axis: vec![Vec::new(); V::DIM],
         })
     }
 }

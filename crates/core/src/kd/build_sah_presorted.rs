@@ -13,6 +13,7 @@
 //! (they are few) and merged in (WH 2006 §5.3).
 
 use crate::aabb::Aabb;
+use crate::build_observer::{BuildObserver, LeafReason, NoBuildObserver};
 use crate::bvh::BuildParams;
 use crate::kd::build::{CellSplitter, Cut, KdBuilder, build_top_down};
 use crate::kd::events::{Event, EventKind, cheapest_cut, event_order, push_events, sort_events};
@@ -159,7 +160,12 @@ impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
     /// Each axis's events of the node's primitives, sorted.
     type NodeData = EventLists<V::Scalar>;
 
-    fn root_data(&mut self, cell: &Aabb<V>, primitives: &[u32]) -> Self::NodeData {
+    fn root_data<O: BuildObserver>(
+        &mut self,
+        cell: &Aabb<V>,
+        primitives: &[u32],
+        observer: &mut O,
+    ) -> Self::NodeData {
         // Sort once per axis.
         let mut scratch = Vec::new();
         (0..V::DIM)
@@ -175,23 +181,37 @@ impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
                     );
                 }
                 sort_events(&mut events, &mut scratch);
+                observer.sorted(axis);
                 events
             })
             .collect()
     }
 
-    fn choose(
+    fn choose<O: BuildObserver>(
         &mut self,
         cell: &Aabb<V>,
         primitives: &[u32],
         events: &Self::NodeData,
-    ) -> Option<Cut<V::Scalar>> {
+        observer: &mut O,
+    ) -> Result<(Cut<V::Scalar>, Option<f64>), LeafReason> {
+        let leaf_cost = self.cost.leaf_cost(primitives.len());
         if self.cost.kd_leaf_beats_any_split(primitives.len()) {
-            return None;
+            return Err(LeafReason::LeafCheaper {
+                leaf_cost,
+                split_cost: None,
+            });
         }
-        let (split_cost, cut) = cheapest_cut(cell, events, primitives.len(), &self.cost)?;
-        // Keep the leaf if no cut is cheaper.
-        (split_cost < self.cost.leaf_cost(primitives.len())).then_some(cut)
+        // One sweep per axis over the lists, already sorted, costs every candidate plane.
+        let cheapest = cheapest_cut(cell, events, primitives.len(), &self.cost);
+        (0..V::DIM).for_each(|axis| observer.swept(axis));
+        match cheapest {
+            // Keep the leaf if no cut is cheaper.
+            Some((split_cost, cut)) if split_cost < leaf_cost => Ok((cut, Some(split_cost))),
+            cheapest => Err(LeafReason::LeafCheaper {
+                leaf_cost,
+                split_cost: cheapest.map(|(split_cost, _)| split_cost),
+            }),
+        }
     }
 
     fn classify(
@@ -240,13 +260,15 @@ impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
         (side & 1 != 0, side & 2 != 0)
     }
 
-    fn divide(
+    fn divide<O: BuildObserver>(
         &mut self,
         events: Self::NodeData,
         cut: &Cut<V::Scalar>,
         below: &Aabb<V>,
         above: &Aabb<V>,
+        observer: &mut O,
     ) -> (Self::NodeData, Self::NodeData) {
+        observer.lists_divided();
         let mut below_lists = Vec::with_capacity(V::DIM);
         let mut above_lists = Vec::with_capacity(V::DIM);
         if self.clip.is_some() {
@@ -341,12 +363,15 @@ impl KdBuilder for KdSahPresorted {
 
     /// Leaves end where no cut is cheaper than the leaf (or at the depth limit);
     /// `params.max_leaf_size` is not used.
-    fn build<V: Vector>(&self, primitive_bounds: &[Aabb<V>], params: &BuildParams) -> KdTree<V> {
-        build_top_down(
-            primitive_bounds,
-            1,
-            Splitter::new(primitive_bounds, params, None),
-        )
+    fn build_observed<V: Vector, O: BuildObserver>(
+        &self,
+        primitive_bounds: &[Aabb<V>],
+        params: &BuildParams,
+        observer: &mut O,
+    ) -> KdTree<V> {
+        build_top_down(primitive_bounds, params, 1, observer, || {
+            Splitter::new(primitive_bounds, params, None)
+        })
     }
 }
 
@@ -360,8 +385,21 @@ impl KdSahPresorted {
         primitives: &P,
         params: &BuildParams,
     ) -> KdTree<V> {
+        self.build_with_perfect_splits_observed(primitives, params, &mut NoBuildObserver)
+    }
+
+    /// [`build_with_perfect_splits`](Self::build_with_perfect_splits), telling `observer`
+    /// about each node.
+    pub fn build_with_perfect_splits_observed<V: Vector, P: PrimitiveSet<V>, O: BuildObserver>(
+        &self,
+        primitives: &P,
+        params: &BuildParams,
+        observer: &mut O,
+    ) -> KdTree<V> {
         let bounds = primitives.all_bounds();
-        build_top_down(&bounds, 1, Splitter::new(&bounds, params, Some(primitives)))
+        build_top_down(&bounds, params, 1, observer, || {
+            Splitter::new(&bounds, params, Some(primitives))
+        })
     }
 }
 

@@ -21,5 +21,5 @@ pub use build_middle::KdMiddleSplit;
 pub use build_sah::KdSah;
 pub use build_sah_presorted::KdSahPresorted;
 pub use traverse::{KdTraversalStack, traverse};
-pub use tree::{KdNode, KdTree};
+pub use tree::{KdBudgetExceeded, KdLimits, KdNode, KdTree};
 pub use validate::{KdValidationError, validate, validate_clipped};

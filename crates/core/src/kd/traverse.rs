@@ -157,11 +157,13 @@ where
         // is then still visited.
         current = if t_plane > t_far * slab_ray.far_scale {
             // It leaves the cell before reaching the plane (or never reaches it): the first
-            // side only.
+            // side only; its part on the second side is empty.
+            observer.cell_missed(second);
             Some((first, t_near, t_far))
         } else if t_plane * slab_ray.far_scale < t_near {
             // It crossed the plane before entering the cell (or moves away from it): the
-            // second side only.
+            // second side only; its part on the first side is empty.
+            observer.cell_missed(first);
             Some((second, t_near, t_far))
         } else {
             // Both parts: visit one now, keep the other for when this subtree is done. Both

@@ -46,6 +46,71 @@ pub struct KdTree<V: Vector> {
     pub nodes: Vec<KdNode<V::Scalar>>,
     /// Primitive numbers in leaf order (with repeats for straddling primitives).
     pub primitive_indices: Vec<u32>,
+    /// How deep the builder went, and whether a budget made it stop short.
+    pub limits: KdLimits,
+}
+
+/// Which budget a kD build would have passed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum KdBudgetExceeded {
+    /// More than this many nodes.
+    Nodes(usize),
+    /// More than this many primitive references in leaves.
+    References(usize),
+}
+
+impl std::fmt::Display for KdBudgetExceeded {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            KdBudgetExceeded::Nodes(nodes) => {
+                write!(f, "{} nodes", crate::format::count(nodes))
+            }
+            KdBudgetExceeded::References(references) => write!(
+                f,
+                "{} primitive references",
+                crate::format::count(references)
+            ),
+        }
+    }
+}
+
+/// The depth a kD build went to and what stopped it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct KdLimits {
+    /// No cell deeper than this was cut.
+    pub depth_limit: usize,
+    /// Leaves at the depth limit that the builder would otherwise have tried to cut.
+    pub leaves_at_depth_limit: usize,
+    /// When the usual limit would have passed a budget: that limit and the budget. The tree
+    /// was then built with the deepest `depth_limit` that fits.
+    pub lowered_from: Option<(usize, KdBudgetExceeded)>,
+}
+
+impl std::fmt::Display for KdLimits {
+    /// What a lecturer is told: `depth limit 12 (lowered from 27 to stay within 200 000
+    /// nodes); 3 401 cells stopped there`.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "depth limit {}", self.depth_limit)?;
+        if let Some((usual, budget)) = self.lowered_from {
+            write!(f, " (lowered from {usual} to stay within {budget})")?;
+        }
+        if self.leaves_at_depth_limit > 0 {
+            write!(
+                f,
+                "; {} cells stopped there",
+                crate::format::count(self.leaves_at_depth_limit)
+            )?;
+        }
+        Ok(())
+    }
+}
+
+impl KdLimits {
+    /// Whether a limit changed the tree: cells stopped at the depth limit, or the limit was
+    /// lowered for a budget.
+    pub fn reached(&self) -> bool {
+        self.leaves_at_depth_limit > 0 || self.lowered_from.is_some()
+    }
 }
 
 impl<V: Vector> KdTree<V> {

@@ -4,72 +4,93 @@
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 #![allow(dead_code)]
 
-use accelviz_core::bvh::{
-    BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, SweepSah, TraversalStack,
-    traverse, validate,
-};
-use accelviz_core::kd::{
-    self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdSah, KdSahPresorted, KdTraversalStack, KdTree,
-};
+use accelviz_core::bvh::{BuildParams, Bvh, TraversalStack, traverse};
+use accelviz_core::kd::{self, KdTraversalStack, KdTree};
+use accelviz_core::structure::Entry;
 use accelviz_core::{
-    Counters, Hit, LeafPrimitives, NoObserver, Order, PrimitiveSet, Query, Ray, Real, TraceOptions,
-    Vector, brute_force,
+    Built, CATALOGUE, Counters, Family, Hit, LeafPrimitives, NoBuildObserver, NoObserver, Order,
+    PrimitiveSet, Query, Ray, Real, Structure, TraceOptions, Tree, Vector, brute_force,
 };
 
-/// Builds with every builder (and a few bin counts), validating each tree.
-pub fn all_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(String, Bvh<V>)> {
-    let bounds = primitives.all_bounds();
+/// Every structure of `family` in the catalogue; one with a parameter at its smallest value
+/// and at its default.
+fn structures_of(family: Family) -> Vec<Structure> {
+    CATALOGUE
+        .iter()
+        .filter(|entry| entry.family == family)
+        .flat_map(|entry: &Entry| match entry.parameter {
+            Some(parameter) => vec![
+                entry.structure.with_parameter(parameter.min),
+                entry.structure.with_parameter(parameter.default),
+            ],
+            None => vec![entry.structure],
+        })
+        .collect()
+}
+
+/// Builds `structure` at two leaf sizes, checking each tree with its validator and its facts:
+/// every leaf has the builder's reason, no interior node has one.
+fn build_checked<V: Vector, P: PrimitiveSet<V>>(
+    primitives: &P,
+    family: Family,
+) -> Vec<(String, Tree<V>)> {
     let mut trees = Vec::new();
     for max_leaf_size in [1, 4] {
         let params = BuildParams {
             max_leaf_size,
             ..BuildParams::default()
         };
-        let mut add = |name: String, bvh: Bvh<V>| {
-            validate(&bvh, &bounds).unwrap_or_else(|error| panic!("{name}: {error}"));
-            trees.push((format!("{name} leaf {max_leaf_size}"), bvh));
-        };
-        add(MiddleSplit.name(), MiddleSplit.build(&bounds, &params));
-        add(MedianSplit.name(), MedianSplit.build(&bounds, &params));
-        for bins in [2, 16] {
-            let builder = BinnedSah { bins };
-            add(builder.name(), builder.build(&bounds, &params));
+        for structure in structures_of(family) {
+            let name = structure.name();
+            let built = Built::new(structure, primitives, &params, &mut NoBuildObserver);
+            structure
+                .validate(&built.tree, primitives)
+                .unwrap_or_else(|error| panic!("{name}: {error}"));
+            for node in 0..built.facts.node_count() as u32 {
+                assert_eq!(
+                    built.facts.leaf_reason(node).is_some(),
+                    built.facts.is_leaf(node),
+                    "{name}: node {node}'s leaf reason"
+                );
+            }
+            trees.push((format!("{name} leaf {max_leaf_size}"), built.tree));
         }
-        add(SweepSah.name(), SweepSah.build(&bounds, &params));
     }
     trees
 }
 
-/// Builds a kD-tree with every kD builder (two leaf sizes), validating each.
+/// Builds with every BVH builder of the catalogue (two leaf sizes), validating each tree.
+pub fn all_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(String, Bvh<V>)> {
+    build_checked(primitives, Family::Bvh)
+        .into_iter()
+        .filter_map(|(name, tree)| match tree {
+            Tree::Bvh(bvh) => Some((name, bvh)),
+            Tree::Kd(_) => None,
+        })
+        .collect()
+}
+
+/// Builds a kD-tree with every kD builder of the catalogue (two leaf sizes), validating each.
 pub fn all_kd_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(String, KdTree<V>)> {
-    let bounds = primitives.all_bounds();
-    let mut trees = Vec::new();
+    // Sorting at every node and sorting once build the same tree.
     for max_leaf_size in [1, 4] {
         let params = BuildParams {
             max_leaf_size,
             ..BuildParams::default()
         };
-        // Sorting at every node and sorting once build the same tree.
         assert_eq!(
-            KdSah.build(&bounds, &params),
-            KdSahPresorted.build(&bounds, &params),
-            "kd:sah and kd:sah-presorted differ"
+            Structure::KdSahPerNode.build(primitives, &params),
+            Structure::KdSah.build(primitives, &params),
+            "kd:sah-per-node and kd:sah differ"
         );
-        for (name, tree) in [
-            ("kd:middle", KdMiddleSplit.build(&bounds, &params)),
-            ("kd:median", KdMedianSplit.build(&bounds, &params)),
-            ("kd:sah", KdSah.build(&bounds, &params)),
-            ("kd:sah-presorted", KdSahPresorted.build(&bounds, &params)),
-        ] {
-            kd::validate(&tree, &bounds).unwrap_or_else(|error| panic!("{name}: {error}"));
-            trees.push((format!("{name} leaf {max_leaf_size}"), tree));
-        }
-        let perfect = KdSahPresorted.build_with_perfect_splits(primitives, &params);
-        kd::validate_clipped(&perfect, primitives)
-            .unwrap_or_else(|error| panic!("kd:sah-perfect: {error}"));
-        trees.push((format!("kd:sah-perfect leaf {max_leaf_size}"), perfect));
     }
-    trees
+    build_checked(primitives, Family::Kd)
+        .into_iter()
+        .filter_map(|(name, tree)| match tree {
+            Tree::Kd(tree) => Some((name, tree)),
+            Tree::Bvh(_) => None,
+        })
+        .collect()
 }
 
 /// Every combination of order, query and robustness.

@@ -1,0 +1,578 @@
+//! The catalogue: every acceleration structure the core builds, named once, with its builder
+//! and parameters. The CLI parses its structure names here, the app offers these choices, and
+//! the tests and benches build every entry; adding a structure is one entry in [`CATALOGUE`]
+//! and one arm in [`Structure::build_observed`].
+//!
+//! A built structure is a [`Tree`]: a BVH or a kD-tree, traced by the one traversal of its
+//! kind and measured by the same [`TreeFacts`] and [`TreeStats`] whatever it is.
+
+use crate::aabb::Aabb;
+use crate::build_observer::{BuildObserver, LeafReasons, NoBuildObserver};
+use crate::bvh::{
+    self, BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, SweepSah, TraversalStack,
+};
+use crate::facts::{Hierarchy, TreeFacts};
+use crate::kd::{
+    self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdSah, KdSahPresorted, KdTraversalStack, KdTree,
+};
+use crate::math::{Real, Vector};
+use crate::observer::Observer;
+use crate::primitive::{LeafOrdered, LeafPrimitives, PrimitiveSet};
+use crate::query::{Hit, TraceOptions};
+use crate::ray::Ray;
+use crate::stats::TreeStats;
+
+/// The two kinds of tree.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Family {
+    /// Bounding volume hierarchies: boxes of boxes; each primitive in one leaf.
+    Bvh,
+    /// kD-trees: space cut by planes; a primitive in every cell it reaches.
+    Kd,
+}
+
+impl Family {
+    /// The name for people: "BVH", "kD-tree".
+    pub fn label(self) -> &'static str {
+        match self {
+            Family::Bvh => "BVH",
+            Family::Kd => "kD-tree",
+        }
+    }
+}
+
+/// How a structure places its splits: the lecture's three rules.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum SplitRule {
+    /// In the middle of the node: equal chances for the children, their costs ignored.
+    Middle,
+    /// At the median primitive: equal costs, the chances ignored.
+    Median,
+    /// Where the surface area heuristic's cost is lowest.
+    Sah,
+}
+
+impl SplitRule {
+    /// The name for people.
+    pub fn label(self) -> &'static str {
+        match self {
+            SplitRule::Middle => "middle",
+            SplitRule::Median => "median",
+            SplitRule::Sah => "SAH",
+        }
+    }
+}
+
+/// A structure with its parameters, as the CLI names it: `bvh:sah-binned:16`, `kd:sah`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Structure {
+    /// [`MiddleSplit`].
+    BvhMiddle,
+    /// [`MedianSplit`].
+    BvhMedian,
+    /// [`SweepSah`]: every candidate.
+    BvhSahSweep,
+    /// [`BinnedSah`] with this many bins.
+    BvhSahBinned {
+        /// Bins per axis.
+        bins: u16,
+    },
+    /// [`KdMiddleSplit`].
+    KdMiddle,
+    /// [`KdMedianSplit`].
+    KdMedian,
+    /// [`KdSahPresorted`]: events sorted once, O(n log n).
+    KdSah,
+    /// [`KdSah`]: events sorted at every node, O(n log² n); the same tree as `kd:sah`.
+    KdSahPerNode,
+    /// [`KdSahPresorted::build_with_perfect_splits`]: straddlers clipped to each cell.
+    KdSahPerfect,
+}
+
+/// A whole-number parameter of a structure (the bins of the binned SAH).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Parameter {
+    /// Its name.
+    pub name: &'static str,
+    /// The value when none is given.
+    pub default: u16,
+    /// The smallest value.
+    pub min: u16,
+    /// The largest value.
+    pub max: u16,
+    /// The values a comparison of every structure measures.
+    pub compared: &'static [u16],
+}
+
+/// One entry of the catalogue.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Entry {
+    /// The structure, with its parameter at its default.
+    pub structure: Structure,
+    /// Its name without a parameter: `bvh:sah-binned`.
+    pub name: &'static str,
+    /// BVH or kD-tree.
+    pub family: Family,
+    /// Which of the lecture's rules it follows.
+    pub rule: SplitRule,
+    /// A short name for a button: "binned SAH".
+    pub label: &'static str,
+    /// One line on what it does.
+    pub about: &'static str,
+    /// Its parameter, if it has one (`name:VALUE`).
+    pub parameter: Option<Parameter>,
+}
+
+/// The bins of the binned SAH.
+const BINS: Parameter = Parameter {
+    name: "bins",
+    default: 16,
+    min: 2,
+    max: 4096,
+    compared: &[4, 8, 16, 32],
+};
+
+/// Every structure, in the lecture's order within each family: the first entry of each rule
+/// is the one the lessons compare (the exact SAH before its approximations).
+pub const CATALOGUE: [Entry; 9] = [
+    Entry {
+        structure: Structure::BvhMiddle,
+        name: "bvh:middle",
+        family: Family::Bvh,
+        rule: SplitRule::Middle,
+        label: "middle",
+        about: "split each node in the middle of its centroids' longest axis",
+        parameter: None,
+    },
+    Entry {
+        structure: Structure::BvhMedian,
+        name: "bvh:median",
+        family: Family::Bvh,
+        rule: SplitRule::Median,
+        label: "median",
+        about: "split each node at its median centroid (object median)",
+        parameter: None,
+    },
+    Entry {
+        structure: Structure::BvhSahSweep,
+        name: "bvh:sah-sweep",
+        family: Family::Bvh,
+        rule: SplitRule::Sah,
+        label: "SAH",
+        about: "the SAH over every candidate, lists sorted once (MacDonald & Booth 1990)",
+        parameter: None,
+    },
+    Entry {
+        structure: Structure::BvhSahBinned { bins: BINS.default },
+        name: "bvh:sah-binned",
+        family: Family::Bvh,
+        rule: SplitRule::Sah,
+        label: "binned SAH",
+        about: "the SAH over the planes between a few bins (Wald 2007)",
+        parameter: Some(BINS),
+    },
+    Entry {
+        structure: Structure::KdMiddle,
+        name: "kd:middle",
+        family: Family::Kd,
+        rule: SplitRule::Middle,
+        label: "middle",
+        about: "cut each cell in half across its longest axis",
+        parameter: None,
+    },
+    Entry {
+        structure: Structure::KdMedian,
+        name: "kd:median",
+        family: Family::Kd,
+        rule: SplitRule::Median,
+        label: "median",
+        about: "cut each cell at the median of its primitives' bounds",
+        parameter: None,
+    },
+    Entry {
+        structure: Structure::KdSah,
+        name: "kd:sah",
+        family: Family::Kd,
+        rule: SplitRule::Sah,
+        label: "SAH",
+        about: "the SAH with an empty-space bonus, events sorted once: O(n log n) (Wald & Havran 2006)",
+        parameter: None,
+    },
+    Entry {
+        structure: Structure::KdSahPerNode,
+        name: "kd:sah-per-node",
+        family: Family::Kd,
+        rule: SplitRule::Sah,
+        label: "SAH, sorting at each node",
+        about: "the same tree as kd:sah, events sorted at every node: O(n log² n)",
+        parameter: None,
+    },
+    Entry {
+        structure: Structure::KdSahPerfect,
+        name: "kd:sah-perfect",
+        family: Family::Kd,
+        rule: SplitRule::Sah,
+        label: "SAH, perfect splits",
+        about: "kd:sah with straddling primitives clipped to each cell (Havran 2000)",
+        parameter: None,
+    },
+];
+
+/// A structure name that is not in the catalogue, or a parameter out of range.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum StructureError {
+    /// No such name.
+    #[error("unknown structure '{name}'; valid ones are: {}", valid_names())]
+    Unknown {
+        /// What was given.
+        name: String,
+    },
+    /// A parameter that is not a whole number in range, or one given to a structure without.
+    #[error("'{name}': {problem}")]
+    Parameter {
+        /// What was given.
+        name: String,
+        /// What is wrong with it.
+        problem: String,
+    },
+}
+
+/// Every name the catalogue accepts, for messages: `bvh:middle, …, bvh:sah-binned[:BINS]
+/// (default 16), …`.
+pub fn valid_names() -> String {
+    CATALOGUE
+        .iter()
+        .map(|entry| match entry.parameter {
+            Some(parameter) => format!(
+                "{}[:{}] (default {})",
+                entry.name,
+                parameter.name.to_uppercase(),
+                parameter.default
+            ),
+            None => entry.name.to_owned(),
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+impl Structure {
+    /// Parses a name from the catalogue, with its parameter if it takes one:
+    /// `bvh:sah-binned:8`.
+    pub fn parse(text: &str) -> Result<Self, StructureError> {
+        let (name, value) = match CATALOGUE.iter().find(|entry| entry.name == text) {
+            Some(entry) => return Ok(entry.structure),
+            None => text.rsplit_once(':').unwrap_or((text, "")),
+        };
+        let unknown = || StructureError::Unknown {
+            name: text.to_owned(),
+        };
+        let entry = CATALOGUE
+            .iter()
+            .find(|entry| entry.name == name)
+            .ok_or_else(unknown)?;
+        let problem = |problem: String| StructureError::Parameter {
+            name: text.to_owned(),
+            problem,
+        };
+        let Some(parameter) = entry.parameter else {
+            return Err(problem(format!("{name} takes no parameter")));
+        };
+        match value.parse::<u16>() {
+            Ok(value) if (parameter.min..=parameter.max).contains(&value) => {
+                Ok(entry.structure.with_parameter(value))
+            }
+            _ => Err(problem(format!(
+                "the {} must be a whole number from {} to {}",
+                parameter.name, parameter.min, parameter.max
+            ))),
+        }
+    }
+
+    /// Its catalogue entry.
+    pub fn entry(&self) -> &'static Entry {
+        let plain = self.with_parameter(0);
+        CATALOGUE
+            .iter()
+            .find(|entry| entry.structure.with_parameter(0) == plain)
+            .unwrap_or_else(|| unreachable!("every structure has an entry"))
+    }
+
+    /// Its parameter's value, if it has one.
+    pub fn parameter(&self) -> Option<u16> {
+        match *self {
+            Structure::BvhSahBinned { bins } => Some(bins),
+            _ => None,
+        }
+    }
+
+    /// The same structure with its parameter set to `value` (unchanged if it has none).
+    pub fn with_parameter(self, value: u16) -> Self {
+        match self {
+            Structure::BvhSahBinned { .. } => Structure::BvhSahBinned { bins: value },
+            other => other,
+        }
+    }
+
+    /// The canonical name: `bvh:sah-binned:16`, `kd:sah`.
+    pub fn name(&self) -> String {
+        let entry = self.entry();
+        match self.parameter() {
+            Some(value) => format!("{}:{value}", entry.name),
+            None => entry.name.to_owned(),
+        }
+    }
+
+    /// BVH or kD-tree.
+    pub fn family(&self) -> Family {
+        self.entry().family
+    }
+
+    /// Which of the lecture's rules it follows.
+    pub fn rule(&self) -> SplitRule {
+        self.entry().rule
+    }
+
+    /// The first structure of `family` that follows `rule`: the one the lessons compare.
+    pub fn lecture(family: Family, rule: SplitRule) -> Self {
+        CATALOGUE
+            .iter()
+            .find(|entry| entry.family == family && entry.rule == rule)
+            .map(|entry| entry.structure)
+            .unwrap_or_else(|| unreachable!("every family has every rule"))
+    }
+
+    /// Every structure as a comparison measures it: each entry, and a parameterised one at
+    /// each of its compared values.
+    pub fn compared() -> Vec<Self> {
+        CATALOGUE
+            .iter()
+            .flat_map(|entry| match entry.parameter {
+                Some(parameter) => parameter
+                    .compared
+                    .iter()
+                    .map(|&value| entry.structure.with_parameter(value))
+                    .collect(),
+                None => vec![entry.structure],
+            })
+            .collect()
+    }
+
+    /// Builds the structure over `primitives`.
+    pub fn build<V: Vector, P: PrimitiveSet<V>>(
+        &self,
+        primitives: &P,
+        params: &BuildParams,
+    ) -> Tree<V> {
+        self.build_observed(primitives, params, &mut NoBuildObserver)
+    }
+
+    /// Builds the structure over `primitives`, telling `observer` about each node.
+    pub fn build_observed<V: Vector, P: PrimitiveSet<V>, O: BuildObserver>(
+        &self,
+        primitives: &P,
+        params: &BuildParams,
+        observer: &mut O,
+    ) -> Tree<V> {
+        let bounds = primitives.all_bounds();
+        match *self {
+            Structure::BvhMiddle => {
+                Tree::Bvh(MiddleSplit.build_observed(&bounds, params, observer))
+            }
+            Structure::BvhMedian => {
+                Tree::Bvh(MedianSplit.build_observed(&bounds, params, observer))
+            }
+            Structure::BvhSahSweep => Tree::Bvh(SweepSah.build_observed(&bounds, params, observer)),
+            Structure::BvhSahBinned { bins } => Tree::Bvh(
+                BinnedSah {
+                    bins: bins as usize,
+                }
+                .build_observed(&bounds, params, observer),
+            ),
+            Structure::KdMiddle => {
+                Tree::Kd(KdMiddleSplit.build_observed(&bounds, params, observer))
+            }
+            Structure::KdMedian => {
+                Tree::Kd(KdMedianSplit.build_observed(&bounds, params, observer))
+            }
+            Structure::KdSah => Tree::Kd(KdSahPresorted.build_observed(&bounds, params, observer)),
+            Structure::KdSahPerNode => Tree::Kd(KdSah.build_observed(&bounds, params, observer)),
+            Structure::KdSahPerfect => Tree::Kd(
+                KdSahPresorted.build_with_perfect_splits_observed(primitives, params, observer),
+            ),
+        }
+    }
+}
+
+/// A built structure: a BVH or a kD-tree.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Tree<V: Vector> {
+    /// A bounding volume hierarchy.
+    Bvh(Bvh<V>),
+    /// A kD-tree.
+    Kd(KdTree<V>),
+}
+
+/// One traversal stack per kind of tree, kept per thread so tracing allocates nothing per ray.
+#[derive(Clone, Debug, Default)]
+pub struct TraversalStacks<S: Real> {
+    bvh: TraversalStack<S>,
+    kd: KdTraversalStack<S>,
+}
+
+impl<V: Vector> Tree<V> {
+    /// BVH or kD-tree.
+    pub fn family(&self) -> Family {
+        match self {
+            Tree::Bvh(_) => Family::Bvh,
+            Tree::Kd(_) => Family::Kd,
+        }
+    }
+
+    /// Traces one ray with the traversal of its kind (see [`bvh::traverse`] and
+    /// [`kd::traverse`]).
+    #[inline]
+    pub fn trace<P: LeafPrimitives<V>, O: Observer<V::Scalar>>(
+        &self,
+        primitives: &P,
+        ray: &Ray<V>,
+        options: &TraceOptions,
+        stacks: &mut TraversalStacks<V::Scalar>,
+        observer: &mut O,
+    ) -> Option<Hit<V::Scalar>> {
+        match self {
+            Tree::Bvh(bvh) => {
+                bvh::traverse(bvh, primitives, ray, options, &mut stacks.bvh, observer)
+            }
+            Tree::Kd(tree) => {
+                kd::traverse(tree, primitives, ray, options, &mut stacks.kd, observer)
+            }
+        }
+    }
+
+    /// A copy of `primitives` in this tree's leaf order, for faster traversal.
+    pub fn leaf_ordered<P: PrimitiveSet<V>>(&self, primitives: &P) -> LeafOrdered<P> {
+        match self {
+            Tree::Bvh(bvh) => bvh.leaf_ordered(primitives),
+            Tree::Kd(tree) => tree.leaf_ordered(primitives),
+        }
+    }
+
+    /// The tree's statistics with these cost constants.
+    pub fn stats(&self, cost: &crate::sah::SahCost) -> TreeStats {
+        TreeStats::of(self, cost)
+    }
+
+    /// The kD build's limits, for a kD-tree.
+    pub fn kd_limits(&self) -> Option<&kd::KdLimits> {
+        match self {
+            Tree::Bvh(_) => None,
+            Tree::Kd(tree) => Some(&tree.limits),
+        }
+    }
+}
+
+impl<V: Vector> Hierarchy<V> for Tree<V> {
+    fn node_count(&self) -> usize {
+        match self {
+            Tree::Bvh(bvh) => bvh.node_count(),
+            Tree::Kd(tree) => Hierarchy::node_count(tree),
+        }
+    }
+
+    fn children(&self, node: u32) -> Option<[u32; 2]> {
+        match self {
+            Tree::Bvh(bvh) => Hierarchy::children(bvh, node),
+            Tree::Kd(tree) => Hierarchy::children(tree, node),
+        }
+    }
+
+    fn leaf_primitives(&self, node: u32) -> &[u32] {
+        match self {
+            Tree::Bvh(bvh) => Hierarchy::leaf_primitives(bvh, node),
+            Tree::Kd(tree) => Hierarchy::leaf_primitives(tree, node),
+        }
+    }
+
+    fn node_bounds(&self) -> Vec<Aabb<V>> {
+        match self {
+            Tree::Bvh(bvh) => bvh.node_bounds(),
+            Tree::Kd(tree) => tree.node_bounds(),
+        }
+    }
+}
+
+/// What is wrong with a built tree: what [`bvh::validate`], [`kd::validate`] or
+/// [`kd::validate_clipped`] found.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum TreeValidationError {
+    /// A BVH's problem.
+    #[error(transparent)]
+    Bvh(#[from] bvh::ValidationError),
+    /// A kD-tree's problem.
+    #[error(transparent)]
+    Kd(#[from] kd::KdValidationError),
+}
+
+impl Structure {
+    /// Checks a tree this structure built over `primitives` with its kind's validator (the
+    /// clipped one for perfect splits, whose cells hold clipped parts).
+    pub fn validate<V: Vector, P: PrimitiveSet<V>>(
+        &self,
+        tree: &Tree<V>,
+        primitives: &P,
+    ) -> Result<(), TreeValidationError> {
+        match tree {
+            Tree::Bvh(bvh) => bvh::validate(bvh, &primitives.all_bounds())?,
+            Tree::Kd(tree) if *self == Structure::KdSahPerfect => {
+                kd::validate_clipped(tree, primitives)?
+            }
+            Tree::Kd(tree) => kd::validate(tree, &primitives.all_bounds())?,
+        }
+        Ok(())
+    }
+}
+
+/// A structure built with what views show about it: the tree and its facts (with why each
+/// leaf is a leaf, from the builder).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Built<V: Vector> {
+    /// What was built.
+    pub structure: Structure,
+    /// The tree.
+    pub tree: Tree<V>,
+    /// Its facts.
+    pub facts: TreeFacts<V>,
+}
+
+impl<V: Vector> Built<V> {
+    /// Builds `structure` over `primitives` and gathers its facts; `observer` is told about
+    /// the build too (pass [`NoBuildObserver`] unless you record it).
+    pub fn new<P: PrimitiveSet<V>, O: BuildObserver>(
+        structure: Structure,
+        primitives: &P,
+        params: &BuildParams,
+        observer: &mut O,
+    ) -> Self {
+        let mut observers = (LeafReasons::default(), observer);
+        let tree = structure.build_observed(primitives, params, &mut observers);
+        let facts = TreeFacts::with_leaf_reasons(&tree, observers.0.reasons);
+        Self {
+            structure,
+            tree,
+            facts,
+        }
+    }
+
+    /// The primitives below `node`, each once.
+    pub fn primitives_below(&self, node: u32) -> Vec<u32> {
+        self.facts.primitives_below(&self.tree, node)
+    }
+
+    /// The statistics of the subtree of `node` (the whole tree at node 0).
+    pub fn stats(&self, node: u32, cost: &crate::sah::SahCost) -> TreeStats {
+        if self.facts.node_count() == 0 {
+            return TreeStats::default();
+        }
+        TreeStats::of_subtree(&self.facts, node, cost)
+    }
+}
