@@ -5,7 +5,6 @@
 
 use accelviz_app::AccelvizApp;
 use accelviz_scene::document::{GeneratorEntry, LayoutEntry};
-use accelviz_scene::scene2d::{Layout, generate};
 use criterion::{Criterion, criterion_group, criterion_main};
 
 fn frame(ctx: &egui::Context, app: &mut AccelvizApp) -> usize {
@@ -31,20 +30,14 @@ fn frame_cost(c: &mut Criterion) {
         .iter()
         .position(|title| title.contains("hierarchy"))
         .expect("the BVH lesson");
-    let shapes = generate(Layout::Uniform, 10_000, 1);
-    let scene = app
-        .lesson_mut()
-        .and_then(|lesson| lesson.scene_mut())
-        .expect("the BVH lesson has a scene");
-    scene.scene.shapes = shapes;
+    let scene = &mut app.lesson_mut().expect("the BVH lesson").stage_mut().scene;
     scene.scene.settings.max_leaf_size = 2;
     scene.generator = GeneratorEntry {
         layout: LayoutEntry::Uniform,
         count: 10_000,
         seed: 1,
     };
-    scene.view.placed = false;
-    scene.touch();
+    scene.generate();
     // The first frames build the tree and fit the view; the benchmark times the frames after.
     for _ in 0..3 {
         frame(&ctx, &mut app);

@@ -4,19 +4,37 @@
 use accelviz_scene::document::Scene2d;
 use egui::{RichText, Ui};
 
-use crate::files::{FileChannel, FileEvent};
-use crate::lessons::{self, Lesson};
+use crate::editor::SceneOrigin;
+use crate::files::{DialogOutcome, FileChannel, FileEvent, FilePanel, PanelAction, PanelMode};
+use crate::lesson::Lesson;
+use crate::registry::{self, BrokenLesson};
+
+/// The inspector's widths: it may be widened by hand, but content never pushes it.
+const INSPECTOR_WIDTH: (f32, f32, f32) = (280.0, 360.0, 560.0);
 
 /// The accelviz app.
 pub struct AccelvizApp {
-    lessons: Vec<Result<Box<dyn Lesson>, String>>,
+    lessons: Vec<Result<Box<dyn Lesson>, BrokenLesson>>,
     /// The lesson shown.
     pub selected: usize,
     /// The last message for the user: text and whether it reports a problem.
     pub status: Option<(String, bool)>,
     files: FileChannel,
+    /// The in-app file panel, when open.
+    pub file_panel: Option<FilePanel>,
     /// What was last reported to the log (lesson, step), so each change is logged once.
     reported: Option<(usize, usize, usize)>,
+    /// Where the last frame put the inspector and the canvas's panel.
+    pub last_layout: FrameLayout,
+}
+
+/// Where a frame put its panels.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FrameLayout {
+    /// The inspector (right).
+    pub inspector: egui::Rect,
+    /// The middle, where the lesson draws its canvas.
+    pub canvas: egui::Rect,
 }
 
 impl Default for AccelvizApp {
@@ -28,22 +46,28 @@ impl Default for AccelvizApp {
 impl AccelvizApp {
     /// The app on its default lesson, the lecture's first, with the embedded lesson files.
     pub fn new() -> Self {
-        Self::with_lessons(lessons::registry())
+        Self::from_lessons(registry::registry())
     }
 
     /// The app with lesson files read from `assets_dir` where they exist there (see
-    /// [`lessons::registry_from`]).
+    /// [`registry::registry_from`]).
     pub fn with_assets(assets_dir: &std::path::Path) -> Self {
-        Self::with_lessons(lessons::registry_from(Some(assets_dir)))
+        Self::from_lessons(registry::registry_from(Some(assets_dir)))
     }
 
-    fn with_lessons(lessons: Vec<Result<Box<dyn Lesson>, String>>) -> Self {
+    /// The app with these lessons.
+    pub fn from_lessons(lessons: Vec<Result<Box<dyn Lesson>, BrokenLesson>>) -> Self {
         Self {
             lessons,
             selected: 0,
             status: None,
             files: FileChannel::default(),
+            file_panel: None,
             reported: None,
+            last_layout: FrameLayout {
+                inspector: egui::Rect::NOTHING,
+                canvas: egui::Rect::NOTHING,
+            },
         }
     }
 
@@ -52,9 +76,18 @@ impl AccelvizApp {
         self.lessons.len()
     }
 
-    /// The selected lesson (if its file parsed).
+    /// The selected lesson.
     pub fn lesson_mut(&mut self) -> Option<&mut Box<dyn Lesson>> {
         self.lessons.get_mut(self.selected)?.as_mut().ok()
+    }
+
+    /// The selected lesson, to read.
+    pub fn lesson(&self) -> Option<&dyn Lesson> {
+        self.lessons
+            .get(self.selected)?
+            .as_ref()
+            .ok()
+            .map(|lesson| lesson.as_ref())
     }
 
     /// Lesson titles in order.
@@ -62,8 +95,8 @@ impl AccelvizApp {
         self.lessons
             .iter()
             .map(|lesson| match lesson {
-                Ok(lesson) => lesson.text().file.title.clone(),
-                Err(_) => "(lesson file broken)".to_owned(),
+                Ok(lesson) => lesson.text().title().to_owned(),
+                Err(broken) => broken.title.clone(),
             })
             .collect()
     }
@@ -72,11 +105,26 @@ impl AccelvizApp {
     pub fn contents_ui(&mut self, ui: &mut Ui) {
         self.selected = self.selected.min(self.lessons.len().saturating_sub(1));
         self.apply_file_events();
+        if let Some(lesson) = self.lesson_mut() {
+            // A freshly generated scene gets the ray the lesson wants for it.
+            if lesson.stage_mut().scene.take_generated()
+                && let Some((origin, toward)) =
+                    lesson.place_generated_ray(&lesson.stage().scene.scene)
+            {
+                let scene = &mut lesson.stage_mut().scene;
+                scene.scene.ray_origin = origin;
+                scene.scene.ray_toward = toward;
+                scene.touch_ray();
+            }
+            // Derived state first, so every panel draws the same step.
+            lesson.update();
+        }
         egui::Panel::top("top bar").show(ui, |ui| self.top_bar_ui(ui));
         let selected = self.selected;
-        // The lesson's timeline is asked for once a frame: its caption can cost a lookup.
         let mut position = (0, 0);
-        if let Some((timeline, caption)) = self.lesson_mut().and_then(|lesson| lesson.timeline()) {
+        let caption = self.lesson().and_then(|lesson| lesson.caption());
+        if let (Some(caption), Some(lesson)) = (caption, self.lesson_mut()) {
+            let timeline = &mut lesson.stage_mut().timeline;
             egui::Panel::bottom("timeline").show(ui, |ui| {
                 ui.add_space(4.0);
                 timeline.ui(ui, &caption);
@@ -88,26 +136,38 @@ impl AccelvizApp {
             .resizable(false)
             .exact_size(210.0)
             .show(ui, |ui| self.lesson_list_ui(ui));
-        egui::Panel::right("inspector")
+        self.last_layout.inspector = egui::Panel::right("inspector")
             .resizable(true)
-            .default_size(340.0)
+            .default_size(INSPECTOR_WIDTH.1)
+            .min_size(INSPECTOR_WIDTH.0)
+            .max_size(INSPECTOR_WIDTH.2)
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| match &mut self.lessons[selected] {
                     Ok(lesson) => {
-                        lessons::text_ui(ui, lesson.text());
+                        if let Some(notice) = &lesson.stage().notice {
+                            ui.colored_label(crate::canvas::palette::RAY, notice);
+                            ui.separator();
+                        }
+                        text_ui(ui, lesson.text());
                         ui.separator();
                         lesson.inspector_ui(ui);
                     }
-                    Err(error) => {
-                        ui.colored_label(crate::canvas::palette::MISS, error.as_str());
+                    Err(broken) => {
+                        ui.colored_label(crate::canvas::palette::MISS, broken.message.as_str());
                     }
                 });
-            });
-        egui::CentralPanel::default().show(ui, |ui| {
-            if let Some(lesson) = self.lesson_mut() {
-                lesson.canvas_ui(ui);
-            }
-        });
+            })
+            .response
+            .rect;
+        self.last_layout.canvas = egui::CentralPanel::default()
+            .show(ui, |ui| {
+                if let Some(lesson) = self.lesson_mut() {
+                    lesson.canvas_ui(ui);
+                }
+            })
+            .response
+            .rect;
+        self.file_panel_ui(ui.ctx());
         self.report_position(ui, position);
     }
 
@@ -115,19 +175,17 @@ impl AccelvizApp {
         ui.horizontal(|ui| {
             ui.label(RichText::new("accelviz").strong().size(16.0));
             ui.separator();
-            if let Ok(lesson) = &self.lessons[self.selected] {
-                ui.label(RichText::new(&lesson.text().file.title).size(16.0));
+            if let Some(lesson) = self.lesson() {
+                ui.label(RichText::new(lesson.text().title()).size(16.0));
             }
             ui.separator();
-            let has_scene = self
-                .lesson_mut()
-                .is_some_and(|lesson| lesson.scene_mut().is_some());
+            let has_scene = self.lesson().is_some();
             if ui
                 .add_enabled(has_scene, egui::Button::new("Open scene…"))
                 .on_hover_text("Open a scene file (.ron) into this lesson")
                 .clicked()
             {
-                self.files.open();
+                self.open_scene();
             }
             if ui
                 .add_enabled(has_scene, egui::Button::new("Reset scene"))
@@ -135,7 +193,7 @@ impl AccelvizApp {
                 .clicked()
                 && let Some(lesson) = self.lesson_mut()
             {
-                lesson.reset_scene();
+                lesson.stage_mut().reset_scene();
                 self.status = None;
             }
             if ui
@@ -151,7 +209,8 @@ impl AccelvizApp {
                 } else {
                     ui.visuals().weak_text_color()
                 };
-                ui.colored_label(color, message);
+                ui.add(egui::Label::new(RichText::new(message).color(color)).truncate())
+                    .on_hover_text(message.as_str());
             }
         });
     }
@@ -179,41 +238,94 @@ impl AccelvizApp {
         );
     }
 
-    fn save_scene(&mut self) {
-        let Some(scene) = self.lesson_mut().and_then(|lesson| lesson.scene_mut()) else {
+    /// Opens a scene: the system's dialog, or the in-app panel when there is none.
+    pub fn open_scene(&mut self) {
+        match self.files.open() {
+            DialogOutcome::Done | DialogOutcome::Cancelled => {}
+            DialogOutcome::Unavailable(reason) => {
+                log::warn!("accelviz: no file dialog: {reason}");
+                self.file_panel = Some(FilePanel::new(PanelMode::Open, Some(reason)));
+            }
+        }
+    }
+
+    /// Saves the scene: the system's dialog (a download in the browser), or the in-app panel
+    /// when there is none.
+    pub fn save_scene(&mut self) {
+        let Some(lesson) = self.lesson() else { return };
+        let text = lesson.stage().scene.scene.to_ron();
+        self.status = match self.files.save("scene.ron", &text) {
+            Ok(Some(Ok(message))) => Some((message, false)),
+            Ok(Some(Err(message))) => Some((message, true)),
+            Ok(None) => return,
+            Err(reason) => {
+                log::warn!("accelviz: no file dialog: {reason}");
+                self.file_panel = Some(FilePanel::new(PanelMode::Save, Some(reason)));
+                return;
+            }
+        };
+    }
+
+    fn file_panel_ui(&mut self, ctx: &egui::Context) {
+        let Some(panel) = &mut self.file_panel else {
             return;
         };
-        let text = scene.scene.to_ron();
-        self.status = Some(match self.files.save("scene.ron", text) {
-            Ok(Some(message)) => (message, false),
-            Ok(None) => return,
-            Err(message) => (message, true),
-        });
+        match panel.ui(ctx) {
+            PanelAction::None => {}
+            PanelAction::Close => self.file_panel = None,
+            PanelAction::Open(path) => match crate::files::read_scene_file(&path) {
+                FileEvent::Opened { name, text } => {
+                    if self.open_scene_text(&name, &text) {
+                        self.file_panel = None;
+                    }
+                }
+                FileEvent::Failed(message) => self.status = Some((message, true)),
+            },
+            PanelAction::Save(path) => {
+                let Some(lesson) = self.lesson() else { return };
+                let text = lesson.stage().scene.scene.to_ron();
+                match crate::files::write_scene_file(&path, &text) {
+                    Ok(message) => {
+                        self.status = Some((message, false));
+                        self.file_panel = None;
+                    }
+                    Err(message) => self.status = Some((message, true)),
+                }
+            }
+        }
     }
 
     fn apply_file_events(&mut self) {
         for event in self.files.take_events() {
             match event {
-                FileEvent::Opened { name, text } => self.open_scene_text(&name, &text),
+                FileEvent::Opened { name, text } => {
+                    self.open_scene_text(&name, &text);
+                }
                 FileEvent::Failed(message) => self.status = Some((message, true)),
             }
         }
     }
 
     /// Opens a scene document's text into the current lesson; a bad document leaves the
-    /// scene as it was and says why (file, line, problem) in the status line.
-    pub fn open_scene_text(&mut self, name: &str, text: &str) {
+    /// scene as it was and says why (file, line, problem) in the status line. Returns whether
+    /// it opened.
+    pub fn open_scene_text(&mut self, name: &str, text: &str) -> bool {
         match Scene2d::parse(text, name) {
             Ok(scene) => {
-                if let Some(editable) = self.lesson_mut().and_then(|lesson| lesson.scene_mut()) {
-                    editable.replace(scene);
+                if let Some(lesson) = self.lesson_mut() {
+                    let stage = lesson.stage_mut();
+                    stage.scene.replace(scene);
+                    stage.scene.origin = SceneOrigin::File;
+                    stage.timeline.rewind();
                     log::info!("accelviz: opened {name}");
                     self.status = Some((format!("opened {name}"), false));
                 }
+                true
             }
             Err(error) => {
                 log::warn!("accelviz: {error}");
                 self.status = Some((error.to_string(), true));
+                false
             }
         }
     }
@@ -245,5 +357,19 @@ impl AccelvizApp {
 impl eframe::App for AccelvizApp {
     fn ui(&mut self, ui: &mut Ui, _frame: &mut eframe::Frame) {
         self.contents_ui(ui);
+    }
+}
+
+/// The slide, the explanation and things to try, for the inspector's top.
+pub fn text_ui(ui: &mut Ui, text: &crate::lesson::LessonText) {
+    ui.label(RichText::new(format!("Slide: {}", text.file.slide)).weak());
+    for paragraph in &text.file.explanation {
+        ui.label(paragraph);
+    }
+    if !text.file.try_this.is_empty() {
+        ui.label(RichText::new("Try this").strong());
+        for item in &text.file.try_this {
+            ui.label(format!("• {item}"));
+        }
     }
 }

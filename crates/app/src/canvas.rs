@@ -58,7 +58,17 @@ pub struct Canvas {
     pub view: View2d,
     /// Clicks, drags and hovering on the canvas.
     pub response: Response,
+    /// Vertices the canvas's batches may still take this frame (see [`VERTEX_BUDGET`]).
+    budget: std::cell::Cell<usize>,
+    /// Shapes, boxes or lines left out this frame because the budget ran out.
+    left_out: std::cell::Cell<usize>,
 }
+
+/// The most vertices one canvas draws in a frame: far more than a screen shows (a box smaller
+/// than a point is not drawn at all), and far below what the renderer takes in one frame
+/// (egui-wgpu's buffers stop at 256 MB: about 13 million vertices). What does not fit is left
+/// out and the canvas says so ([`Canvas::finish`]).
+pub const VERTEX_BUDGET: usize = 1_000_000;
 
 /// Colours shared by every lesson, readable on the dark and the light theme.
 pub mod palette {
@@ -129,7 +139,54 @@ impl Canvas {
             rect,
             view: *view,
             response,
+            budget: std::cell::Cell::new(VERTEX_BUDGET),
+            left_out: std::cell::Cell::new(0),
         }
+    }
+
+    /// How many things were left out this frame because the canvas's budget ran out.
+    pub fn left_out(&self) -> usize {
+        self.left_out.get()
+    }
+
+    /// Says what the budget left out, at the canvas's bottom edge. Call after drawing.
+    pub fn finish(&self) {
+        let left_out = self.left_out.get();
+        if left_out > 0 {
+            self.note(&format!(
+                "{} boxes, lines or shapes are not drawn: too many for one frame. Zoom in to see them.",
+                accelviz_core::format::count(left_out)
+            ));
+        }
+    }
+
+    /// A short note at the bottom right of the canvas, on a dark plate.
+    pub fn note_right(&self, text: &str) {
+        let galley = self.painter.layout_no_wrap(
+            text.to_owned(),
+            FontId::proportional(12.0),
+            Color32::from_gray(220),
+        );
+        let pos = self.rect.right_bottom() - Vec2::new(10.0, 8.0) - galley.size();
+        let backing = Rect::from_min_size(pos, galley.size()).expand(3.0);
+        self.painter
+            .rect_filled(backing, 3.0, Color32::from_black_alpha(150));
+        self.painter.galley(pos, galley, Color32::from_gray(220));
+    }
+
+    /// A one-line note at the bottom left of the canvas, on a dark plate.
+    pub fn note(&self, text: &str) {
+        let galley = self.painter.layout(
+            text.to_owned(),
+            FontId::proportional(13.0),
+            Color32::WHITE,
+            (self.rect.width() - 20.0).max(40.0),
+        );
+        let pos = self.rect.left_bottom() + Vec2::new(10.0, -10.0 - galley.size().y);
+        let backing = Rect::from_min_size(pos, galley.size()).expand(3.0);
+        self.painter
+            .rect_filled(backing, 3.0, Color32::from_black_alpha(170));
+        self.painter.galley(pos, galley, Color32::WHITE);
     }
 
     /// Screen position of a world point.
@@ -207,7 +264,7 @@ impl Canvas {
             }
             return;
         }
-        let mut batch = Batch::default();
+        let mut batch = self.batch();
         batch.reserve(boxes.len() * 8, boxes.len() * 8);
         for (bounds, stroke) in boxes {
             self.batch_box(&mut batch, &bounds, stroke.width, stroke.color);
@@ -216,21 +273,20 @@ impl Canvas {
     }
 
     /// Many split lines (`cell`, `axis`, `position`): one by one when few, batched when many.
-    pub fn split_lines(
-        &self,
-        lines: impl ExactSizeIterator<Item = (Aabb<DVec2>, usize, f64, Stroke)>,
-    ) {
+    pub fn split_lines(&self, lines: impl IntoIterator<Item = (Aabb<DVec2>, usize, f64, Stroke)>) {
+        let lines: Vec<_> = lines.into_iter().collect();
         if lines.len() <= BATCH_ABOVE {
             for (cell, axis, position, stroke) in lines {
                 self.split_line(&cell, axis, position, stroke);
             }
             return;
         }
-        let mut batch = Batch::default();
+        let mut batch = self.batch();
         batch.reserve(lines.len() * 4, lines.len() * 2);
         for (cell, axis, position, stroke) in lines {
             let [from, to] = self.split_ends(&cell, axis, position);
-            if self.visible(Rect::from_two_pos(from, to)) {
+            // A line shorter than a point cannot be seen: a cell too small to show.
+            if self.visible(Rect::from_two_pos(from, to)) && from.distance(to) >= 1.0 {
                 batch.line(from, to, stroke.width, stroke.color);
             }
         }
@@ -323,6 +379,50 @@ impl Canvas {
         }
     }
 
+    /// A tick across the ray at parameter `t`, labelled by `labels` beside it (on the side
+    /// `side` says first: 1 left of the ray, −1 right), so marks at nearby `t` never write
+    /// over each other. Returns where the label went.
+    #[allow(clippy::too_many_arguments)]
+    pub fn ray_mark_labeled(
+        &self,
+        labels: &mut Labels,
+        origin: DVec2,
+        direction: DVec2,
+        t: f64,
+        color: Color32,
+        label: &str,
+        side: f32,
+    ) -> Option<Rect> {
+        if !t.is_finite() {
+            return None;
+        }
+        let point = self.to_screen(origin + direction * t);
+        let along = self.to_screen(origin + direction) - self.to_screen(origin);
+        let normal = Vec2::new(-along.y, along.x).normalized();
+        let tangent = along.normalized();
+        self.painter.line_segment(
+            [point - normal * 7.0, point + normal * 7.0],
+            Stroke::new(2.5, color),
+        );
+        let first = normal * side * 18.0;
+        labels.place(
+            &self.painter,
+            label,
+            FontId::proportional(13.0),
+            color,
+            point,
+            &[
+                first,
+                -first,
+                first + tangent * 30.0,
+                first - tangent * 30.0,
+                -first + tangent * 30.0,
+                -first - tangent * 30.0,
+            ],
+            Some(Color32::from_black_alpha(150)),
+        )
+    }
+
     /// A label at a world point.
     pub fn label(&self, at: DVec2, text: &str, color: Color32) {
         self.painter.text(
@@ -334,18 +434,20 @@ impl Canvas {
         );
     }
 
-    /// A caption in the canvas's top-left corner, one line per entry.
+    /// A caption in the canvas's top-left corner, one entry a line (wrapped to the canvas).
     pub fn caption(&self, lines: &[(String, Color32)]) {
         let mut pos = self.rect.left_top() + Vec2::new(10.0, 8.0);
+        let width = (self.rect.width() - 20.0).max(40.0);
         for (text, color) in lines {
             let galley =
                 self.painter
-                    .layout_no_wrap(text.clone(), FontId::proportional(14.0), *color);
+                    .layout(text.clone(), FontId::proportional(14.0), *color, width);
             let backing = Rect::from_min_size(pos, galley.size()).expand(3.0);
             self.painter
-                .rect_filled(backing, 3.0, Color32::from_black_alpha(140));
+                .rect_filled(backing, 3.0, Color32::from_black_alpha(150));
+            let height = galley.size().y;
             self.painter.galley(pos, galley, *color);
-            pos.y += 20.0;
+            pos.y += height + 6.0;
         }
     }
 }
@@ -356,19 +458,35 @@ pub const BATCH_ABOVE: usize = 300;
 /// Many simple shapes in one mesh, drawn with one paint call: what a frame with thousands of
 /// primitives and boxes can afford (egui would otherwise tessellate each with anti-aliased
 /// edges). Lessons use it above a few hundred shapes; below that, each shape is drawn on its own.
-#[derive(Default)]
 pub struct Batch {
     mesh: egui::Mesh,
+    /// The most vertices it takes; past them it counts what it leaves out.
+    limit: usize,
+    left_out: usize,
 }
 
 impl Batch {
+    /// Whether `vertices` more fit; if not, the thing is counted as left out.
+    fn room_for(&mut self, vertices: usize) -> bool {
+        let fits = self.mesh.vertices.len() + vertices <= self.limit;
+        if !fits {
+            self.left_out += 1;
+        }
+        fits
+    }
+
     /// A filled rectangle.
     pub fn rect(&mut self, rect: Rect, color: Color32) {
-        self.mesh.add_colored_rect(rect, color);
+        if self.room_for(4) {
+            self.mesh.add_colored_rect(rect, color);
+        }
     }
 
     /// A line of `width` points as one quad.
     pub fn line(&mut self, from: Pos2, to: Pos2, width: f32, color: Color32) {
+        if !self.room_for(4) {
+            return;
+        }
         let along = to - from;
         let across = Vec2::new(-along.y, along.x).normalized() * (width * 0.5);
         let first = self.mesh.vertices.len() as u32;
@@ -382,6 +500,8 @@ impl Batch {
     /// Room for `vertices` more vertices and `triangles` more triangles, so a large batch is
     /// allocated once rather than grown (growing dominated a 10k-shape frame).
     pub fn reserve(&mut self, vertices: usize, triangles: usize) {
+        let vertices = vertices.min(self.limit);
+        let triangles = triangles.min(self.limit);
         self.mesh.vertices.reserve(vertices);
         self.mesh.indices.reserve(triangles * 3);
     }
@@ -389,6 +509,9 @@ impl Batch {
     /// A rectangle's outline of `width` points: a frame of eight vertices, the outer corners
     /// and the inner ones, and eight triangles.
     pub fn rect_outline(&mut self, rect: Rect, width: f32, color: Color32) {
+        if !self.room_for(8) {
+            return;
+        }
         let half = width * 0.5;
         let outer = rect.expand(half);
         let inner = rect.shrink(half.min(rect.width() * 0.5).min(rect.height() * 0.5));
@@ -414,6 +537,9 @@ impl Batch {
     /// A filled disc as a fan, with more sides the larger it is.
     pub fn disc(&mut self, center: Pos2, radius: f32, color: Color32) {
         let sides = (radius * 1.5).clamp(6.0, 40.0) as u32;
+        if !self.room_for(sides as usize + 1) {
+            return;
+        }
         let first = self.mesh.vertices.len() as u32;
         self.mesh.colored_vertex(center, color);
         for side in 0..sides {
@@ -460,8 +586,20 @@ impl Canvas {
         batch.rect_outline(screen, width, color);
     }
 
-    /// Paints a batch.
+    /// A batch that may take what is left of the canvas's budget.
+    pub fn batch(&self) -> Batch {
+        Batch {
+            mesh: egui::Mesh::default(),
+            limit: self.budget.get(),
+            left_out: 0,
+        }
+    }
+
+    /// Paints a batch, and counts what it left out.
     pub fn draw_batch(&self, batch: Batch) {
+        self.budget
+            .set(self.budget.get().saturating_sub(batch.mesh.vertices.len()));
+        self.left_out.set(self.left_out.get() + batch.left_out);
         if !batch.mesh.is_empty() {
             self.painter.add(egui::Shape::mesh(batch.mesh));
         }
@@ -483,4 +621,89 @@ fn to_world(view: &View2d, rect: Rect, pos: Pos2) -> DVec2 {
 /// A semi-transparent version of a colour.
 pub fn faded(color: Color32, alpha: u8) -> Color32 {
     Color32::from_rgba_unmultiplied(color.r(), color.g(), color.b(), alpha)
+}
+
+/// Labels laid out so that none overlaps another or leaves its area: each label tries the
+/// spots it is offered, nearest first, then the same directions further out, and takes the
+/// first free one. A label with no free spot is left out rather than drawn over another.
+pub struct Labels {
+    area: Rect,
+    placed: Vec<Rect>,
+}
+
+impl Labels {
+    /// No labels yet, to be kept inside `area`.
+    pub fn new(area: Rect) -> Self {
+        Self {
+            area,
+            placed: Vec::new(),
+        }
+    }
+
+    /// Keeps `rect` free: a later label will not overlap it (a drawn legend, a caption).
+    pub fn reserve(&mut self, rect: Rect) {
+        self.placed.push(rect);
+    }
+
+    /// Places `text` beside `anchor`: the label's centre goes to `anchor + offset` for the
+    /// first free `offset` of `offsets`, or of the same offsets lengthened step by step. With
+    /// `plate`, a rounded plate of that colour is drawn under the text, so lines behind it do
+    /// not cross it. Returns where the label went.
+    #[allow(clippy::too_many_arguments)]
+    pub fn place(
+        &mut self,
+        painter: &egui::Painter,
+        text: &str,
+        font: FontId,
+        color: Color32,
+        anchor: Pos2,
+        offsets: &[Vec2],
+        plate: Option<Color32>,
+    ) -> Option<Rect> {
+        let galley = painter.layout_no_wrap(text.to_owned(), font, color);
+        let size = galley.size();
+        if size.x > self.area.width() || size.y > self.area.height() {
+            return None;
+        }
+        let spot = (0..6).flat_map(|step| {
+            let stretch = 1.0 + step as f32 * 0.75;
+            offsets.iter().map(move |offset| *offset * stretch)
+        });
+        for offset in spot {
+            let rect = Rect::from_center_size(anchor + offset, size);
+            // Inside the area: shifted in, as long as that keeps it near its anchor.
+            let shift = Vec2::new(
+                (self.area.left() - rect.left()).max(0.0)
+                    + (self.area.right() - rect.right()).min(0.0),
+                (self.area.top() - rect.top()).max(0.0)
+                    + (self.area.bottom() - rect.bottom()).min(0.0),
+            );
+            let rect = rect.translate(shift);
+            let padded = rect.expand(2.0);
+            if self.placed.iter().any(|other| other.intersects(padded)) {
+                continue;
+            }
+            if let Some(plate) = plate {
+                painter.rect_filled(rect.expand(2.0), 3.0, plate);
+            }
+            painter.galley(rect.min, galley, color);
+            self.placed.push(rect);
+            return Some(rect);
+        }
+        None
+    }
+
+    /// Where the labels went (and what was reserved), for tests.
+    pub fn placed(&self) -> &[Rect] {
+        &self.placed
+    }
+}
+
+/// Whether any two of `rects` overlap: what a label layout must never allow.
+pub fn any_overlap(rects: &[Rect]) -> bool {
+    rects.iter().enumerate().any(|(index, rect)| {
+        rects[index + 1..]
+            .iter()
+            .any(|other| rect.intersect(*other).area() > 0.0)
+    })
 }

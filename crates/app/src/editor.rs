@@ -78,6 +78,19 @@ impl Editing {
     };
 }
 
+/// Where a scene's shapes came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SceneOrigin {
+    /// The lesson file.
+    Lesson,
+    /// A scene file the user opened.
+    File,
+    /// The generator.
+    Generated,
+    /// Changed by hand since.
+    Edited,
+}
+
 /// A scene being looked at and edited.
 #[derive(Clone, Debug)]
 pub struct EditableScene {
@@ -85,6 +98,13 @@ pub struct EditableScene {
     pub scene: Scene2d,
     /// Bumped on every change.
     pub revision: u64,
+    /// Bumped when the shapes or the settings change (not when only the ray moves): what
+    /// structures are rebuilt for.
+    pub shapes_revision: u64,
+    /// Where the shapes came from, for the toolbar: the lesson, a file, the generator, edits.
+    pub origin: SceneOrigin,
+    /// Set when the generator made new shapes, until the lesson places its ray.
+    generated: bool,
     /// The current tool.
     pub tool: Tool,
     /// The selected shape.
@@ -100,20 +120,32 @@ pub struct EditableScene {
     pub generator: GeneratorEntry,
 }
 
+/// The most shapes the generator makes: the largest scene every lesson is tested with.
+pub const MAX_GENERATED: usize = 100_000;
+
 /// Pick distance in screen points.
 const PICK_POINTS: f32 = 10.0;
 
 impl EditableScene {
     /// A scene with the given editing rights.
     pub fn new(scene: Scene2d, editing: Editing) -> Self {
+        // A scene written out shape by shape offers to generate as many shapes as it has.
         let generator = scene.generator.unwrap_or(GeneratorEntry {
             layout: LayoutEntry::Uniform,
-            count: 50,
+            count: scene.shapes.shapes.len().max(1),
             seed: 1,
         });
+        let origin = if scene.generator.is_some() {
+            SceneOrigin::Generated
+        } else {
+            SceneOrigin::Lesson
+        };
         Self {
             scene,
             revision: 1,
+            shapes_revision: 1,
+            origin,
+            generated: false,
             tool: Tool::Move,
             selected: None,
             view: View2d::default(),
@@ -126,19 +158,49 @@ impl EditableScene {
 
     /// Replaces the scene (opened from a file or a preset) and refits the view.
     pub fn replace(&mut self, scene: Scene2d) {
-        if let Some(generator) = scene.generator {
-            self.generator = generator;
-        }
+        self.generator = scene.generator.unwrap_or(GeneratorEntry {
+            count: scene.shapes.shapes.len().max(1),
+            ..self.generator
+        });
         self.scene = scene;
         self.selected = None;
         self.drag = None;
         self.view.placed = false;
+        self.touch();
+    }
+
+    /// Marks a change of the shapes or settings made from outside (a slider).
+    pub fn touch(&mut self) {
+        self.revision += 1;
+        self.shapes_revision += 1;
+    }
+
+    /// Marks a change of the ray made from outside (a preset ray).
+    pub fn touch_ray(&mut self) {
         self.revision += 1;
     }
 
-    /// Marks a change made from outside (a preset, a settings slider).
-    pub fn touch(&mut self) {
-        self.revision += 1;
+    /// Whether the generator made new shapes since the last call: the lesson then places the
+    /// ray where it shows what the lesson is about.
+    pub fn take_generated(&mut self) -> bool {
+        std::mem::take(&mut self.generated)
+    }
+
+    /// Where the scene's shapes came from, in words ("from the lesson", "generated: …").
+    pub fn origin_text(&self) -> String {
+        match self.origin {
+            SceneOrigin::Lesson => "the lesson's scene".to_owned(),
+            SceneOrigin::File => "opened from a file".to_owned(),
+            SceneOrigin::Generated => {
+                let generator = self.scene.generator.unwrap_or(self.generator);
+                format!(
+                    "generated: {}, seed {}",
+                    layout_name(generator.layout),
+                    generator.seed
+                )
+            }
+            SceneOrigin::Edited => "edited by hand".to_owned(),
+        }
     }
 
     /// The ray, or why there is none (its head sits on its origin).
@@ -174,9 +236,11 @@ impl EditableScene {
         }
     }
 
-    /// The toolbar above the canvas: tools, generator, fit.
+    /// The toolbar above the canvas: tools, generator, fit. One line at the app's default size
+    /// (the shape count is written on the canvas, [`draw_footer`](Self::draw_footer)).
     pub fn toolbar_ui(&mut self, ui: &mut Ui) {
-        ui.horizontal_wrapped(|ui| {
+        ui.horizontal(|ui| {
+            ui.spacing_mut().item_spacing.x = 6.0;
             if self.editing.shapes {
                 for (tool, label, hint) in [
                     (
@@ -203,20 +267,19 @@ impl EditableScene {
                 ui.separator();
             }
             if ui
-                .button("fit view")
+                .button("fit")
                 .on_hover_text("Fit the view to the scene")
                 .clicked()
             {
                 self.view.placed = false;
             }
-            ui.label(format!("{} shapes", self.scene.shapes.shapes.len()));
         });
     }
 
     fn generator_ui(&mut self, ui: &mut Ui) {
-        egui::ComboBox::from_label("layout")
+        egui::ComboBox::from_id_salt("layout")
             .selected_text(layout_name(self.generator.layout))
-            .width(90.0)
+            .width(84.0)
             .show_ui(ui, |ui| {
                 for layout in [
                     LayoutEntry::Uniform,
@@ -225,34 +288,52 @@ impl EditableScene {
                 ] {
                     ui.selectable_value(&mut self.generator.layout, layout, layout_name(layout));
                 }
-            });
+            })
+            .response
+            .on_hover_text("Where the generated shapes go");
         ui.add(
             egui::DragValue::new(&mut self.generator.count)
-                .range(1..=100_000)
+                .range(1..=MAX_GENERATED)
                 .prefix("n "),
         )
-        .on_hover_text("How many shapes");
+        .on_hover_text("How many shapes to generate (the scene now has its own count, below)");
         ui.add(egui::DragValue::new(&mut self.generator.seed).prefix("seed "))
             .on_hover_text("The same seed gives the same scene");
         if ui
             .button("generate")
-            .on_hover_text("Replace the shapes with a generated scene")
+            .on_hover_text("Replace the shapes with n generated ones")
             .clicked()
         {
-            self.scene.shapes = generate(
-                self.generator.layout.into(),
-                self.generator.count,
-                self.generator.seed,
-            );
-            self.scene.generator = Some(self.generator);
-            let bounds = self.bounds();
-            // Keep the ray where it shows the scene: from outside its lower left, across it.
-            self.scene.ray_origin = bounds.min - bounds.extent() * 0.05;
-            self.scene.ray_toward = self.scene.ray_origin + bounds.extent() * 0.2;
-            self.selected = None;
-            self.view.placed = false;
-            self.revision += 1;
+            self.generate();
         }
+    }
+
+    /// Replaces the shapes with the generator's; the ray goes from outside the lower left
+    /// across the scene until the lesson places it (see [`take_generated`](Self::take_generated)).
+    pub fn generate(&mut self) {
+        self.scene.shapes = generate(
+            self.generator.layout.into(),
+            self.generator.count,
+            self.generator.seed,
+        );
+        self.scene.generator = Some(self.generator);
+        let bounds = self.bounds();
+        self.scene.ray_origin = bounds.min - bounds.extent() * 0.05;
+        self.scene.ray_toward = self.scene.ray_origin + bounds.extent() * 0.2;
+        self.selected = None;
+        self.view.placed = false;
+        self.origin = SceneOrigin::Generated;
+        self.generated = true;
+        self.touch();
+    }
+
+    /// The scene's shape count and where it came from, at the canvas's bottom right.
+    pub fn draw_footer(&self, canvas: &Canvas) {
+        canvas.note_right(&format!(
+            "{} shapes · {}",
+            accelviz_core::format::count(self.scene.shapes.shapes.len()),
+            self.origin_text()
+        ));
     }
 
     /// The toolbar, then a canvas filling the space left (fitted to the scene and `extra`
@@ -321,7 +402,7 @@ impl EditableScene {
         if index < self.scene.shapes.shapes.len() && self.scene.shapes.shapes.len() > 1 {
             self.scene.shapes.shapes.remove(index);
             self.selected = None;
-            self.revision += 1;
+            self.edited();
         }
     }
 
@@ -370,7 +451,7 @@ impl EditableScene {
         self.scene.shapes.shapes.push(new_shape);
         let index = self.scene.shapes.shapes.len() - 1;
         self.selected = Some(index);
-        self.revision += 1;
+        self.edited();
         Drag::Handle {
             index,
             handle: 1,
@@ -385,8 +466,14 @@ impl EditableScene {
                 let offset = at - self.scene.ray_origin;
                 self.scene.ray_origin = at;
                 self.scene.ray_toward += offset;
+                self.touch_ray();
+                return;
             }
-            Drag::RayHead => self.scene.ray_toward = at,
+            Drag::RayHead => {
+                self.scene.ray_toward = at;
+                self.touch_ray();
+                return;
+            }
             Drag::Shape { index, last } => {
                 let offset = at - last;
                 if let Some(shape) = self.scene.shapes.shapes.get_mut(index) {
@@ -410,7 +497,14 @@ impl EditableScene {
                 return;
             }
         }
-        self.revision += 1;
+        self.edited();
+    }
+
+    /// The shapes were changed by hand.
+    fn edited(&mut self) {
+        self.origin = SceneOrigin::Edited;
+        self.scene.generator = None;
+        self.touch();
     }
 
     /// The topmost shape under a world point.

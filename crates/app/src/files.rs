@@ -1,7 +1,13 @@
-//! Opening and saving scene files: a file dialog on the desktop (rfd), upload and download in
-//! the browser. Opening is asynchronous in the browser, so results arrive as events the app
-//! picks up on its next frame.
+//! Opening and saving scene files.
+//!
+//! On the desktop the system's file dialog is asked first (rfd: the XDG desktop portal, or
+//! zenity). Where neither exists (a Linux desktop without a portal, a lecture-hall PC set up
+//! by hand) rfd only logs why and returns nothing, so the app listens to rfd's log: a dialog
+//! that failed opens the in-app file panel ([`FilePanel`]) with rfd's reason, and the panel's
+//! path field and listing always work. In the browser, opening is an upload and saving a
+//! download; opening is asynchronous there, so results arrive as events on the next frame.
 
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 /// A finished file operation.
@@ -21,10 +27,275 @@ pub enum FileEvent {
 /// The largest scene file opened (bytes), checked before reading it all.
 const MAX_OPEN_BYTES: u64 = accelviz_scene::document::MAX_DOCUMENT_BYTES as u64;
 
-/// Where file results wait for the next frame.
+/// What rfd logged at warning level or above while a dialog was open: why it failed.
+static DIALOG_LOG: Mutex<Vec<String>> = Mutex::new(Vec::new());
+
+/// A logger that passes every record on to `inner` and keeps rfd's warnings and errors, so a
+/// dialog that fails can say why in the app instead of only on stderr.
+struct DialogLogCapture {
+    inner: Option<Box<dyn log::Log>>,
+}
+
+impl log::Log for DialogLogCapture {
+    fn enabled(&self, metadata: &log::Metadata) -> bool {
+        metadata.target().starts_with("rfd")
+            || self
+                .inner
+                .as_ref()
+                .is_some_and(|inner| inner.enabled(metadata))
+    }
+
+    fn log(&self, record: &log::Record) {
+        if record.target().starts_with("rfd")
+            && record.level() <= log::Level::Warn
+            && let Ok(mut messages) = DIALOG_LOG.lock()
+        {
+            messages.push(record.args().to_string());
+        }
+        if let Some(inner) = &self.inner
+            && inner.enabled(record.metadata())
+        {
+            inner.log(record);
+        }
+    }
+
+    fn flush(&self) {
+        if let Some(inner) = &self.inner {
+            inner.flush();
+        }
+    }
+}
+
+/// Installs the process's logger: `inner` (the desktop app's env_logger), with rfd's
+/// complaints kept for the app. Does nothing if a logger is already installed.
+pub fn install_logger(inner: Option<Box<dyn log::Log>>, max_level: log::LevelFilter) {
+    if log::set_boxed_logger(Box::new(DialogLogCapture { inner })).is_ok() {
+        log::set_max_level(max_level.max(log::LevelFilter::Warn));
+    }
+}
+
+/// Runs a dialog and returns its answer, or why it could not open (what rfd logged).
+fn run_dialog<T>(dialog: impl FnOnce() -> Option<T>) -> Result<Option<T>, String> {
+    if let Ok(mut messages) = DIALOG_LOG.lock() {
+        messages.clear();
+    }
+    let answer = dialog();
+    let complaints = DIALOG_LOG
+        .lock()
+        .map(|mut messages| std::mem::take(&mut *messages))
+        .unwrap_or_default();
+    match answer {
+        Some(answer) => Ok(Some(answer)),
+        // Nothing chosen and nothing said: the user cancelled.
+        None if complaints.is_empty() => Ok(None),
+        None => Err(complaints.join("; ")),
+    }
+}
+
+/// Reads a scene file, refusing huge ones before reading them whole.
+pub fn read_scene_file(path: &Path) -> FileEvent {
+    let name = path.display().to_string();
+    let size = std::fs::metadata(path)
+        .map(|metadata| metadata.len())
+        .unwrap_or(0);
+    if size > MAX_OPEN_BYTES {
+        return FileEvent::Failed(format!(
+            "{name}: the file is {} MB; scene files are limited to {} MB",
+            size >> 20,
+            MAX_OPEN_BYTES >> 20
+        ));
+    }
+    match std::fs::read_to_string(path) {
+        Ok(text) => FileEvent::Opened { name, text },
+        Err(error) => FileEvent::Failed(format!("{name}: cannot read the file: {error}")),
+    }
+}
+
+/// Writes `text` to `path` through a file beside it and a rename, so a failed write never
+/// leaves half a file where the old one was.
+pub fn write_scene_file(path: &Path, text: &str) -> Result<String, String> {
+    let partial = path.with_extension("ron.partial");
+    std::fs::write(&partial, text)
+        .and_then(|()| std::fs::rename(&partial, path))
+        .map(|()| format!("saved {}", path.display()))
+        .map_err(|error| {
+            let _ = std::fs::remove_file(&partial);
+            format!("{}: cannot save: {error}", path.display())
+        })
+}
+
+/// What the in-app file panel is for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PanelMode {
+    /// Choose a scene file to open.
+    Open,
+    /// Choose where to save the scene.
+    Save,
+}
+
+/// The in-app file panel: a path field, the scene files in its folder, and Open or Save. It
+/// needs nothing of the desktop, so it always works.
+#[derive(Clone, Debug)]
+pub struct FilePanel {
+    /// Open or save.
+    pub mode: PanelMode,
+    /// The path typed or picked.
+    pub path: String,
+    /// Why the panel is shown instead of the system dialog, if it failed.
+    pub reason: Option<String>,
+}
+
+/// What the panel asks the app to do.
+pub enum PanelAction {
+    /// Nothing yet.
+    None,
+    /// Close the panel.
+    Close,
+    /// Open this file.
+    Open(PathBuf),
+    /// Save to this file.
+    Save(PathBuf),
+}
+
+impl FilePanel {
+    /// A panel for `mode`, starting in the current folder (and with `file_name` to save).
+    pub fn new(mode: PanelMode, reason: Option<String>) -> Self {
+        let folder = std::env::current_dir().unwrap_or_default();
+        let path = match mode {
+            PanelMode::Open => folder.display().to_string(),
+            PanelMode::Save => folder.join("scene.ron").display().to_string(),
+        };
+        Self { mode, path, reason }
+    }
+
+    /// The folder the path is in (or is).
+    fn folder(&self) -> PathBuf {
+        let path = PathBuf::from(&self.path);
+        if path.is_dir() {
+            path
+        } else {
+            path.parent().map(Path::to_path_buf).unwrap_or_default()
+        }
+    }
+
+    /// The scene files (`.ron`) and folders in the path's folder, folders first.
+    fn listing(&self) -> Vec<(PathBuf, bool)> {
+        let Ok(entries) = std::fs::read_dir(self.folder()) else {
+            return Vec::new();
+        };
+        let mut listing: Vec<(PathBuf, bool)> = entries
+            .filter_map(Result::ok)
+            .map(|entry| entry.path())
+            .filter_map(|path| {
+                let is_dir = path.is_dir();
+                let hidden = path
+                    .file_name()
+                    .is_some_and(|name| name.to_string_lossy().starts_with('.'));
+                let scene = path.extension().is_some_and(|extension| extension == "ron");
+                (!hidden && (is_dir || scene)).then_some((path, is_dir))
+            })
+            .collect();
+        listing.sort_by(|a, b| b.1.cmp(&a.1).then(a.0.cmp(&b.0)));
+        listing.truncate(200);
+        listing
+    }
+
+    /// The panel's window. Returns what the user asked for.
+    pub fn ui(&mut self, ctx: &egui::Context) -> PanelAction {
+        let mut action = PanelAction::None;
+        let title = match self.mode {
+            PanelMode::Open => "Open a scene file",
+            PanelMode::Save => "Save the scene",
+        };
+        let mut open = true;
+        egui::Window::new(title)
+            .collapsible(false)
+            .resizable(true)
+            .default_width(520.0)
+            .open(&mut open)
+            .show(ctx, |ui| {
+                if let Some(reason) = &self.reason {
+                    ui.colored_label(
+                        crate::canvas::palette::RAY,
+                        format!(
+                            "The system's file dialog could not open ({reason}). Type or pick a path here instead."
+                        ),
+                    );
+                }
+                ui.horizontal(|ui| {
+                    let label = ui.label("path");
+                    ui.add(
+                        egui::TextEdit::singleline(&mut self.path)
+                            .desired_width(ui.available_width() - 8.0),
+                    )
+                    .labelled_by(label.id);
+                });
+                let folder = self.folder();
+                ui.horizontal(|ui| {
+                    if let Some(parent) = folder.parent()
+                        && ui.button("up a folder").clicked()
+                    {
+                        self.path = parent.display().to_string();
+                    }
+                    ui.label(
+                        egui::RichText::new(format!("in {}", folder.display()))
+                            .small()
+                            .weak(),
+                    );
+                });
+                egui::ScrollArea::vertical()
+                    .max_height(220.0)
+                    .show(ui, |ui| {
+                        for (path, is_dir) in self.listing() {
+                            let name = path
+                                .file_name()
+                                .map(|name| name.to_string_lossy().into_owned())
+                                .unwrap_or_default();
+                            let shown = if is_dir { format!("{name}/") } else { name };
+                            if ui.selectable_label(false, shown).clicked() {
+                                self.path = path.display().to_string();
+                            }
+                        }
+                    });
+                ui.separator();
+                ui.horizontal(|ui| {
+                    let path = PathBuf::from(&self.path);
+                    let verb = match self.mode {
+                        PanelMode::Open => "Open",
+                        PanelMode::Save => "Save",
+                    };
+                    if ui.button(verb).clicked() {
+                        action = match self.mode {
+                            PanelMode::Open => PanelAction::Open(path),
+                            PanelMode::Save => PanelAction::Save(path),
+                        };
+                    }
+                    if ui.button("Cancel").clicked() {
+                        action = PanelAction::Close;
+                    }
+                });
+            });
+        if !open {
+            action = PanelAction::Close;
+        }
+        action
+    }
+}
+
+/// Where file results wait for the next frame, and how dialogs are shown.
 #[derive(Clone, Default)]
 pub struct FileChannel {
     events: Arc<Mutex<Vec<FileEvent>>>,
+}
+
+/// What asking for a file led to.
+pub enum DialogOutcome {
+    /// The answer will come as an event (a file read) or came already.
+    Done,
+    /// The user cancelled.
+    Cancelled,
+    /// No dialog could open; the in-app panel should, with this reason.
+    Unavailable(String),
 }
 
 impl FileChannel {
@@ -42,37 +313,27 @@ impl FileChannel {
         }
     }
 
-    /// Asks the user for a scene file to open.
+    /// Asks the system's dialog for a scene file to open.
     #[cfg(not(target_arch = "wasm32"))]
-    pub fn open(&self) {
-        let Some(path) = rfd::FileDialog::new()
-            .add_filter("accelviz scene", &["ron"])
-            .pick_file()
-        else {
-            return;
-        };
-        let name = path.display().to_string();
-        let size = std::fs::metadata(&path)
-            .map(|metadata| metadata.len())
-            .unwrap_or(0);
-        let event = if size > MAX_OPEN_BYTES {
-            FileEvent::Failed(format!(
-                "{name}: the file is {} MB; scene files are limited to {} MB",
-                size >> 20,
-                MAX_OPEN_BYTES >> 20
-            ))
-        } else {
-            match std::fs::read_to_string(&path) {
-                Ok(text) => FileEvent::Opened { name, text },
-                Err(error) => FileEvent::Failed(format!("{name}: cannot read the file: {error}")),
+    pub fn open(&self) -> DialogOutcome {
+        let picked = run_dialog(|| {
+            rfd::FileDialog::new()
+                .add_filter("accelviz scene", &["ron"])
+                .pick_file()
+        });
+        match picked {
+            Ok(Some(path)) => {
+                self.push(read_scene_file(&path));
+                DialogOutcome::Done
             }
-        };
-        self.push(event);
+            Ok(None) => DialogOutcome::Cancelled,
+            Err(reason) => DialogOutcome::Unavailable(reason),
+        }
     }
 
-    /// Asks the user for a scene file to upload.
+    /// Asks the browser for a scene file to upload.
     #[cfg(target_arch = "wasm32")]
-    pub fn open(&self) {
+    pub fn open(&self) -> DialogOutcome {
         let channel = self.clone();
         wasm_bindgen_futures::spawn_local(async move {
             let Some(file) = rfd::AsyncFileDialog::new()
@@ -98,33 +359,38 @@ impl FileChannel {
             };
             channel.push(event);
         });
+        DialogOutcome::Done
     }
 
-    /// Saves `text` through a save dialog. `Ok(Some(message))` on success, `Ok(None)` if the
-    /// user cancelled.
+    /// Saves `text` through the system's save dialog. `Ok(Some(message))` when saved,
+    /// `Ok(None)` if the user cancelled, `Err(reason)` if no dialog could open.
     #[cfg(not(target_arch = "wasm32"))]
-    pub fn save(&self, suggested_name: &str, text: String) -> Result<Option<String>, String> {
-        let Some(path) = rfd::FileDialog::new()
-            .add_filter("accelviz scene", &["ron"])
-            .set_file_name(suggested_name)
-            .save_file()
-        else {
-            return Ok(None);
-        };
-        // Write beside the target and rename, so a failed write never leaves half a file.
-        let partial = path.with_extension("ron.partial");
-        std::fs::write(&partial, text)
-            .and_then(|()| std::fs::rename(&partial, &path))
-            .map(|()| Some(format!("saved {}", path.display())))
-            .map_err(|error| format!("{}: cannot save: {error}", path.display()))
+    pub fn save(
+        &self,
+        suggested_name: &str,
+        text: &str,
+    ) -> Result<Option<Result<String, String>>, String> {
+        let chosen = run_dialog(|| {
+            rfd::FileDialog::new()
+                .add_filter("accelviz scene", &["ron"])
+                .set_file_name(suggested_name)
+                .save_file()
+        })?;
+        Ok(chosen.map(|path| write_scene_file(&path, text)))
     }
 
     /// Downloads `text` as a file.
     #[cfg(target_arch = "wasm32")]
-    pub fn save(&self, suggested_name: &str, text: String) -> Result<Option<String>, String> {
-        web::download(suggested_name, &text)
-            .map(|()| Some(format!("downloaded {suggested_name}")))
-            .map_err(|error| format!("cannot download {suggested_name}: {error:?}"))
+    pub fn save(
+        &self,
+        suggested_name: &str,
+        text: &str,
+    ) -> Result<Option<Result<String, String>>, String> {
+        Ok(Some(
+            web::download(suggested_name, text)
+                .map(|()| format!("downloaded {suggested_name}"))
+                .map_err(|error| format!("cannot download {suggested_name}: {error:?}")),
+        ))
     }
 }
 

@@ -1,16 +1,24 @@
 //! # accelviz-app
 //!
 //! The interactive lessons: every idea of the bounding-volumes lecture as a 2D scene a student
-//! can poke at. A lesson edits a scene ([`editor`]), hands it to the core's builders and
-//! traversals with a `Recorder` observer, and draws what was recorded on a [`canvas`], stepped
-//! through by a [`timeline`]. The same code runs on the desktop (eframe on wgpu) and in the
-//! browser (WASM; WebGPU or WebGL2).
+//! can poke at. A lesson ([`lesson`], listed once in [`registry`]) keeps its text, scene and
+//! timeline in a [`stage`]; it builds structures with the core's catalogue
+//! ([`stage::SceneTree`], in the [`background`] on the desktop when large), records the one
+//! traversal with a `Recorder` ([`trace`]), and draws with the shared [`views`] on a
+//! [`canvas`]. The same code runs on the desktop (eframe on wgpu) and in the browser (WASM;
+//! WebGPU or WebGL2).
 
 pub mod app;
+pub mod background;
 pub mod canvas;
 pub mod editor;
 pub mod files;
+pub mod lesson;
 pub mod lessons;
+pub mod registry;
+pub mod stage;
 pub mod timeline;
+pub mod trace;
+pub mod views;
 
 pub use app::AccelvizApp;

@@ -1,8 +1,22 @@
 //! The `accelviz` binary: the desktop app, or the browser app when built for wasm32.
 
 #[cfg(not(target_arch = "wasm32"))]
-fn main() -> eframe::Result {
-    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).init();
+fn main() -> std::process::ExitCode {
+    let logger =
+        env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("warn")).build();
+    let level = logger.filter();
+    accelviz_app::files::install_logger(Some(Box::new(logger)), level);
+    // A window needs a display; without one, say so in a line, and where to go instead.
+    let on_unix_desktop = cfg!(all(unix, not(target_os = "macos")));
+    let has_display = ["DISPLAY", "WAYLAND_DISPLAY", "WAYLAND_SOCKET"]
+        .iter()
+        .any(|name| std::env::var_os(name).is_some_and(|value| !value.is_empty()));
+    if on_unix_desktop && !has_display {
+        eprintln!("{NO_DISPLAY}");
+        return std::process::ExitCode::from(1);
+    }
+    // Big builds run on worker threads, so the window keeps drawing.
+    accelviz_app::background::set_background(true);
     let options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_title("accelviz")
@@ -15,12 +29,27 @@ fn main() -> eframe::Result {
     let assets = std::env::var_os("ACCELVIZ_ASSETS")
         .map(std::path::PathBuf::from)
         .unwrap_or_else(|| std::path::PathBuf::from("assets"));
-    eframe::run_native(
+    let started = eframe::run_native(
         "accelviz",
         options,
         Box::new(move |_creation| Ok(Box::new(accelviz_app::AccelvizApp::with_assets(&assets)))),
-    )
+    );
+    match started {
+        Ok(()) => std::process::ExitCode::SUCCESS,
+        Err(error) => {
+            eprintln!("accelviz: the window could not open: {error}. {ALTERNATIVES}");
+            std::process::ExitCode::from(1)
+        }
+    }
 }
+
+/// Where to go without a window.
+#[cfg(not(target_arch = "wasm32"))]
+const ALTERNATIVES: &str = "The same lessons run in a browser (scripts/build-web, then serve web/), and accelviz-cli measures without a display.";
+
+/// What the app says when started without a display.
+#[cfg(not(target_arch = "wasm32"))]
+const NO_DISPLAY: &str = "accelviz needs a display (X11 or Wayland) and found none (DISPLAY and WAYLAND_DISPLAY are not set). The same lessons run in a browser (scripts/build-web, then serve web/), and accelviz-cli measures without a display.";
 
 #[cfg(target_arch = "wasm32")]
 fn main() {

@@ -1,8 +1,9 @@
 //! The timeline under every animation: play, pause, step forward and back, speed, scrub.
 //! Keyboard: space plays or pauses, the left and right arrows step.
 //!
-//! A lesson's animation is a list of recorded steps (from the core's `Recorder`); the timeline
-//! only says how many of them are shown, so stepping back and forth replays, never recomputes.
+//! A lesson's animation is a list of recorded frames (from the core's `Recorder`, see
+//! [`Trace`](crate::trace::Trace)); the timeline only says how many of them are shown, so
+//! stepping back and forth replays, never recomputes.
 
 use egui::{Key, Ui};
 
@@ -40,6 +41,12 @@ impl Timeline {
     pub fn set_len(&mut self, len: usize) {
         self.len = len;
         self.shown = self.shown.min(len);
+    }
+
+    /// Back to the start, paused.
+    pub fn rewind(&mut self) {
+        self.shown = 0;
+        self.playing = false;
     }
 
     /// One step forward (stops playing at the end).

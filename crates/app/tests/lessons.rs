@@ -1,9 +1,12 @@
 //! Every lesson rendered on the software wgpu adapter and compared with its committed image
-//! (`tests/snapshots/`; refresh with `UPDATE_SNAPSHOTS=1 cargo test -p accelviz-app`), and the
-//! lesson files parsed.
+//! (`tests/snapshots/`; refresh with `UPDATE_SNAPSHOTS=1 cargo test -p accelviz-app`), the
+//! lesson files parsed, and lesson files on disk: an edit shows, a broken one falls back to the
+//! built-in copy and says why.
 
 use accelviz_app::AccelvizApp;
-use accelviz_app::lessons::{LESSON_FILES, LessonText};
+use accelviz_app::lesson::LessonText;
+use accelviz_app::registry::{LESSONS, registry_from};
+use accelviz_scene::document::{GeneratorEntry, LayoutEntry};
 use egui_kittest::Harness;
 
 /// The app at a projector-like size.
@@ -19,8 +22,8 @@ fn harness() -> Harness<'static, AccelvizApp> {
 
 #[test]
 fn every_lesson_file_parses() {
-    for (path, text) in LESSON_FILES {
-        if let Err(error) = LessonText::parse(text, path) {
+    for entry in &LESSONS {
+        if let Err(error) = LessonText::parse(entry.embedded, entry.path) {
             panic!("{error}");
         }
     }
@@ -30,17 +33,14 @@ fn every_lesson_file_parses() {
 fn every_lesson_matches_its_snapshot() {
     let mut harness = harness();
     let count = harness.state().lesson_count();
-    assert_eq!(count, LESSON_FILES.len());
+    assert_eq!(count, LESSONS.len());
     let mut failures = Vec::new();
     for index in 0..count {
         harness.state_mut().selected = index;
         harness.run();
         // Part-way through its animation, so the snapshot shows the lesson at work.
-        if let Some((timeline, _)) = harness
-            .state_mut()
-            .lesson_mut()
-            .and_then(|lesson| lesson.timeline())
-        {
+        if let Some(lesson) = harness.state_mut().lesson_mut() {
+            let timeline = &mut lesson.stage_mut().timeline;
             timeline.shown = timeline.len * 2 / 3;
         }
         harness.run();
@@ -63,49 +63,116 @@ fn a_ten_thousand_shape_scene_matches_its_snapshot() {
         .iter()
         .position(|title| title.contains("hierarchy"))
         .expect("the BVH lesson");
-    let scene = harness
+    let scene = &mut harness
         .state_mut()
         .lesson_mut()
-        .and_then(|lesson| lesson.scene_mut())
-        .expect("a scene");
-    scene.scene.shapes =
-        accelviz_scene::scene2d::generate(accelviz_scene::scene2d::Layout::Clustered, 10_000, 1);
+        .expect("the BVH lesson")
+        .stage_mut()
+        .scene;
     scene.scene.settings.max_leaf_size = 2;
-    scene.view.placed = false;
-    scene.touch();
+    scene.generator = GeneratorEntry {
+        layout: LayoutEntry::Clustered,
+        count: 10_000,
+        seed: 1,
+    };
+    scene.generate();
     harness.run();
     harness.snapshot("bvh_10k");
 }
 
 /// Lesson files on disk override the embedded ones (a lecturer's edit shows at the next start);
-/// a broken one becomes an entry that names its file and line, and the other lessons still load.
+/// a broken one keeps its lesson in the list, under its title, showing the built-in copy with
+/// a notice that names the file, line and problem.
 #[test]
-fn lesson_files_on_disk_override_the_embedded_ones() {
+fn lesson_files_on_disk_override_the_embedded_ones_and_a_broken_one_falls_back() {
     let dir = std::env::temp_dir().join(format!("accelviz-lessons-{}", std::process::id()));
-    std::fs::create_dir_all(dir.join("lessons")).unwrap();
-    let (first_path, first_text) = LESSON_FILES[0];
-    let edited = first_text.replace("1. The trivial loop", "1. The loop, edited");
-    std::fs::write(dir.join(first_path.trim_start_matches("assets/")), edited).unwrap();
-    let (second_path, second_text) = LESSON_FILES[1];
-    let broken = second_text.replacen("title:", "titel:", 1);
-    std::fs::write(dir.join(second_path.trim_start_matches("assets/")), broken).unwrap();
+    std::fs::create_dir_all(dir.join("lessons")).unwrap_or_else(|error| panic!("{error}"));
+    let first = &LESSONS[0];
+    let edited = first
+        .embedded
+        .replace("1. The trivial loop", "1. The loop, edited");
+    std::fs::write(dir.join(first.path.trim_start_matches("assets/")), edited)
+        .unwrap_or_else(|error| panic!("{error}"));
+    let second = &LESSONS[1];
+    let broken = second.embedded.replacen("title:", "titel:", 1);
+    std::fs::write(dir.join(second.path.trim_start_matches("assets/")), broken)
+        .unwrap_or_else(|error| panic!("{error}"));
 
     let app = AccelvizApp::with_assets(&dir);
     let titles = app.titles();
     assert_eq!(titles[0], "1. The loop, edited");
-    assert_eq!(titles[1], "(lesson file broken)");
+    assert_eq!(
+        titles[1], "2. Bounding volumes",
+        "a broken file keeps its lesson and title"
+    );
     assert_eq!(
         titles[2], "3. The slab test",
         "files not on disk come embedded"
     );
-    let lessons = accelviz_app::lessons::registry_from(Some(&dir));
-    let error = lessons[1]
-        .as_ref()
-        .err()
-        .expect("the broken file is an error");
+    let lessons = registry_from(Some(&dir));
+    let lesson = lessons[1].as_ref().unwrap_or_else(|_| panic!("falls back"));
+    let notice = lesson.stage().notice.clone().expect("a notice says why");
     assert!(
-        error.contains("02-bounding-volumes.ron:3:") && error.contains("titel"),
-        "{error}"
+        notice.contains("02-bounding-volumes.ron:3:")
+            && notice.contains("titel")
+            && notice.contains("built-in copy"),
+        "{notice}"
     );
-    std::fs::remove_dir_all(&dir).unwrap();
+    assert!(
+        lessons[0]
+            .as_ref()
+            .is_ok_and(|lesson| lesson.stage().notice.is_none())
+    );
+    std::fs::remove_dir_all(&dir).unwrap_or_else(|error| panic!("{error}"));
+
+    // The notice is shown at the top of the inspector.
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(1400.0, 860.0))
+        .build_ui_state(
+            |ui, app: &mut AccelvizApp| app.contents_ui(ui),
+            AccelvizApp::from_lessons(lessons),
+        );
+    harness.state_mut().selected = 1;
+    harness.run();
+    use egui_kittest::kittest::Queryable;
+    assert!(
+        harness.query_by_label_contains("built-in copy").is_some(),
+        "the notice is on screen"
+    );
+}
+
+/// The recap's presets show both outcomes, as their names promise: the kD-tree wins where long
+/// walls make the BVH's boxes span empty space, the BVH where its boxes can shrink to
+/// clusters and where long primitives cross every plane.
+#[test]
+fn the_recap_presets_show_when_each_structure_wins() {
+    use accelviz_app::lesson::Lesson;
+    use accelviz_app::lessons::recap::RecapLesson;
+    let entry = LESSONS
+        .iter()
+        .find(|entry| entry.path.ends_with("10-recap.ron"))
+        .expect("the recap");
+    let text = LessonText::parse(entry.embedded, entry.path).expect("parses");
+    let names: Vec<String> = text
+        .file
+        .presets
+        .iter()
+        .map(|preset| preset.name.clone())
+        .collect();
+    let mut lesson = RecapLesson::new(text);
+    for (index, name) in names.iter().enumerate() {
+        lesson.show_preset(index);
+        lesson.update();
+        let [bvh, kd] = lesson.measured().expect("measured at once in tests");
+        let kd_wins = kd.cost_per_ray < bvh.cost_per_ray;
+        let expected = matches!(name.as_str(), "dust in a room" | "teapot in a stadium");
+        assert_eq!(kd_wins, expected, "{name}: BVH {bvh:?}, kD {kd:?}");
+        let verdict = accelviz_app::lessons::recap::verdict([bvh, kd]);
+        let winner = if expected {
+            "the kD-tree wins"
+        } else {
+            "the BVH wins"
+        };
+        assert!(verdict.contains(winner), "{name}: {verdict}");
+    }
 }

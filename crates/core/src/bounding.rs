@@ -3,7 +3,7 @@
 
 use crate::aabb::Aabb;
 use crate::math::{Real, Vector};
-use crate::primitive::Sphere;
+use crate::primitive::{Shape, ShapeSet, Sphere};
 use crate::ray::Ray;
 use crate::slab::slab_record;
 
@@ -78,6 +78,14 @@ impl<V: Vector> BoundingVolumes<V> {
         }
     }
 
+    /// The volumes around a set of solid shapes taken as one object: its void is measured
+    /// against what the shapes cover together (overlaps once, on a 400² grid in 2D).
+    pub fn around_shapes(shapes: &ShapeSet<V>) -> Self {
+        let points: Vec<V> = shapes.shapes.iter().flat_map(Shape::hull_points).collect();
+        let samples = if V::DIM == 2 { 400 } else { 60 };
+        Self::new(&points, shapes.covered_measure(samples))
+    }
+
     /// The reject tests: whether `ray` hits the box and the sphere. A ray that misses a
     /// volume cannot hit the object inside, so its primitives need no test.
     pub fn reject_tests(&self, ray: &Ray<V>) -> (bool, bool) {
@@ -119,5 +127,28 @@ mod tests {
         // A ray passing the corner: inside the circle, outside the box.
         let ray = Ray::try_new(DVec2::new(-1.0, 2.2), DVec2::new(1.0, 0.0)).unwrap();
         assert_eq!(volumes.reject_tests(&ray), (false, true));
+    }
+
+    /// Two overlapping unit squares cover 1.75, not 2; a disc's covered area is πr² within the
+    /// grid's error, and its hull points enclose it.
+    #[test]
+    fn shapes_covered_together_count_overlaps_once() {
+        let square =
+            |x: f64, y: f64| Shape::Box(Aabb::new(DVec2::new(x, y), DVec2::new(x + 1.0, y + 1.0)));
+        let squares = ShapeSet {
+            shapes: vec![square(0.0, 0.0), square(0.5, 0.5)],
+        };
+        assert!((squares.covered_measure(400) - 1.75).abs() < 0.01);
+        let disc = ShapeSet {
+            shapes: vec![Shape::Sphere(Sphere {
+                center: DVec2::new(3.0, 4.0),
+                radius: 2.0,
+            })],
+        };
+        let area = disc.covered_measure(400);
+        assert!((area - 4.0 * std::f64::consts::PI).abs() < 0.05, "{area}");
+        let volumes = BoundingVolumes::around_shapes(&disc);
+        assert!(volumes.sphere.radius >= 2.0 && volumes.sphere.radius < 2.01);
+        assert!((volumes.aabb_void - (1.0 - std::f64::consts::PI / 4.0)).abs() < 0.01);
     }
 }

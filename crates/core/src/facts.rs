@@ -120,6 +120,9 @@ pub struct TreeFacts<V: Vector> {
     pub leaf_reasons: Vec<Option<LeafReason>>,
     /// How many nodes lie at each depth.
     pub nodes_per_depth: Vec<usize>,
+    /// Every node, shallowest first (each depth's nodes in node order): the order to draw in
+    /// when a view cannot draw them all, so what is left out is the deepest levels.
+    pub by_depth: Vec<u32>,
 }
 
 impl<V: Vector> TreeFacts<V> {
@@ -147,7 +150,23 @@ impl<V: Vector> TreeFacts<V> {
             }
             nodes_per_depth[node_depth] += 1;
         }
+        // A counting sort by depth.
+        let mut next_slot: Vec<usize> = nodes_per_depth
+            .iter()
+            .scan(0, |start, &count| {
+                let slot = *start;
+                *start += count;
+                Some(slot)
+            })
+            .collect();
+        let mut by_depth = vec![0u32; count];
+        for (node, &node_depth) in depth.iter().enumerate() {
+            let slot = &mut next_slot[node_depth as usize];
+            by_depth[*slot] = node as u32;
+            *slot += 1;
+        }
         Self {
+            by_depth,
             leaf_sizes: (0..count as u32)
                 .map(|node| tree.leaf_primitives(node).len() as u32)
                 .collect(),

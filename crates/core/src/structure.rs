@@ -563,6 +563,26 @@ impl<V: Vector> Built<V> {
         }
     }
 
+    /// The root's box or cell (empty for a tree with no nodes).
+    pub fn root_bounds(&self) -> Aabb<V> {
+        self.facts
+            .bounds
+            .first()
+            .copied()
+            .unwrap_or_else(Aabb::empty)
+    }
+
+    /// A kD node's plane: its axis and where it cuts it (`None` for a leaf or a BVH node).
+    pub fn plane(&self, node: u32) -> Option<(usize, f64)> {
+        match &self.tree {
+            Tree::Kd(tree) => {
+                let entry = tree.nodes.get(node as usize)?;
+                (!entry.is_leaf()).then(|| (entry.axis as usize, entry.split.to_f64()))
+            }
+            Tree::Bvh(_) => None,
+        }
+    }
+
     /// The primitives below `node`, each once.
     pub fn primitives_below(&self, node: u32) -> Vec<u32> {
         self.facts.primitives_below(&self.tree, node)

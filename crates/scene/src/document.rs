@@ -28,8 +28,11 @@ pub const MAX_DOCUMENT_BYTES: usize = 64 << 20;
 /// The most shapes a document may hold or generate.
 pub const MAX_SHAPES: usize = 1_000_000;
 
-/// One shape as written in a document.
+/// One shape as written in a document. Checked as it is read, so that a wrong number is
+/// reported at its line, naming the field: every coordinate finite, radii positive, a box's
+/// corners in order.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(try_from = "RawShape")]
 pub enum ShapeEntry {
     /// A disc.
     Disc {
@@ -54,14 +57,97 @@ pub enum ShapeEntry {
     },
 }
 
+/// A shape as parsed, before its numbers are checked.
+#[derive(Deserialize)]
+enum RawShape {
+    Disc { center: (f64, f64), radius: f64 },
+    Box { min: (f64, f64), max: (f64, f64) },
+    Segment { from: (f64, f64), to: (f64, f64) },
+}
+
+/// `value` if it is finite; otherwise why not, naming `field`.
+fn finite(field: &str, value: f64) -> Result<f64, String> {
+    if value.is_finite() {
+        Ok(value)
+    } else {
+        Err(format!("{field} is {value}: every number must be finite"))
+    }
+}
+
+/// A point whose coordinates are finite, or which one is not.
+fn finite_point(field: &str, (x, y): (f64, f64)) -> Result<(f64, f64), String> {
+    Ok((
+        finite(&format!("{field} x"), x)?,
+        finite(&format!("{field} y"), y)?,
+    ))
+}
+
+impl TryFrom<RawShape> for ShapeEntry {
+    type Error = String;
+
+    fn try_from(raw: RawShape) -> Result<Self, String> {
+        Ok(match raw {
+            RawShape::Disc { center, radius } => {
+                let center = finite_point("a disc's centre", center)?;
+                let radius = finite("a disc's radius", radius)?;
+                if radius <= 0.0 {
+                    return Err(format!(
+                        "a disc's radius is {radius}: it must be a positive number"
+                    ));
+                }
+                ShapeEntry::Disc { center, radius }
+            }
+            RawShape::Box { min, max } => {
+                let min = finite_point("a box's min", min)?;
+                let max = finite_point("a box's max", max)?;
+                for (axis, low, high) in [("x", min.0, max.0), ("y", min.1, max.1)] {
+                    if low > high {
+                        return Err(format!(
+                            "a box's min {axis} ({low}) is above its max {axis} ({high}): min ≤ max is needed"
+                        ));
+                    }
+                }
+                ShapeEntry::Box { min, max }
+            }
+            RawShape::Segment { from, to } => ShapeEntry::Segment {
+                from: finite_point("a segment's from", from)?,
+                to: finite_point("a segment's to", to)?,
+            },
+        })
+    }
+}
+
 /// The ray: from `origin` towards `toward` (its direction is `toward − origin`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, try_from = "RawRay")]
 pub struct RayEntry {
     /// Where it starts.
     pub origin: (f64, f64),
     /// A point it passes at t = 1.
     pub toward: (f64, f64),
+}
+
+/// The ray as parsed, before its numbers are checked.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawRay {
+    origin: (f64, f64),
+    toward: (f64, f64),
+}
+
+impl TryFrom<RawRay> for RayEntry {
+    type Error = String;
+
+    fn try_from(raw: RawRay) -> Result<Self, String> {
+        let origin = finite_point("the ray's origin", raw.origin)?;
+        let toward = finite_point("the ray's toward point", raw.toward)?;
+        if origin == toward {
+            return Err(format!(
+                "the ray's toward point equals its origin {origin:?}: the ray has no direction"
+            ));
+        }
+        Ok(Self { origin, toward })
+    }
 }
 
 /// Layouts a generator can make (see [`crate::scene2d::Layout`]).
@@ -87,29 +173,56 @@ impl From<LayoutEntry> for Layout {
 
 /// A seeded generator: the same three values give the same shapes on every machine.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(deny_unknown_fields, try_from = "RawGenerator")]
 pub struct GeneratorEntry {
     /// Where shapes go.
     pub layout: LayoutEntry,
-    /// How many.
+    /// How many (1 to [`MAX_SHAPES`]).
     pub count: usize,
     /// The seed.
     pub seed: u64,
 }
 
+/// The generator as parsed, before its count is checked.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RawGenerator {
+    layout: LayoutEntry,
+    count: usize,
+    seed: u64,
+}
+
+impl TryFrom<RawGenerator> for GeneratorEntry {
+    type Error = String;
+
+    fn try_from(raw: RawGenerator) -> Result<Self, String> {
+        if !(1..=MAX_SHAPES).contains(&raw.count) {
+            return Err(format!(
+                "the generator's count {} is not from 1 to {MAX_SHAPES}",
+                raw.count
+            ));
+        }
+        Ok(Self {
+            layout: raw.layout,
+            count: raw.count,
+            seed: raw.seed,
+        })
+    }
+}
+
 /// How structures over the scene are built and costed.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default, deny_unknown_fields)]
+#[serde(try_from = "RawSettings")]
 pub struct SceneSettings {
-    /// A node with this many primitives or fewer becomes a leaf.
+    /// A node with this many primitives or fewer becomes a leaf (1 to 64).
     pub max_leaf_size: usize,
-    /// C_trav of the SAH.
+    /// C_trav of the SAH (0 or more).
     pub traversal_cost: f64,
-    /// C_isect of the SAH.
+    /// C_isect of the SAH (above 0).
     pub intersection_cost: f64,
-    /// The kD empty-space bonus (0 to 1).
+    /// The kD empty-space bonus (0 to below 1).
     pub empty_bonus: f64,
-    /// Bins of the binned SAH.
+    /// Bins of the binned SAH (2 to 256).
     pub bins: usize,
 }
 
@@ -123,6 +236,81 @@ impl Default for SceneSettings {
             empty_bonus: 0.2,
             bins: 8,
         }
+    }
+}
+
+/// The settings as parsed, before they are checked; unset ones take their defaults.
+#[derive(Deserialize)]
+#[serde(default, deny_unknown_fields)]
+struct RawSettings {
+    max_leaf_size: usize,
+    traversal_cost: f64,
+    intersection_cost: f64,
+    empty_bonus: f64,
+    bins: usize,
+}
+
+impl Default for RawSettings {
+    fn default() -> Self {
+        let settings = SceneSettings::default();
+        Self {
+            max_leaf_size: settings.max_leaf_size,
+            traversal_cost: settings.traversal_cost,
+            intersection_cost: settings.intersection_cost,
+            empty_bonus: settings.empty_bonus,
+            bins: settings.bins,
+        }
+    }
+}
+
+impl TryFrom<RawSettings> for SceneSettings {
+    type Error = String;
+
+    fn try_from(raw: RawSettings) -> Result<Self, String> {
+        let out_of_range = |field: &str, value: String, range: &str| {
+            format!("{field} is {value}: it must be {range}")
+        };
+        if !(1..=64).contains(&raw.max_leaf_size) {
+            return Err(out_of_range(
+                "max_leaf_size",
+                raw.max_leaf_size.to_string(),
+                "from 1 to 64",
+            ));
+        }
+        if !(2..=256).contains(&raw.bins) {
+            return Err(out_of_range("bins", raw.bins.to_string(), "from 2 to 256"));
+        }
+        let traversal_cost = finite("traversal_cost", raw.traversal_cost)?;
+        if traversal_cost < 0.0 {
+            return Err(out_of_range(
+                "traversal_cost",
+                traversal_cost.to_string(),
+                "0 or more",
+            ));
+        }
+        let intersection_cost = finite("intersection_cost", raw.intersection_cost)?;
+        if intersection_cost <= 0.0 {
+            return Err(out_of_range(
+                "intersection_cost",
+                intersection_cost.to_string(),
+                "above 0",
+            ));
+        }
+        let empty_bonus = finite("empty_bonus", raw.empty_bonus)?;
+        if !(0.0..1.0).contains(&empty_bonus) {
+            return Err(out_of_range(
+                "empty_bonus",
+                empty_bonus.to_string(),
+                "from 0 to below 1",
+            ));
+        }
+        Ok(Self {
+            max_leaf_size: raw.max_leaf_size,
+            traversal_cost,
+            intersection_cost,
+            empty_bonus,
+            bins: raw.bins,
+        })
     }
 }
 
@@ -205,92 +393,40 @@ impl Scene2d {
         Self::parse(&read_text(path)?, path)
     }
 
-    /// Checks a parsed document: finite numbers, positive radii, ordered boxes, a ray with a
-    /// direction, and at most [`MAX_SHAPES`] shapes.
+    /// Makes the scene of a parsed document (whose shapes, ray and settings were checked as
+    /// they were read): its shapes, or the generator's, at most [`MAX_SHAPES`].
     pub fn from_document(document: SceneDocument, path: &str) -> Result<Self, LoadError> {
         let fail = |problem: String| LoadError::in_file(path, problem);
-        let finite = |values: &[f64]| values.iter().all(|value| value.is_finite());
-        let mut shapes = Vec::with_capacity(document.shapes.len());
-        for (number, entry) in document.shapes.iter().enumerate() {
-            let shape = match *entry {
-                ShapeEntry::Disc { center, radius } => {
-                    if !finite(&[center.0, center.1, radius]) || radius <= 0.0 {
-                        return Err(fail(format!(
-                            "shape {number}: a disc needs a finite centre and a positive radius, found radius {radius}"
-                        )));
-                    }
-                    Shape::Sphere(Sphere {
-                        center: point(center),
-                        radius,
-                    })
-                }
-                ShapeEntry::Box { min, max } => {
-                    if !finite(&[min.0, min.1, max.0, max.1]) || min.0 > max.0 || min.1 > max.1 {
-                        return Err(fail(format!(
-                            "shape {number}: a box needs finite corners with min ≤ max, found min {min:?} max {max:?}"
-                        )));
-                    }
-                    Shape::Box(Aabb::new(point(min), point(max)))
-                }
-                ShapeEntry::Segment { from, to } => {
-                    if !finite(&[from.0, from.1, to.0, to.1]) {
-                        return Err(fail(format!(
-                            "shape {number}: a segment needs finite ends, found {from:?} to {to:?}"
-                        )));
-                    }
-                    Shape::Segment([point(from), point(to)])
-                }
-            };
-            shapes.push(shape);
-        }
-        if shapes.is_empty() {
-            match document.generator {
-                Some(generator) if (1..=MAX_SHAPES).contains(&generator.count) => {
-                    shapes =
-                        generate(generator.layout.into(), generator.count, generator.seed).shapes;
-                }
-                Some(generator) => {
-                    return Err(fail(format!(
-                        "the generator's count {} is not from 1 to {MAX_SHAPES}",
-                        generator.count
-                    )));
-                }
-                None => return Err(fail("the scene has no shapes and no generator".into())),
-            }
-        }
-        if shapes.len() > MAX_SHAPES {
+        if document.shapes.len() > MAX_SHAPES {
             return Err(fail(format!(
                 "{} shapes; scenes are limited to {MAX_SHAPES}",
-                shapes.len()
+                document.shapes.len()
             )));
+        }
+        let mut shapes: Vec<Shape<DVec2>> = document
+            .shapes
+            .iter()
+            .map(|entry| match *entry {
+                ShapeEntry::Disc { center, radius } => Shape::Sphere(Sphere {
+                    center: point(center),
+                    radius,
+                }),
+                ShapeEntry::Box { min, max } => Shape::Box(Aabb::new(point(min), point(max))),
+                ShapeEntry::Segment { from, to } => Shape::Segment([point(from), point(to)]),
+            })
+            .collect();
+        if shapes.is_empty() {
+            let Some(generator) = document.generator else {
+                return Err(fail("the scene has no shapes and no generator".into()));
+            };
+            shapes = generate(generator.layout.into(), generator.count, generator.seed).shapes;
         }
         let RayEntry { origin, toward } = document.ray;
-        if !finite(&[origin.0, origin.1, toward.0, toward.1]) || origin == toward {
-            return Err(fail(format!(
-                "the ray needs a finite origin and a different point to head toward, found origin {origin:?} toward {toward:?}"
-            )));
-        }
-        let settings = document.settings;
-        if settings.max_leaf_size == 0
-            || !(1..=256).contains(&settings.bins)
-            || !finite(&[
-                settings.traversal_cost,
-                settings.intersection_cost,
-                settings.empty_bonus,
-            ])
-            || settings.traversal_cost < 0.0
-            || settings.intersection_cost <= 0.0
-            || !(0.0..1.0).contains(&settings.empty_bonus)
-        {
-            return Err(fail(format!(
-                "settings out of range: {settings:?} (leaf size ≥ 1, bins 1 to 256, costs ≥ 0 with C_isect > 0, empty bonus in [0, 1))"
-            )));
-        }
         Ok(Self {
             shapes: ShapeSet { shapes },
             ray_origin: point(origin),
             ray_toward: point(toward),
-            settings,
+            settings: document.settings,
             generator: document.generator,
         })
     }
@@ -386,17 +522,20 @@ mod tests {
             "(shapes: [Disc(center: (1, 2), radius: -1)], ray: (origin: (0,0), toward: (1,1)))",
         );
         assert!(
-            radius.contains("shape 0") && radius.contains("positive radius"),
+            radius.starts_with("bad.ron:1: ") && radius.contains("a disc's radius is -1"),
             "{radius}"
         );
         let zero_direction = message(
             "(shapes: [Disc(center: (1, 2), radius: 1)], ray: (origin: (2,2), toward: (2,2)))",
         );
-        assert!(zero_direction.contains("the ray needs"), "{zero_direction}");
+        assert!(zero_direction.contains("no direction"), "{zero_direction}");
         let flipped = message(
             "(shapes: [Box(min: (5, 5), max: (1, 9))], ray: (origin: (0,0), toward: (1,1)))",
         );
-        assert!(flipped.contains("min ≤ max"), "{flipped}");
+        assert!(
+            flipped.contains("min x (5) is above its max x (1)"),
+            "{flipped}"
+        );
         let empty = message("(ray: (origin: (0,0), toward: (1,1)))");
         assert!(empty.contains("no shapes"), "{empty}");
         let huge = message(
@@ -406,6 +545,37 @@ mod tests {
         let settings = message(
             "(shapes: [Disc(center: (1, 2), radius: 1)], ray: (origin: (0,0), toward: (1,1)), settings: (bins: 0))",
         );
-        assert!(settings.contains("settings out of range"), "{settings}");
+        assert!(
+            settings.contains("bins is 0: it must be from 2 to 256"),
+            "{settings}"
+        );
+    }
+
+    /// A number that is not finite is named with its field and line, whatever spells it.
+    #[test]
+    fn a_number_that_is_not_finite_is_named_at_its_line() {
+        for (spelled, shown) in [
+            ("NaN", "NaN"),
+            ("inf", "inf"),
+            ("-inf", "-inf"),
+            ("1e999", "inf"),
+        ] {
+            let text = format!(
+                "(\n shapes: [\n  Disc(center: (1, 2), radius: 1),\n  Disc(center: ({spelled}, 2), radius: 5),\n ],\n ray: (origin: (0, 0), toward: (1, 1)),\n)"
+            );
+            let message = Scene2d::parse(&text, "scene.ron").unwrap_err().to_string();
+            assert!(message.starts_with("scene.ron:4: "), "{spelled}: {message}");
+            assert!(
+                message.contains(&format!(
+                    "a disc's centre x is {shown}: every number must be finite"
+                )),
+                "{spelled}: {message}"
+            );
+        }
+        let far = "(shapes: [Segment(from: (0, 0), to: (1e300, -1e300))], ray: (origin: (0, 0), toward: (1, 1)))";
+        assert!(
+            Scene2d::parse(far, "far.ron").is_ok(),
+            "huge but finite is allowed"
+        );
     }
 }

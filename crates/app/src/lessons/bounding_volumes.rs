@@ -2,15 +2,20 @@
 //! the reject test, the void shaded with its share, and the rays that pass the volume's test
 //! only to miss the object (wasted work).
 
+use std::sync::Arc;
+
 use accelviz_core::bounding::BoundingVolumes;
-use accelviz_core::{Ray, Shape, TraceOptions, brute_force};
+use accelviz_core::format::{number, point};
+use accelviz_core::{Ray, ShapeSet, TraceOptions, brute_force};
 use egui::{Color32, Stroke};
 use glam::DVec2;
 
-use super::common;
-use super::{Lesson, LessonText};
+use crate::background::Derived;
 use crate::canvas::{faded, palette};
-use crate::editor::{EditableScene, Editing};
+use crate::editor::Editing;
+use crate::lesson::{Lesson, LessonText};
+use crate::stage::Stage;
+use crate::views::scene_view::draw_shapes;
 
 /// Which bounding volume the rays are tested against.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -32,18 +37,16 @@ enum Fate {
 
 /// The lesson.
 pub struct BoundingVolumesLesson {
-    text: LessonText,
-    scene: EditableScene,
+    stage: Stage,
     volume: Volume,
     fan_size: usize,
     /// The volumes and both fans, for the scene revision and fan size they were made for:
     /// the fans test every shape per ray, so they are not redone every frame.
-    measured: Option<Measured>,
+    measured: Derived<(u64, usize), Measured>,
 }
 
 /// The volumes around the scene, and each ray of the fan with its fate under each volume.
 struct Measured {
-    key: (u64, usize),
     volumes: BoundingVolumes<DVec2>,
     fans: [Vec<(Ray<DVec2>, Fate)>; 2],
 }
@@ -57,121 +60,89 @@ impl Volume {
     }
 }
 
-/// Points on every shape's outline; a disc's are pushed out so their polygon encloses it.
-fn outline_points(shape: &Shape<DVec2>) -> Vec<DVec2> {
-    match *shape {
-        Shape::Sphere(sphere) => {
-            let sides = 64;
-            let reach = sphere.radius / (std::f64::consts::PI / sides as f64).cos();
-            (0..sides)
-                .map(|index| {
-                    let angle = index as f64 / sides as f64 * std::f64::consts::TAU;
-                    sphere.center + DVec2::new(angle.cos(), angle.sin()) * reach
-                })
-                .collect()
-        }
-        Shape::Box(bounds) => vec![
-            bounds.min,
-            bounds.max,
-            DVec2::new(bounds.min.x, bounds.max.y),
-            DVec2::new(bounds.max.x, bounds.min.y),
-        ],
-        Shape::Segment(ends) => ends.to_vec(),
-    }
-}
-
-/// A shape's own area (segments have none).
-fn shape_area(shape: &Shape<DVec2>) -> f64 {
-    match shape {
-        Shape::Sphere(sphere) => std::f64::consts::PI * sphere.radius * sphere.radius,
-        Shape::Box(bounds) => bounds.measure(),
-        Shape::Segment(_) => 0.0,
-    }
-}
-
 impl BoundingVolumesLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(text.scene.clone(), Editing::BY_HAND);
         Self {
-            text,
-            scene,
+            stage: Stage::new(text, Editing::BY_HAND),
             volume: Volume::Aabb,
             fan_size: 31,
-            measured: None,
+            measured: Derived::default(),
         }
-    }
-
-    fn volumes(&self) -> BoundingVolumes<DVec2> {
-        let shapes = &self.scene.scene.shapes.shapes;
-        let points: Vec<DVec2> = shapes.iter().flat_map(outline_points).collect();
-        // Shapes are taken not to overlap, so the object's area is their sum.
-        let object_area = shapes.iter().map(shape_area).sum();
-        BoundingVolumes::new(&points, object_area)
-    }
-
-    /// The volumes and fans of the current scene (made again only after an edit).
-    fn measured(&mut self) -> &Measured {
-        let key = (self.scene.revision, self.fan_size);
-        if self
-            .measured
-            .as_ref()
-            .is_none_or(|measured| measured.key != key)
-        {
-            let volumes = self.volumes();
-            let fans = [Volume::Aabb, Volume::Sphere].map(|volume| self.fan(&volumes, volume));
-            self.measured = Some(Measured { key, volumes, fans });
-        }
-        self.measured.as_ref().expect("made above")
-    }
-
-    /// A fan of rays from the ray's origin spanning the bounding sphere (and a little more),
-    /// with each ray's fate under `volume`.
-    fn fan(&self, volumes: &BoundingVolumes<DVec2>, volume: Volume) -> Vec<(Ray<DVec2>, Fate)> {
-        let origin = self.scene.scene.ray_origin;
-        let to_center = volumes.sphere.center - origin;
-        let distance = to_center.length();
-        if distance <= volumes.sphere.radius * 1.05 || self.fan_size == 0 {
-            return Vec::new();
-        }
-        let half_angle = (volumes.sphere.radius / distance).asin() * 1.35;
-        let center_angle = to_center.y.atan2(to_center.x);
-        (0..self.fan_size)
-            .filter_map(|index| {
-                let share = index as f64 / (self.fan_size - 1).max(1) as f64;
-                let angle = center_angle - half_angle + 2.0 * half_angle * share;
-                let ray = Ray::try_new(origin, DVec2::new(angle.cos(), angle.sin())).ok()?;
-                let (box_hit, sphere_hit) = volumes.reject_tests(&ray);
-                let volume_hit = match volume {
-                    Volume::Aabb => box_hit,
-                    Volume::Sphere => sphere_hit,
-                };
-                let fate = if !volume_hit {
-                    Fate::Rejected
-                } else {
-                    match brute_force(
-                        &self.scene.scene.shapes,
-                        &ray,
-                        &TraceOptions::default(),
-                        &mut accelviz_core::NoObserver,
-                    ) {
-                        Some(hit) => Fate::Hit(hit.t),
-                        None => Fate::Wasted,
-                    }
-                };
-                Some((ray, fate))
-            })
-            .collect()
     }
 }
 
+/// The volumes around the shapes (taken as one object), and both fans from `origin`.
+fn measure(shapes: &ShapeSet<DVec2>, origin: DVec2, fan_size: usize) -> Measured {
+    let volumes = BoundingVolumes::around_shapes(shapes);
+    let fans = [Volume::Aabb, Volume::Sphere]
+        .map(|volume| fan(shapes, &volumes, volume, origin, fan_size));
+    Measured { volumes, fans }
+}
+
+/// A fan of rays from `origin` spanning the bounding sphere (and a little more), with each
+/// ray's fate under `volume`.
+fn fan(
+    shapes: &ShapeSet<DVec2>,
+    volumes: &BoundingVolumes<DVec2>,
+    volume: Volume,
+    origin: DVec2,
+    fan_size: usize,
+) -> Vec<(Ray<DVec2>, Fate)> {
+    let to_center = volumes.sphere.center - origin;
+    let distance = to_center.length();
+    if distance <= volumes.sphere.radius * 1.05 || fan_size == 0 {
+        return Vec::new();
+    }
+    let half_angle = (volumes.sphere.radius / distance).asin() * 1.35;
+    let center_angle = to_center.y.atan2(to_center.x);
+    (0..fan_size)
+        .filter_map(|index| {
+            let share = index as f64 / (fan_size - 1).max(1) as f64;
+            let angle = center_angle - half_angle + 2.0 * half_angle * share;
+            let ray = Ray::try_new(origin, DVec2::new(angle.cos(), angle.sin())).ok()?;
+            let (box_hit, sphere_hit) = volumes.reject_tests(&ray);
+            let volume_hit = match volume {
+                Volume::Aabb => box_hit,
+                Volume::Sphere => sphere_hit,
+            };
+            let fate = if !volume_hit {
+                Fate::Rejected
+            } else {
+                match brute_force(
+                    shapes,
+                    &ray,
+                    &TraceOptions::default(),
+                    &mut accelviz_core::NoObserver,
+                ) {
+                    Some(hit) => Fate::Hit(hit.t),
+                    None => Fate::Wasted,
+                }
+            };
+            Some((ray, fate))
+        })
+        .collect()
+}
+
 impl Lesson for BoundingVolumesLesson {
-    fn text(&self) -> &LessonText {
-        &self.text
+    fn stage(&self) -> &Stage {
+        &self.stage
     }
 
-    fn scene_mut(&mut self) -> Option<&mut EditableScene> {
-        Some(&mut self.scene)
+    fn stage_mut(&mut self) -> &mut Stage {
+        &mut self.stage
+    }
+
+    fn update(&mut self) {
+        let scene = &self.stage.scene;
+        let key = (scene.revision, self.fan_size);
+        let fan_size = self.fan_size;
+        self.measured
+            .request(&key, scene.scene.shapes.shapes.len(), || {
+                let shapes = Arc::new(scene.scene.shapes.clone());
+                let origin = scene.scene.ray_origin;
+                move || measure(&shapes, origin, fan_size)
+            });
     }
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui) {
@@ -182,7 +153,10 @@ impl Lesson for BoundingVolumesLesson {
         });
         ui.add(egui::Slider::new(&mut self.fan_size, 2..=101).text("rays in the fan"));
         ui.separator();
-        let measured = self.measured();
+        let Some(measured) = self.measured.get().cloned() else {
+            ui.label("Measuring…");
+            return;
+        };
         let volumes = measured.volumes;
         let mut rows = Vec::new();
         for volume in [Volume::Aabb, Volume::Sphere] {
@@ -223,22 +197,23 @@ impl Lesson for BoundingVolumesLesson {
              the cheap reject test and then tests every primitive for nothing: the wasted rays.",
         );
         ui.label(format!(
-            "Box: [{:.1}, {:.1}] × [{:.1}, {:.1}]. Sphere: centre ({:.1}, {:.1}), radius {:.2} (Ritter 1990).",
-            volumes.aabb.min.x,
-            volumes.aabb.max.x,
-            volumes.aabb.min.y,
-            volumes.aabb.max.y,
-            volumes.sphere.center.x,
-            volumes.sphere.center.y,
-            volumes.sphere.radius
+            "Box: from {} to {}. Sphere: centre {}, radius {} (Ritter 1990). The object covers {} (overlaps counted once).",
+            point(&[volumes.aabb.min.x, volumes.aabb.min.y]),
+            point(&[volumes.aabb.max.x, volumes.aabb.max.y]),
+            point(&[volumes.sphere.center.x, volumes.sphere.center.y]),
+            number(volumes.sphere.radius),
+            number(volumes.aabb.measure() * (1.0 - volumes.aabb_void)),
         ));
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        let sphere_bounds = self.measured().volumes.sphere.bounds();
-        let canvas = self.scene.canvas_ui(ui, Some(sphere_bounds));
+        let measured = self.measured.get().cloned();
+        let sphere_bounds = measured
+            .as_ref()
+            .map(|measured| measured.volumes.sphere.bounds());
+        let canvas = self.stage.scene.canvas_ui(ui, sphere_bounds);
+        let Some(measured) = measured else { return };
         let volume = self.volume;
-        let measured = self.measured();
         let volumes = measured.volumes;
         let fan = measured.fans[volume.index()].clone();
         // The volumes, filled: what the object leaves uncovered is the void.
@@ -283,7 +258,7 @@ impl Lesson for BoundingVolumesLesson {
                 Stroke::new(if *fate == Fate::Wasted { 2.0 } else { 1.0 }, color),
             );
         }
-        common::draw_shapes(ui, &canvas, &self.scene.scene.shapes, |_| None);
+        draw_shapes(ui, &canvas, &self.stage.scene.scene.shapes, |_| None);
         canvas.label(
             DVec2::new(volumes.aabb.min.x, volumes.aabb.max.y),
             " AABB",
@@ -295,11 +270,11 @@ impl Lesson for BoundingVolumesLesson {
             palette::SPHERE,
         );
         canvas.painter.circle_filled(
-            canvas.to_screen(self.scene.scene.ray_origin),
+            canvas.to_screen(self.stage.scene.scene.ray_origin),
             5.0,
             palette::RAY,
         );
-        self.scene.draw_handles(&canvas);
+        self.stage.scene.draw_handles(&canvas);
         let volume_name = match self.volume {
             Volume::Aabb => "box",
             Volume::Sphere => "sphere",
@@ -322,5 +297,7 @@ impl Lesson for BoundingVolumesLesson {
                 palette::RAY,
             ),
         ]);
+        self.stage.scene.draw_footer(&canvas);
+        canvas.finish();
     }
 }

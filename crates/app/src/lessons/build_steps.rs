@@ -1,25 +1,25 @@
 //! Lesson 9, "Splitting is optimization" and "Two ways to build, one without sort": a kD SAH
-//! build stepped node by node in the builder's recursion order: sort per axis (or, the second
-//! way, partition lists sorted once at the root), sweep each axis, choose the best, recurse.
-//!
-//! The tree is the core's: `KdSah` (events sorted at every node) or `KdSahPresorted` (sorted
-//! once, split stably; the core's tests assert both build the same tree). Each node's sweep is
-//! the core's cost curve, the builders' own sweep.
+//! build stepped node by node, the steps being the builder's own, recorded by a
+//! `BuildRecorder` as it runs: start a node, sort its events per axis (the first way, `KdSah`)
+//! or divide the parent's sorted lists keeping their order (the second way, `KdSahPresorted`,
+//! which sorts once at the root), sweep each axis, then split or make a leaf for the reason
+//! the builder gives. Each sweep is the core's cost curve of that node: the same sweep.
 
-use accelviz_core::TreeFacts;
+use std::sync::Arc;
+
 use accelviz_core::curve::{CostCurve, kd_curve};
-use accelviz_core::kd::{KdBuilder, KdSah, KdSahPresorted, KdTree};
-use accelviz_core::{Aabb, PrimitiveSet};
-use egui::{Color32, RichText, Stroke};
+use accelviz_core::format::{count, number};
+use accelviz_core::{BuildRecorder, BuildStep, PrimitiveSet, Structure};
+use egui::{Color32, FontId, RichText, Stroke, Vec2};
 use egui_plot::{HLine, Line, Plot, PlotPoints, VLine};
 use glam::DVec2;
 
-use super::common::number;
-use super::kd::BuiltKd;
-use super::{Lesson, LessonText};
-use crate::canvas::{faded, palette};
-use crate::editor::{EditableScene, Editing};
-use crate::timeline::Timeline;
+use crate::background::{Cached, Derived};
+use crate::canvas::{Labels, depth_color, faded, palette};
+use crate::editor::Editing;
+use crate::lesson::{Lesson, LessonText};
+use crate::stage::{SceneTree, Stage};
+use crate::views::scene_view::draw_shapes;
 
 /// The lecture's two ways.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -30,244 +30,18 @@ pub enum Way {
     SortOnce,
 }
 
-/// One step of the build; `node` is the node worked on, `axis` 0 for x and 1 for y.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[allow(missing_docs)]
-pub enum BuildStep {
-    /// Sort the node's primitives along an axis.
-    Sort { node: u32, axis: usize },
-    /// Take the node's sorted lists from its parent's, in order (the second way).
-    Partition { node: u32 },
-    /// Cost every candidate split on an axis.
-    Sweep { node: u32, axis: usize },
-    /// Keep the cheapest split (recurse into both sides next).
-    Choose { node: u32 },
-    /// Make a leaf: no split is cheaper (or nothing left to split).
-    Leaf { node: u32 },
-}
-
-impl BuildStep {
-    /// The node the step works on.
-    pub fn node(&self) -> u32 {
-        match *self {
-            BuildStep::Sort { node, .. }
-            | BuildStep::Partition { node }
-            | BuildStep::Sweep { node, .. }
-            | BuildStep::Choose { node }
-            | BuildStep::Leaf { node } => node,
-        }
-    }
-}
-
-/// The steps of building `built` the given way, in recursion order (depth first, below the
-/// plane first, as the builders recurse).
-pub fn build_steps(built: &BuiltKd, way: Way) -> Vec<BuildStep> {
-    let mut steps = Vec::new();
-    let mut pending = vec![0u32];
-    while let Some(node) = pending.pop() {
-        let is_root = node == 0;
-        if way == Way::SortOnce && !is_root {
-            steps.push(BuildStep::Partition { node });
-        } else {
-            steps.extend((0..2).map(|axis| BuildStep::Sort { node, axis }));
-        }
-        steps.extend((0..2).map(|axis| BuildStep::Sweep { node, axis }));
-        match built.shape.children[node as usize] {
-            Some([below, above]) => {
-                steps.push(BuildStep::Choose { node });
-                pending.push(above);
-                pending.push(below);
-            }
-            None => steps.push(BuildStep::Leaf { node }),
-        }
-    }
-    steps
-}
-
-/// The lesson.
-pub struct BuildStepsLesson {
-    text: LessonText,
-    scene: EditableScene,
-    way: Way,
-    built: Option<BuiltKd>,
-    built_key: (u64, Way),
-    steps: Vec<BuildStep>,
-    curves: Vec<Option<CostCurve>>,
-    timeline: Timeline,
-}
-
-impl BuildStepsLesson {
-    /// The lesson with its file's scene.
-    pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(text.scene.clone(), Editing::SHAPES);
-        Self {
-            text,
-            scene,
-            way: Way::SortAtEachNode,
-            built: None,
-            built_key: (0, Way::SortAtEachNode),
-            steps: Vec::new(),
-            curves: Vec::new(),
-            timeline: Timeline::default(),
+impl Way {
+    /// The structure of the catalogue that builds this way (both make the same tree).
+    pub fn structure(self) -> Structure {
+        match self {
+            Way::SortAtEachNode => Structure::KdSahPerNode,
+            Way::SortOnce => Structure::KdSah,
         }
     }
 
-    fn refresh(&mut self) {
-        let key = (self.scene.revision, self.way);
-        if self.built.is_some() && self.built_key == key {
-            return;
-        }
-        let shapes = &self.scene.scene.shapes;
-        let bounds = shapes.all_bounds();
-        let params = accelviz_core::bvh::BuildParams {
-            max_leaf_size: self.scene.scene.settings.max_leaf_size,
-            cost: self.scene.scene.settings.cost(),
-            ..Default::default()
-        };
-        let tree: KdTree<DVec2> = match self.way {
-            Way::SortAtEachNode => KdSah.build(&bounds, &params),
-            Way::SortOnce => KdSahPresorted.build(&bounds, &params),
-        };
-        let built = BuiltKd::with_tree(tree);
-        self.steps = build_steps(&built, self.way);
-        self.curves = vec![None; built.tree.nodes.len()];
-        self.timeline.set_len(self.steps.len());
-        self.built = Some(built);
-        self.built_key = key;
-    }
-
-    /// The cost curve of a node (computed when first shown).
-    fn curve(&mut self, node: u32) -> Option<&CostCurve> {
-        let built = self.built.as_ref()?;
-        if self.curves[node as usize].is_none() {
-            let path = built.shape.path_to(node);
-            let _ = path;
-            let facts = TreeFacts::of(&built.tree);
-            let (cell, primitives) = (
-                facts.bounds[node as usize],
-                facts.primitives_below(&built.tree, node),
-            );
-            let boxes = self.scene.scene.shapes.all_bounds();
-            let cost = self.scene.scene.settings.cost();
-            self.curves[node as usize] = Some(kd_curve(&boxes, &primitives, &cell, &cost, None));
-        }
-        self.curves[node as usize].as_ref()
-    }
-
-    fn current(&self) -> Option<BuildStep> {
-        self.timeline
-            .shown
-            .checked_sub(1)
-            .and_then(|index| self.steps.get(index).copied())
-    }
-
-    /// The node's primitives in order along `axis` (by the lower side of their boxes, as the
-    /// sweep meets them).
-    fn sorted(&self, node: u32, axis: usize) -> Vec<u32> {
-        let Some(built) = &self.built else {
-            return Vec::new();
-        };
-        let mut primitives = TreeFacts::of(&built.tree).primitives_below(&built.tree, node);
-        let shapes = &self.scene.scene.shapes;
-        primitives.sort_by(|&a, &b| {
-            shapes.bounds(a as usize).min[axis]
-                .total_cmp(&shapes.bounds(b as usize).min[axis])
-                .then(a.cmp(&b))
-        });
-        primitives
-    }
-
-    fn caption(&mut self) -> String {
-        let Some(step) = self.current() else {
-            return "Press step: the build starts at the root, with every primitive.".to_owned();
-        };
-        let axis_name = |axis: usize| ["x", "y"][axis.min(1)];
-        match step {
-            BuildStep::Sort { node, axis } => {
-                let order = self.sorted(node, axis);
-                format!(
-                    "node {node}: sort{}({} primitives) along {}",
-                    axis_name(axis).to_uppercase(),
-                    order.len(),
-                    axis_name(axis)
-                )
-            }
-            BuildStep::Partition { node } => format!(
-                "node {node}: no sort; its x and y lists are the parent's, split at the plane and still in order"
-            ),
-            BuildStep::Sweep { node, axis } => match self.curve(node) {
-                Some(curve) => {
-                    let candidates = curve.axes.get(axis).map_or(0, Vec::len);
-                    let best = curve
-                        .axes
-                        .get(axis)
-                        .and_then(|axis| axis.iter().min_by(|a, b| a.cost.total_cmp(&b.cost)));
-                    format!(
-                        "node {node}: findSplit on {}: {candidates} candidates costed in one sweep; cheapest {}",
-                        axis_name(axis),
-                        best.map_or("none".to_owned(), |c| format!(
-                            "at {} (cost {})",
-                            number(c.position),
-                            number(c.cost)
-                        ))
-                    )
-                }
-                None => format!("node {node}: sweep {}", axis_name(axis)),
-            },
-            BuildStep::Choose { node } => {
-                let split = self
-                    .built
-                    .as_ref()
-                    .map(|built| built.tree.nodes[node as usize]);
-                match (split, self.curve(node)) {
-                    (Some(split), Some(curve)) => format!(
-                        "node {node}: best(xS, yS) = {} = {} at cost {} < leaf {}: split, then build(left) and build(right)",
-                        axis_name(split.axis as usize),
-                        number(split.split),
-                        curve.best.map_or("?".to_owned(), |best| number(best.cost)),
-                        number(curve.leaf_cost)
-                    ),
-                    _ => format!("node {node}: split"),
-                }
-            }
-            BuildStep::Leaf { node } => match self.curve(node) {
-                Some(curve) => format!(
-                    "node {node}: leaf of {} primitives: leaf cost {} ≤ best split {}",
-                    curve.count,
-                    number(curve.leaf_cost),
-                    curve
-                        .best
-                        .map_or("(none)".to_owned(), |best| number(best.cost))
-                ),
-                None => format!("node {node}: leaf"),
-            },
-        }
-    }
-}
-
-impl Lesson for BuildStepsLesson {
-    fn text(&self) -> &LessonText {
-        &self.text
-    }
-
-    fn scene_mut(&mut self) -> Option<&mut EditableScene> {
-        Some(&mut self.scene)
-    }
-
-    fn timeline(&mut self) -> Option<(&mut Timeline, String)> {
-        self.refresh();
-        let caption = self.caption();
-        Some((&mut self.timeline, caption))
-    }
-
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal(|ui| {
-            ui.label("Build");
-            ui.selectable_value(&mut self.way, Way::SortAtEachNode, "sort at each node");
-            ui.selectable_value(&mut self.way, Way::SortOnce, "sort once");
-        });
-        self.refresh();
-        let code: &[&str] = match self.way {
+    /// The slide's pseudo-code.
+    fn code(self) -> &'static [&'static str] {
+        match self {
             Way::SortAtEachNode => &[
                 "build(nodes)",
                 "  xS = findSplit(sortX(nodes))",
@@ -285,75 +59,303 @@ impl Lesson for BuildStepsLesson {
                 "  build(left(S, xNodes, yNodes))",
                 "  build(right(S, xNodes, yNodes))",
             ],
+        }
+    }
+
+    /// The code lines a step runs.
+    fn lines(self, step: &BuildStep) -> Vec<usize> {
+        match (self, step) {
+            (
+                Way::SortAtEachNode,
+                BuildStep::Sorted { axis, .. } | BuildStep::Swept { axis, .. },
+            ) => {
+                vec![1 + axis.min(&1)]
+            }
+            (Way::SortAtEachNode, BuildStep::Split { .. }) => vec![3],
+            (Way::SortAtEachNode, BuildStep::ListsDivided { .. }) => vec![4, 5],
+            (Way::SortAtEachNode, _) => vec![0],
+            (Way::SortOnce, BuildStep::Sorted { .. }) => vec![0],
+            (Way::SortOnce, BuildStep::Swept { axis, .. }) => vec![2 + axis.min(&1)],
+            (Way::SortOnce, BuildStep::Split { .. }) => vec![4],
+            (Way::SortOnce, BuildStep::ListsDivided { .. }) => vec![5, 6],
+            (Way::SortOnce, _) => vec![1],
+        }
+    }
+}
+
+/// A build and the steps its builder reported.
+struct RecordedBuild {
+    tree: SceneTree,
+    steps: Vec<BuildStep>,
+}
+
+/// The axis names.
+const AXES: [&str; 2] = ["x", "y"];
+
+/// The lesson.
+pub struct BuildStepsLesson {
+    stage: Stage,
+    way: Way,
+    build: Derived<(u64, Way), RecordedBuild>,
+    /// Each node's cost curve (computed when first shown), for the build it is of.
+    curves: Cached<(u64, u32), CostCurve>,
+    /// The current step in words (made in `update`, which may compute a curve).
+    caption: String,
+}
+
+impl BuildStepsLesson {
+    /// The lesson with its file's scene.
+    pub fn new(text: LessonText) -> Self {
+        Self {
+            stage: Stage::new(text, Editing::SHAPES),
+            way: Way::SortAtEachNode,
+            build: Derived::default(),
+            curves: Cached::default(),
+            caption: String::new(),
+        }
+    }
+
+    /// The builder's steps, as recorded.
+    pub fn steps(&self) -> &[BuildStep] {
+        self.build.get().map_or(&[], |build| &build.steps)
+    }
+
+    /// The step shown (the last of the first `shown`).
+    pub fn current(&self) -> Option<BuildStep> {
+        let shown = self.stage.timeline.shown;
+        shown
+            .checked_sub(1)
+            .and_then(|index| self.steps().get(index).copied())
+    }
+
+    /// The cost curve of `node` in the current build.
+    fn curve(&mut self, node: u32) -> Option<&CostCurve> {
+        let build = self.build.get()?.clone();
+        let tree = &build.tree;
+        let facts = &tree.built.facts;
+        let generation = self.build.generation();
+        Some(self.curves.get_or_make((generation, node), || {
+            let primitives = tree.built.primitives_below(node);
+            let boxes = tree.shapes.all_bounds();
+            kd_curve(
+                &boxes,
+                &primitives,
+                &facts.bounds[node as usize],
+                &tree.settings.cost(),
+                None,
+            )
+        }))
+    }
+
+    /// The node's primitives in order along `axis` (by the lower side of their boxes, as the
+    /// sweep meets them).
+    fn sorted(tree: &SceneTree, node: u32, axis: usize) -> Vec<u32> {
+        let mut primitives = tree.built.primitives_below(node);
+        let shapes = &tree.shapes;
+        primitives.sort_by(|&a, &b| {
+            shapes.bounds(a as usize).min[axis]
+                .total_cmp(&shapes.bounds(b as usize).min[axis])
+                .then(a.cmp(&b))
+        });
+        primitives
+    }
+
+    fn describe(&mut self, step: BuildStep) -> String {
+        let Some(build) = self.build.get().cloned() else {
+            return String::new();
         };
+        let tree = &build.tree;
+        match step {
+            BuildStep::NodeStarted {
+                node,
+                depth,
+                primitive_count,
+            } => format!(
+                "build node {node}: depth {depth}, {} primitives",
+                count(primitive_count)
+            ),
+            BuildStep::Sorted { node, axis } => {
+                let axis_name = AXES[axis.min(1)];
+                match self.way {
+                    Way::SortOnce => format!(
+                        "{axis_name}Nodes = sort{}(nodes): every primitive's events along {axis_name}, sorted once, at the root",
+                        axis_name.to_uppercase()
+                    ),
+                    Way::SortAtEachNode => format!(
+                        "node {node}: sort{}({} primitives) along {axis_name}",
+                        axis_name.to_uppercase(),
+                        tree.built.primitives_below(node).len()
+                    ),
+                }
+            }
+            BuildStep::Swept { node, axis } => match self.curve(node) {
+                Some(curve) => {
+                    let candidates = curve.axes.get(axis).map_or(0, Vec::len);
+                    let best = curve
+                        .axes
+                        .get(axis)
+                        .and_then(|axis| axis.iter().min_by(|a, b| a.cost.total_cmp(&b.cost)));
+                    format!(
+                        "node {node}: findSplit on {}: {candidates} candidates costed in one sweep; cheapest {}",
+                        AXES[axis.min(1)],
+                        best.map_or("none".to_owned(), |c| format!(
+                            "at {} (cost {})",
+                            number(c.position),
+                            number(c.cost)
+                        ))
+                    )
+                }
+                None => format!("node {node}: sweep {}", AXES[axis.min(1)]),
+            },
+            BuildStep::Split {
+                node,
+                children: [left, right],
+                cost,
+            } => {
+                let plane = tree
+                    .built
+                    .plane(node)
+                    .map_or("?".to_owned(), |(axis, position)| {
+                        format!("{} = {}", AXES[axis.min(1)], number(position))
+                    });
+                let leaf = self.curve(node).map(|curve| curve.leaf_cost);
+                format!(
+                    "node {node}: S = best(xS, yS): {plane} at cost {}{}: split into nodes {left} and {right}",
+                    cost.map_or("?".to_owned(), number),
+                    leaf.map_or(String::new(), |leaf| format!(" < leaf {}", number(leaf)))
+                )
+            }
+            BuildStep::ListsDivided { node } => format!(
+                "node {node}: left(S, xNodes, yNodes) and right(…): each sorted list is split at the plane, keeping its order: the children need no sort"
+            ),
+            BuildStep::Leaf { node, reason } => format!("node {node} is a leaf: {reason}"),
+        }
+    }
+}
+
+impl Lesson for BuildStepsLesson {
+    fn stage(&self) -> &Stage {
+        &self.stage
+    }
+
+    fn stage_mut(&mut self) -> &mut Stage {
+        &mut self.stage
+    }
+
+    fn update(&mut self) {
+        let scene = &self.stage.scene;
+        let way = self.way;
+        self.build.request(
+            &(scene.shapes_revision, way),
+            scene.scene.shapes.shapes.len(),
+            || {
+                let shapes = Arc::new(scene.scene.shapes.clone());
+                let settings = scene.scene.settings;
+                move || {
+                    let mut recorder = BuildRecorder::default();
+                    let tree =
+                        SceneTree::build_observed(way.structure(), shapes, settings, &mut recorder);
+                    RecordedBuild {
+                        tree,
+                        steps: recorder.steps,
+                    }
+                }
+            },
+        );
+        let steps = self.steps().len();
+        self.stage.timeline.set_len(steps);
+        self.caption = match self.current() {
+            None => "Press step: the build starts at the root, with every primitive.".to_owned(),
+            Some(step) => {
+                let said = self.describe(step);
+                if self.stage.timeline.shown >= steps {
+                    let nodes = self
+                        .steps()
+                        .iter()
+                        .filter(|step| matches!(step, BuildStep::NodeStarted { .. }))
+                        .count();
+                    format!("{said}. Done: the tree has {} nodes.", count(nodes))
+                } else {
+                    said
+                }
+            }
+        };
+    }
+
+    fn caption(&self) -> Option<String> {
+        self.build.get()?;
+        Some(self.caption.clone())
+    }
+
+    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal(|ui| {
+            ui.label("Build");
+            ui.selectable_value(&mut self.way, Way::SortAtEachNode, "sort at each node");
+            ui.selectable_value(&mut self.way, Way::SortOnce, "sort once");
+        });
         let current = self.current();
-        let lines: Vec<usize> = match (self.way, current) {
-            (_, None) => Vec::new(),
-            (Way::SortAtEachNode, Some(step)) => match step {
-                BuildStep::Sort { axis, .. } | BuildStep::Sweep { axis, .. } => vec![1 + axis],
-                BuildStep::Choose { .. } => vec![3, 4, 5],
-                BuildStep::Leaf { .. } | BuildStep::Partition { .. } => vec![0],
-            },
-            (Way::SortOnce, Some(step)) => match step {
-                BuildStep::Sort { .. } => vec![0],
-                BuildStep::Partition { .. } => vec![5, 6],
-                BuildStep::Sweep { axis, .. } => vec![2 + axis],
-                BuildStep::Choose { .. } => vec![4, 5, 6],
-                BuildStep::Leaf { .. } => vec![1],
-            },
-        };
+        let lines = current
+            .map(|step| self.way.lines(&step))
+            .unwrap_or_default();
         egui::Frame::new()
             .fill(ui.visuals().extreme_bg_color)
             .inner_margin(6.0)
             .show(ui, |ui| {
-                for (index, line) in code.iter().enumerate() {
+                for (index, line) in self.way.code().iter().enumerate() {
                     let mut text = RichText::new(*line).monospace().size(11.5);
                     if lines.contains(&index) {
-                        text = text.background_color(faded(palette::CURRENT, 90)).strong();
+                        text = text.background_color(faded(palette::CURRENT, 110)).strong();
                     }
                     ui.add(egui::Label::new(text).wrap_mode(egui::TextWrapMode::Extend));
                 }
             });
-        let sorts = self.steps[..self.timeline.shown.min(self.steps.len())]
+        let shown = self.stage.timeline.shown.min(self.steps().len());
+        let sorts = self.steps()[..shown]
             .iter()
-            .filter(|step| matches!(step, BuildStep::Sort { .. }))
+            .filter(|step| matches!(step, BuildStep::Sorted { .. }))
             .count();
-        let total_sorts = self
-            .steps
-            .iter()
-            .filter(|step| matches!(step, BuildStep::Sort { .. }))
-            .count();
-        ui.label(format!(
-            "sorts so far: {sorts} (of {total_sorts} in this build)"
-        ));
+        if shown >= self.steps().len() && shown > 0 {
+            ui.label(format!("sorts in this build: {sorts}"));
+        } else {
+            ui.label(format!("sorts so far: {sorts}"));
+        }
         ui.separator();
         let Some(step) = current else { return };
+        let Some(build) = self.build.get().cloned() else {
+            return;
+        };
         let node = step.node();
-        if let BuildStep::Sort { axis, .. } = step {
-            let order: Vec<String> = self.sorted(node, axis).iter().map(u32::to_string).collect();
+        if let BuildStep::Sorted { axis, .. } = step {
+            let order: Vec<String> = Self::sorted(&build.tree, node, axis)
+                .iter()
+                .take(40)
+                .map(u32::to_string)
+                .collect();
             ui.label(format!(
                 "order along {}: {}",
-                ["x", "y"][axis],
+                AXES[axis.min(1)],
                 order.join(", ")
             ));
         }
         let sweep_axis = match step {
-            BuildStep::Sweep { axis, .. } => Some(axis),
-            BuildStep::Choose { node } | BuildStep::Leaf { node } => self
-                .built
-                .as_ref()
-                .map(|built| built.tree.nodes[node as usize])
-                .filter(|node| !node.is_leaf())
-                .map(|node| node.axis as usize),
+            BuildStep::Swept { axis, .. } => Some(axis),
+            BuildStep::Split { node, .. } | BuildStep::ListsDivided { node } => {
+                build.tree.built.plane(node).map(|(axis, _)| axis)
+            }
             _ => None,
         };
         if let (Some(axis), Some(curve)) = (sweep_axis, self.curve(node).cloned()) {
             let candidates = curve.axes.get(axis).cloned().unwrap_or_default();
             let points: PlotPoints = candidates.iter().map(|c| [c.position, c.cost]).collect();
+            let [low, high] = curve.bounds[axis.min(2)];
             Plot::new("build sweep")
-                .height(170.0)
-                .x_axis_label(format!("split on {}", ["x", "y"][axis]))
+                .height(190.0)
+                .x_axis_label(format!("split on {}", AXES[axis.min(1)]))
                 .y_axis_label("cost")
+                // The whole cell along the axis, so the numbers under the axis always show.
+                .include_x(low)
+                .include_x(high)
+                .include_y(curve.leaf_cost)
                 .allow_scroll(false)
                 .allow_drag(false)
                 .allow_zoom(false)
@@ -368,52 +370,79 @@ impl Lesson for BuildStepsLesson {
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        let canvas = self.scene.canvas_ui(ui, None);
-        self.refresh();
+        let canvas = self.stage.scene.canvas_ui(ui, None);
+        let Some(build) = self.build.get().cloned() else {
+            return;
+        };
+        let tree = &build.tree;
+        let facts = &tree.built.facts;
+        let shown = self.stage.timeline.shown.min(build.steps.len());
         let current = self.current();
-        let shown = self.timeline.shown.min(self.steps.len());
-        let Some(built) = &self.built else { return };
-        // The tree as far as built: the splits chosen so far.
-        let chosen: Vec<u32> = self.steps[..shown]
+        // The tree as far as built: the splits made so far.
+        let split: Vec<u32> = build.steps[..shown]
             .iter()
             .filter_map(|step| match step {
-                BuildStep::Choose { node } => Some(*node),
+                BuildStep::Split { node, .. } => Some(*node),
                 _ => None,
             })
             .collect();
-        let partial = partial_tree(built, &chosen);
         let node_primitives = current
-            .map(|step| TreeFacts::of(&built.tree).primitives_below(&built.tree, step.node()))
+            .map(|step| tree.built.primitives_below(step.node()))
             .unwrap_or_default();
-        super::common::draw_shapes(ui, &canvas, &self.scene.scene.shapes, |index| {
+        draw_shapes(ui, &canvas, &tree.shapes, |index| {
             node_primitives
-                .contains(&(index as u32))
+                .binary_search(&(index as u32))
+                .is_ok()
                 .then_some(palette::RAY)
         });
-        partial.draw_splits(&canvas, None);
+        canvas.box_outline(
+            &tree.built.root_bounds(),
+            Stroke::new(1.5, depth_color(0)),
+            None,
+        );
+        canvas.split_lines(split.iter().filter_map(|&node| {
+            let (axis, position) = tree.built.plane(node)?;
+            let stroke = Stroke::new(1.5, depth_color(facts.depth[node as usize] as usize + 1));
+            Some((facts.bounds[node as usize], axis, position, stroke))
+        }));
         let Some(step) = current else {
-            canvas.box_outline(&built.tree.bounds, Stroke::new(2.0, palette::CURRENT), None);
+            canvas.box_outline(
+                &tree.built.root_bounds(),
+                Stroke::new(2.5, palette::CURRENT),
+                None,
+            );
+            canvas.finish();
             return;
         };
         let node = step.node();
-        let cell: Aabb<DVec2> = built.cells[node as usize];
+        let cell = facts.bounds[node as usize];
         let fill = matches!(step, BuildStep::Leaf { .. }).then(|| faded(palette::HIT, 40));
         canvas.box_outline(&cell, Stroke::new(3.0, palette::CURRENT), fill);
         match step {
-            BuildStep::Sort { axis, .. } => {
-                // Each primitive's rank along the axis, written beside it.
-                for (rank, primitive) in self.sorted(node, axis).iter().enumerate() {
-                    let shape_bounds = self.scene.scene.shapes.bounds(*primitive as usize);
-                    canvas.label(
-                        shape_bounds.max,
-                        &format!("{}{}", ["x", "y"][axis], rank + 1),
+            BuildStep::Sorted { axis, .. } => {
+                // Each primitive's rank along the axis, written beside it where there is room.
+                let mut labels = Labels::new(canvas.rect);
+                for (rank, primitive) in Self::sorted(tree, node, axis).iter().enumerate().take(200)
+                {
+                    let bounds = tree.shapes.bounds(*primitive as usize);
+                    labels.place(
+                        &canvas.painter,
+                        &format!("{}{}", AXES[axis.min(1)], rank + 1),
+                        FontId::proportional(12.0),
                         Color32::WHITE,
+                        canvas.to_screen(bounds.max),
+                        &[
+                            Vec2::new(10.0, -8.0),
+                            Vec2::new(-10.0, -8.0),
+                            Vec2::new(10.0, 8.0),
+                        ],
+                        Some(Color32::from_black_alpha(150)),
                     );
                 }
             }
-            BuildStep::Sweep { axis, .. } => {
+            BuildStep::Swept { axis, .. } => {
                 // Every candidate plane as a tick on the cell's edge.
-                if let Some(curve) = self.curves.get(node as usize).cloned().flatten() {
+                if let Some(curve) = self.curve(node).cloned() {
                     for candidate in curve.axes.get(axis).into_iter().flatten() {
                         let (from, to) = tick(&cell, axis, candidate.position);
                         canvas.painter.line_segment(
@@ -423,31 +452,33 @@ impl Lesson for BuildStepsLesson {
                     }
                 }
             }
-            BuildStep::Choose { .. } => {
-                let split = built.tree.nodes[node as usize];
-                canvas.split_line(
-                    &cell,
-                    split.axis as usize,
-                    split.split,
-                    Stroke::new(4.0, palette::CURRENT),
-                );
+            BuildStep::Split { .. } | BuildStep::ListsDivided { .. } => {
+                if let Some((axis, position)) = tree.built.plane(node) {
+                    canvas.split_line(&cell, axis, position, Stroke::new(4.0, palette::CURRENT));
+                }
             }
-            BuildStep::Partition { .. } | BuildStep::Leaf { .. } => {}
+            BuildStep::NodeStarted { .. } | BuildStep::Leaf { .. } => {}
         }
+        let built_nodes = build.steps[..shown]
+            .iter()
+            .filter(|step| matches!(step, BuildStep::NodeStarted { .. }))
+            .count();
         canvas.caption(&[(
             format!(
-                "{} of {} nodes built",
-                chosen.len() * 2 + 1,
-                built.tree.nodes.len()
+                "{} nodes started, {} split so far",
+                count(built_nodes),
+                count(split.len())
             ),
             Color32::WHITE,
         )]);
+        self.stage.scene.draw_footer(&canvas);
+        canvas.finish();
     }
 }
 
 /// A short tick across the bottom (x) or left (y) edge of a cell at `position`.
-fn tick(cell: &Aabb<DVec2>, axis: usize, position: f64) -> (DVec2, DVec2) {
-    let length = cell.extent()[1 - axis] * 0.08;
+fn tick(cell: &accelviz_core::Aabb<DVec2>, axis: usize, position: f64) -> (DVec2, DVec2) {
+    let length = cell.extent()[1 - axis.min(1)] * 0.08;
     if axis == 0 {
         (
             DVec2::new(position, cell.min.y),
@@ -459,15 +490,4 @@ fn tick(cell: &Aabb<DVec2>, axis: usize, position: f64) -> (DVec2, DVec2) {
             DVec2::new(cell.min.x + length, position),
         )
     }
-}
-
-/// The tree with only the chosen nodes split (the rest drawn as leaves): the build so far.
-fn partial_tree(built: &BuiltKd, chosen: &[u32]) -> BuiltKd {
-    let mut tree = built.tree.clone();
-    for (index, node) in tree.nodes.iter_mut().enumerate() {
-        if !node.is_leaf() && !chosen.contains(&(index as u32)) {
-            node.axis = accelviz_core::kd::KdNode::<f64>::LEAF;
-        }
-    }
-    BuiltKd::with_tree(tree)
 }

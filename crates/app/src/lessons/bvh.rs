@@ -1,96 +1,42 @@
-//! Lesson 4, "Bounding Volume Hierarchy": boxes of boxes. The lecture's picture as a scene (r1
-//! tests A+B, then A and B; r2 tests C and D+E, then D and E), boxes coloured by depth with a
-//! depth range, a tree diagram linked to the canvas both ways, a node inspector (bounds,
-//! primitives, SAH cost, why it is a leaf), and the traversal stepped.
+//! Lesson 4, "Bounding Volume Hierarchy": boxes of boxes. The slide's picture as a scene (r1
+//! tests A+B, then A and B; r2 tests C and D+E, then D and E), both rays at once if wanted,
+//! boxes coloured by depth and drawn nested, a depth range that also filters the traversal,
+//! a tree diagram linked to the canvas both ways, and a node inspector (bounds, primitives,
+//! SAH cost, why it is a leaf: the core's facts and the builder's own reasons).
 
-use accelviz_core::bvh::Bvh;
-use accelviz_core::curve::{CostCurve, bvh_curve};
-use accelviz_core::{Order, PrimitiveSet, Step};
-use egui::{Color32, Stroke};
+use std::sync::Arc;
+
+use accelviz_core::curve::{CostCurve, node_curve};
+use accelviz_core::format::{count, number, point};
+use accelviz_core::{CATALOGUE, Family, PrimitiveSet, Ray, Structure};
+use accelviz_scene::document::RayEntry;
+use egui::Color32;
 use glam::DVec2;
 
-use super::common::{self, BvhRule, Recording};
-use super::tree_diagram::TreeShape;
-use super::{Lesson, LessonText};
-use crate::canvas::{BATCH_ABOVE, Batch, depth_color, faded, palette};
-use crate::editor::{EditableScene, Editing};
-use crate::timeline::Timeline;
+use crate::background::{Cached, Derived};
+use crate::canvas::palette;
+use crate::editor::Editing;
+use crate::lesson::{Lesson, LessonText};
+use crate::stage::{SceneTree, Stage};
+use crate::trace::{Trace, TraceState, describe_step, options_in};
+use crate::views::scene_view::{
+    draw_ray_colored, draw_tested_shapes, label_shapes, primitive_name,
+};
+use crate::views::tree_diagram::{DiagramLook, diagram_ui};
+use crate::views::tree_view::{TreeLook, draw_tree, node_under, traversal_emphasis};
 
-/// A built BVH with what the views need about each node.
-pub struct BuiltBvh {
-    /// The tree.
-    pub bvh: Bvh<DVec2>,
-    /// Its shape, for the diagram.
-    pub shape: TreeShape,
-    /// Every primitive under each node.
-    pub primitives: Vec<Vec<u32>>,
-}
-
-impl BuiltBvh {
-    /// Builds with `rule` and gathers per-node facts.
-    pub fn new(scene: &EditableScene, rule: BvhRule) -> Self {
-        let bvh = rule.build(&scene.scene.shapes, &scene.scene.settings);
-        let children = bvh
-            .nodes
-            .iter()
-            .map(|node| (!node.is_leaf()).then(|| node.children()))
-            .collect();
-        let shape = TreeShape::new(children);
-        let mut primitives = vec![Vec::new(); bvh.nodes.len()];
-        // Children come after their parent, so a backward pass sees children first.
-        for node in (0..bvh.nodes.len()).rev() {
-            primitives[node] = match shape.children[node] {
-                None => bvh.leaf_primitives(&bvh.nodes[node]).to_vec(),
-                Some([left, right]) => {
-                    let mut both = primitives[left as usize].clone();
-                    both.extend_from_slice(&primitives[right as usize]);
-                    both
-                }
-            };
-        }
-        Self {
-            bvh,
-            shape,
-            primitives,
-        }
-    }
-
-    /// The SAH cost of the subtree at `node`, relative to the node (the builder's model).
-    pub fn subtree_cost(&self, node: u32, cost: &accelviz_core::SahCost) -> f64 {
-        let entry = &self.bvh.nodes[node as usize];
-        match self.shape.children[node as usize] {
-            None => cost.leaf_cost(entry.count as usize),
-            Some(children) => {
-                let area = entry.bounds.area().max(f64::MIN_POSITIVE);
-                cost.traversal_cost
-                    + children
-                        .iter()
-                        .map(|&child| {
-                            self.bvh.nodes[child as usize].bounds.area() / area
-                                * self.subtree_cost(child, cost)
-                        })
-                        .sum::<f64>()
-            }
-        }
-    }
-}
-
-/// A name for primitive `index`: a letter in small scenes (as on the slide), else a number.
-pub fn primitive_name(index: u32, count: usize) -> String {
-    if count <= 26 {
-        char::from(b'A' + index as u8).to_string()
-    } else {
-        index.to_string()
-    }
-}
+/// The second ray's colour when both are shown.
+const SECOND_RAY: Color32 = Color32::from_rgb(90, 220, 230);
 
 /// A node's name: its primitives joined with "+" in small scenes ("D+E"), else "node N".
-pub fn node_name(built: &BuiltBvh, node: u32, count: usize) -> String {
-    let primitives = &built.primitives[node as usize];
+pub fn node_name(tree: &SceneTree, node: u32) -> String {
+    let count = tree.shapes.len();
     if count > 26 {
         return format!("node {node}");
     }
-    let mut letters: Vec<String> = primitives
+    let mut letters: Vec<String> = tree
+        .built
+        .primitives_below(node)
         .iter()
         .map(|&p| primitive_name(p, count))
         .collect();
@@ -102,180 +48,130 @@ pub fn node_name(built: &BuiltBvh, node: u32, count: usize) -> String {
     letters.join("+")
 }
 
+/// One traced ray: its name, colour and recording.
+struct Traced {
+    name: String,
+    color: Color32,
+    ray: Ray<DVec2>,
+    trace: Trace,
+}
+
 /// The lesson.
 pub struct BvhLesson {
-    text: LessonText,
-    scene: EditableScene,
-    rule: BvhRule,
-    built: Option<BuiltBvh>,
-    built_revision: u64,
-    built_rule: BvhRule,
-    recording: Recording,
-    timeline: Timeline,
+    stage: Stage,
+    structure: Structure,
+    tree: Derived<(u64, Structure), SceneTree>,
+    /// The traced rays, for the tree and the rays they were made with.
+    traces: Cached<(u64, u64, bool), Vec<Traced>>,
+    /// Whether the slide's second ray is traced beside the scene's.
+    both_rays: bool,
     depth_range: (usize, usize),
     hovered: Option<u32>,
     selected: Option<u32>,
-    /// The selected node's cost curve (for "why it is a leaf"), kept until the tree or the
-    /// selection changes.
-    node_curve: Option<(u32, CostCurve)>,
+    /// The selected node's cost curve (for why it splits), for the tree and node it is of.
+    node_curve: Cached<(u64, u32), CostCurve>,
 }
 
 impl BvhLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(text.scene.clone(), Editing::ALL);
         Self {
-            text,
-            scene,
-            rule: BvhRule::Sah,
-            built: None,
-            built_revision: 0,
-            built_rule: BvhRule::Sah,
-            recording: Recording::default(),
-            timeline: Timeline::default(),
+            stage: Stage::new(text, Editing::ALL),
+            structure: Structure::lecture(Family::Bvh, accelviz_core::SplitRule::Sah),
+            tree: Derived::default(),
+            traces: Cached::default(),
+            both_rays: false,
             depth_range: (0, usize::MAX),
             hovered: None,
             selected: Some(0),
-            node_curve: None,
+            node_curve: Cached::default(),
         }
     }
 
-    fn refresh(&mut self) {
-        if self.built.is_some()
-            && self.built_revision == self.scene.revision
-            && self.built_rule == self.rule
-        {
-            return;
-        }
-        let built = BuiltBvh::new(&self.scene, self.rule);
-        self.recording = match self.scene.ray() {
-            Ok(ray) => {
-                common::record_bvh(&built.bvh, &self.scene.scene.shapes, &ray, Order::NearFirst)
-            }
-            Err(_) => Recording::default(),
-        };
-        self.timeline.set_len(self.recording.steps.len());
-        if self
-            .selected
-            .is_some_and(|node| node as usize >= built.bvh.nodes.len())
-        {
-            self.selected = Some(0);
-        }
-        self.hovered = None;
-        self.node_curve = None;
-        self.built = Some(built);
-        self.built_revision = self.scene.revision;
-        self.built_rule = self.rule;
+    /// The slide's rays by name: r1 is the lesson file's ray, the others are named there.
+    fn named_rays(&self) -> Vec<(String, RayEntry)> {
+        let scene = &self.stage.text.scene;
+        let mut rays = vec![(
+            "r1".to_owned(),
+            RayEntry {
+                origin: (scene.ray_origin.x, scene.ray_origin.y),
+                toward: (scene.ray_toward.x, scene.ray_toward.y),
+            },
+        )];
+        rays.extend(
+            self.stage
+                .text
+                .file
+                .named_rays
+                .iter()
+                .map(|named| (named.name.clone(), named.ray)),
+        );
+        rays
     }
 
-    fn shown(&self) -> &[Step<f64>] {
-        &self.recording.steps[..self.timeline.shown.min(self.recording.steps.len())]
+    /// Puts the scene's ray on a named one and fits the view to show it whole.
+    fn use_ray(&mut self, ray: RayEntry) {
+        let scene = &mut self.stage.scene;
+        scene.scene.ray_origin = DVec2::new(ray.origin.0, ray.origin.1);
+        scene.scene.ray_toward = DVec2::new(ray.toward.0, ray.toward.1);
+        scene.touch_ray();
+        scene.view.placed = false;
+        self.stage.timeline.rewind();
     }
 
-    /// Sets the ray to one of the slide's two rays (from the lesson file's scene: r1 is the
-    /// file's ray; r2 comes from the right, through C and D+E).
-    fn set_slide_ray(&mut self, second: bool) {
-        let file_scene = &self.text.scene;
-        let (origin, toward) = if second {
-            (DVec2::new(100.0, 30.0), DVec2::new(90.0, 35.0))
-        } else {
-            (file_scene.ray_origin, file_scene.ray_toward)
-        };
-        self.scene.scene.ray_origin = origin;
-        self.scene.scene.ray_toward = toward;
-        self.scene.touch();
-        self.timeline.shown = 0;
-    }
-}
-
-impl Lesson for BvhLesson {
-    fn text(&self) -> &LessonText {
-        &self.text
+    /// The depths shown.
+    fn depths(&self) -> std::ops::RangeInclusive<usize> {
+        self.depth_range.0..=self.depth_range.1
     }
 
-    fn scene_mut(&mut self) -> Option<&mut EditableScene> {
-        Some(&mut self.scene)
+    /// The first ray's recording.
+    pub fn trace(&self) -> Option<&Trace> {
+        Some(&self.traces.get()?.first()?.trace)
     }
 
-    fn timeline(&mut self) -> Option<(&mut Timeline, String)> {
-        self.refresh();
-        let count = self.scene.scene.shapes.len();
-        let caption = match (self.shown().last(), &self.built) {
-            (Some(step), Some(built)) => {
-                common::describe_step(step, |node| node_name(built, node, count))
-            }
-            _ => "Press step: the traversal starts by testing the root's box.".to_owned(),
-        };
-        Some((&mut self.timeline, caption))
+    /// What the first ray's trace shows at the timeline's frame.
+    pub fn shown_state(&self) -> Option<TraceState> {
+        let traced = self.traces.get()?.first()?;
+        Some(traced.trace.state(self.stage.timeline.shown))
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
-        self.refresh();
-        ui.horizontal(|ui| {
-            ui.label("Build with");
-            for rule in [
-                BvhRule::Middle,
-                BvhRule::Median,
-                BvhRule::Sah,
-                BvhRule::BinnedSah,
-            ] {
-                ui.selectable_value(&mut self.rule, rule, rule.label());
-            }
-        });
-        ui.horizontal(|ui| {
-            if ui
-                .button("ray r1")
-                .on_hover_text("The slide's first ray")
-                .clicked()
-            {
-                self.set_slide_ray(false);
-            }
-            if ui
-                .button("ray r2")
-                .on_hover_text("The slide's second ray")
-                .clicked()
-            {
-                self.set_slide_ray(true);
-            }
-            let mut leaf_size = self.scene.scene.settings.max_leaf_size;
-            if ui
-                .add(egui::Slider::new(&mut leaf_size, 1..=8).text("max leaf size"))
-                .changed()
-            {
-                self.scene.scene.settings.max_leaf_size = leaf_size;
-                self.scene.touch();
-            }
-        });
-        self.refresh();
-        let Some(built) = &self.built else { return };
-        let max_depth = built.shape.max_depth();
+    fn inspector_tree_ui(&mut self, ui: &mut egui::Ui, tree: &SceneTree) {
+        let max_depth = tree.built.facts.max_depth();
         // The depths whose boxes are drawn: a range, so one level can be shown at a time.
         let (mut low, mut high) = self.depth_range;
         high = high.min(max_depth);
+        low = low.min(high);
         ui.add(egui::Slider::new(&mut low, 0..=max_depth).text("shallowest depth shown"));
         ui.add(egui::Slider::new(&mut high, 0..=max_depth).text("deepest depth shown"));
         if low > high {
             // Dragging one past the other moves both.
-            if (low, high) != self.depth_range {
-                if low != self.depth_range.0 {
-                    high = low;
-                } else {
-                    low = high;
-                }
+            if low != self.depth_range.0 {
+                high = low;
+            } else {
+                low = high;
             }
         }
         // The deepest level stays "all the way down" when the tree grows.
         self.depth_range = (low, if high >= max_depth { usize::MAX } else { high });
         ui.separator();
         ui.heading("Tree");
-        let count = self.scene.scene.shapes.len();
-        let shown = &self.recording.steps[..self.timeline.shown.min(self.recording.steps.len())];
-        let emphasis = common::traversal_emphasis(shown, built.bvh.nodes.len());
-        let hovered = built.shape.ui(
+        let frame = self.stage.timeline.shown;
+        let shown = self
+            .traces
+            .get()
+            .and_then(|traces| traces.first())
+            .map_or(&[][..], |traced| traced.trace.shown(frame));
+        let emphasis = traversal_emphasis(shown, tree.built.facts.node_count());
+        let label = |node: u32| node_name(tree, node);
+        let emphasis = |node: u32| emphasis[node as usize];
+        let hovered = diagram_ui(
             ui,
-            |node| node_name(built, node, count),
-            |node| emphasis[node as usize],
-            self.hovered,
+            &tree.built.facts,
+            &DiagramLook {
+                label: &label,
+                emphasis: &emphasis,
+                hovered: self.hovered,
+            },
             &mut self.selected,
         );
         if hovered.is_some() {
@@ -286,202 +182,318 @@ impl Lesson for BvhLesson {
                 .small()
                 .weak(),
         );
-        ui.separator();
-        if let Some(node) = self.selected {
-            if self
-                .node_curve
-                .as_ref()
-                .is_none_or(|(cached, _)| *cached != node)
-            {
-                let boxes = self.scene.scene.shapes.all_bounds();
-                let cost = self.scene.scene.settings.cost();
-                let curve = bvh_curve(&boxes, &built.primitives[node as usize], &cost, None);
-                self.node_curve = Some((node, curve));
-            }
-            if let Some((_, curve)) = &self.node_curve {
-                node_inspector_ui(ui, built, node, &self.scene, count, self.rule, curve);
-            }
-        }
     }
 
-    fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        let canvas = self.scene.canvas_ui(ui, None);
-        self.refresh();
-        let Some(built) = &self.built else { return };
-        let count = self.scene.scene.shapes.len();
-        let shown = &self.recording.steps[..self.timeline.shown.min(self.recording.steps.len())];
-        let (low, high) = self.depth_range;
-        // The deepest box in the depth range under the pointer lights up (and its tree node).
-        let pointer_node = canvas.response.hover_pos().and_then(|pos| {
-            let at = canvas.to_world(pos);
-            (0..built.bvh.nodes.len() as u32)
-                .filter(|&node| {
-                    let depth = built.shape.depth[node as usize];
-                    depth >= low
-                        && depth <= high
-                        && built.bvh.nodes[node as usize].bounds.contains_point(at)
-                })
-                .max_by_key(|&node| built.shape.depth[node as usize])
-        });
-        if canvas.response.hovered() {
-            self.hovered = pointer_node;
-        }
-        if canvas.response.clicked() && pointer_node.is_some() && self.scene.selected.is_none() {
-            self.selected = pointer_node;
-        }
-        common::draw_tested_shapes(ui, &canvas, &self.scene.scene.shapes, shown, None);
-        let mut batch = (built.bvh.nodes.len() > BATCH_ABOVE).then(|| {
-            let mut batch = Batch::default();
-            batch.reserve(built.bvh.nodes.len() * 8, built.bvh.nodes.len() * 8);
-            batch
-        });
-        for (node, entry) in built.bvh.nodes.iter().enumerate() {
-            let depth = built.shape.depth[node];
-            if depth < low || depth > high {
-                continue;
+    fn node_ui(&mut self, ui: &mut egui::Ui, tree: &SceneTree, generation: u64) {
+        let Some(node) = self
+            .selected
+            .filter(|&node| (node as usize) < tree.built.facts.node_count())
+        else {
+            return;
+        };
+        let facts = &tree.built.facts;
+        let settings = tree.settings;
+        let cost = settings.cost();
+        let bounds = facts.bounds[node as usize];
+        ui.heading(format!("Selected: {}", node_name(tree, node)));
+        ui.label(format!(
+            "depth {}, box from {} to {}, perimeter {}",
+            facts.depth[node as usize],
+            point(&[bounds.min.x, bounds.min.y]),
+            point(&[bounds.max.x, bounds.max.y]),
+            number(bounds.area())
+        ));
+        let primitives = tree.built.primitives_below(node);
+        ui.label(format!("{} primitives under it", count(primitives.len())));
+        ui.label(format!(
+            "SAH cost of its subtree: {} (C_trav = {}, C_isect = {})",
+            number(tree.built.stats(node, &cost).sah_cost),
+            number(cost.traversal_cost),
+            number(cost.intersection_cost)
+        ));
+        match facts.leaf_reason(node) {
+            Some(reason) => {
+                ui.label(format!("It is a leaf: {reason}."));
             }
-            if let Some(batch) = &mut batch
-                && self.hovered != Some(node as u32)
-                && self.selected != Some(node as u32)
-            {
-                canvas.batch_box(batch, &entry.bounds, 1.0, depth_color(depth));
-                continue;
-            }
-            let color = depth_color(depth);
-            let highlighted =
-                self.hovered == Some(node as u32) || self.selected == Some(node as u32);
-            let fill = highlighted.then(|| faded(color, 30));
-            let width = if highlighted { 3.0 } else { 1.5 };
-            canvas.box_outline(&entry.bounds, Stroke::new(width, color), fill);
-        }
-        if let Some(batch) = batch {
-            canvas.draw_batch(batch);
-        }
-        // What the traversal has done so far: boxes it tested, hit or missed.
-        for step in shown {
-            if let Step::BoxTested { node, hit, .. } = step {
-                let color = if *hit { palette::HIT } else { palette::MISS };
-                canvas.box_outline(
-                    &built.bvh.nodes[*node as usize].bounds,
-                    Stroke::new(2.5, faded(color, 200)),
-                    None,
-                );
-            }
-        }
-        if let Some(
-            Step::BoxTested { node, .. }
-            | Step::NodeEntered { node }
-            | Step::NodeCulled { node, .. },
-        ) = shown.last()
-        {
-            canvas.box_outline(
-                &built.bvh.nodes[*node as usize].bounds,
-                Stroke::new(4.0, palette::CURRENT),
-                None,
-            );
-        }
-        if count <= 26 {
-            for (index, shape) in self.scene.scene.shapes.shapes.iter().enumerate() {
-                let shape_bounds = shape.bounds();
-                canvas.label(
-                    DVec2::new(shape_bounds.max.x, shape_bounds.max.y),
-                    &primitive_name(index as u32, count),
-                    ui.visuals().strong_text_color(),
-                );
-            }
-        }
-        match self.scene.ray() {
-            Ok(ray) => {
-                common::draw_ray(&canvas, &ray, common::closest_so_far(shown).map(|(_, t)| t))
-            }
-            Err(error) => canvas.caption(&[(format!("No ray: {error}"), palette::MISS)]),
-        }
-        self.scene.draw_handles(&canvas);
-        let counters = accelviz_core::counters_of(shown);
-        canvas.caption(&[(
-            format!(
-                "{} nodes, depth {}: boxes tested {}, primitives tested {} (of {count})",
-                built.bvh.nodes.len(),
-                built.shape.max_depth(),
-                counters.box_tests,
-                counters.primitive_tests
-            ),
-            Color32::WHITE,
-        )]);
-    }
-}
-
-/// Bounds, primitives, SAH cost, and why the node is a leaf or where it splits.
-fn node_inspector_ui(
-    ui: &mut egui::Ui,
-    built: &BuiltBvh,
-    node: u32,
-    scene: &EditableScene,
-    count: usize,
-    rule: BvhRule,
-    curve: &CostCurve,
-) {
-    let Some(entry) = built.bvh.nodes.get(node as usize) else {
-        return;
-    };
-    let settings = &scene.scene.settings;
-    let cost = settings.cost();
-    ui.heading(format!("Selected: {}", node_name(built, node, count)));
-    ui.label(format!(
-        "depth {}, box [{:.2}, {:.2}] × [{:.2}, {:.2}], perimeter {:.2}",
-        built.shape.depth[node as usize],
-        entry.bounds.min.x,
-        entry.bounds.max.x,
-        entry.bounds.min.y,
-        entry.bounds.max.y,
-        entry.bounds.area()
-    ));
-    let primitives = &built.primitives[node as usize];
-    ui.label(format!("{} primitives under it", primitives.len()));
-    ui.label(format!(
-        "SAH cost of its subtree: {:.3} (C_trav = {}, C_isect = {})",
-        built.subtree_cost(node, &cost),
-        cost.traversal_cost,
-        cost.intersection_cost
-    ));
-    let best = curve.best.map(|mark| mark.cost);
-    let leaf_cost = curve.leaf_cost;
-    match built.shape.children[node as usize] {
-        None => {
-            let why = match best {
-                _ if primitives.len() <= 1 => "one primitive: nothing to split".to_owned(),
-                Some(best_cost) if leaf_cost <= best_cost => format!(
-                    "it is a leaf: leaf cost {leaf_cost:.3} (N·C_isect) ≤ best split cost {best_cost:.3}, and {} ≤ max leaf size {}",
-                    primitives.len(),
-                    settings.max_leaf_size
-                ),
-                Some(best_cost) => format!(
-                    "it is a leaf: {} primitives ≤ max leaf size {}, where the {} rule stops (the SAH would split: {best_cost:.3} < leaf {leaf_cost:.3})",
-                    primitives.len(),
-                    settings.max_leaf_size,
-                    rule.label()
-                ),
-                None => format!(
-                    "it is a leaf of {} primitives with no split candidate",
-                    primitives.len()
-                ),
-            };
-            ui.label(why);
-        }
-        Some(_) => {
-            if let Some(best_cost) = best {
-                ui.label(format!(
-                    "split: leaf cost {leaf_cost:.3} vs the best split's {best_cost:.3}; {}",
-                    if primitives.len() > settings.max_leaf_size {
+            None => {
+                let boxes = tree.shapes.all_bounds();
+                let curve = self.node_curve.get_or_make((generation, node), || {
+                    node_curve(&tree.built, node, &boxes, &cost, None)
+                });
+                if let Some(best) = curve.best {
+                    let why = if primitives.len() > settings.max_leaf_size {
                         format!(
                             "more than {} primitives must be split",
                             settings.max_leaf_size
                         )
                     } else {
                         "splitting is cheaper".to_owned()
-                    }
-                ));
+                    };
+                    ui.label(format!(
+                        "It splits: leaf cost {} (N·C_isect) against the best split's {}; {why}.",
+                        number(curve.leaf_cost),
+                        number(best.cost)
+                    ));
+                }
             }
         }
+    }
+}
+
+impl Lesson for BvhLesson {
+    fn stage(&self) -> &Stage {
+        &self.stage
+    }
+
+    fn stage_mut(&mut self) -> &mut Stage {
+        &mut self.stage
+    }
+
+    fn update(&mut self) {
+        let scene = &self.stage.scene;
+        let key = (scene.shapes_revision, self.structure);
+        let structure = self.structure;
+        self.tree
+            .request(&key, scene.scene.shapes.shapes.len(), || {
+                let shapes = Arc::new(scene.scene.shapes.clone());
+                let settings = scene.scene.settings;
+                move || SceneTree::build(structure, shapes, settings)
+            });
+        let Some(tree) = self.tree.get().cloned() else {
+            return;
+        };
+        let named = self.named_rays();
+        let both = self.both_rays;
+        let traces =
+            self.traces
+                .get_or_make((self.tree.generation(), scene.revision, both), || {
+                    let mut traced = Vec::new();
+                    if let Ok(ray) = scene.ray() {
+                        let name = if both { "r1" } else { "the ray" };
+                        traced.push(Traced {
+                            name: name.to_owned(),
+                            color: palette::RAY,
+                            ray,
+                            trace: Trace::of_tree(
+                                &tree,
+                                &ray,
+                                &options_in(accelviz_core::Order::NearFirst),
+                            ),
+                        });
+                    }
+                    if both
+                        && let Some((name, entry)) = named.get(1)
+                        && let Ok(ray) = Ray::try_new(
+                            DVec2::new(entry.origin.0, entry.origin.1),
+                            DVec2::new(
+                                entry.toward.0 - entry.origin.0,
+                                entry.toward.1 - entry.origin.1,
+                            ),
+                        )
+                    {
+                        traced.push(Traced {
+                            name: name.clone(),
+                            color: SECOND_RAY,
+                            ray,
+                            trace: Trace::of_tree(
+                                &tree,
+                                &ray,
+                                &options_in(accelviz_core::Order::NearFirst),
+                            ),
+                        });
+                    }
+                    traced
+                });
+        let frames = traces
+            .iter()
+            .map(|traced| traced.trace.frames())
+            .max()
+            .unwrap_or(0);
+        self.stage.timeline.set_len(frames);
+        let nodes = tree.built.facts.node_count() as u32;
+        if self.selected.is_some_and(|node| node >= nodes) {
+            self.selected = Some(0);
+        }
+        if self.hovered.is_some_and(|node| node >= nodes) {
+            self.hovered = None;
+        }
+    }
+
+    fn caption(&self) -> Option<String> {
+        let tree = self.tree.get()?;
+        let traces = self.traces.get()?;
+        let frame = self.stage.timeline.shown;
+        let captions: Vec<String> = traces
+            .iter()
+            .map(|traced| {
+                let said = traced.trace.caption(
+                    frame,
+                    "Press step: the traversal starts by testing the root's box.",
+                    |step| describe_step(step, |node| node_name(tree, node)),
+                );
+                if traces.len() > 1 {
+                    format!("{}: {said}", traced.name)
+                } else {
+                    said
+                }
+            })
+            .collect();
+        Some(if captions.is_empty() {
+            "No ray to trace: drag the ray's head away from its origin.".to_owned()
+        } else {
+            captions.join("   |   ")
+        })
+    }
+
+    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Build with");
+            for entry in CATALOGUE.iter().filter(|entry| entry.family == Family::Bvh) {
+                ui.selectable_value(&mut self.structure, entry.structure, entry.label)
+                    .on_hover_text(entry.about);
+            }
+        });
+        ui.horizontal(|ui| {
+            for (name, ray) in self.named_rays() {
+                if ui
+                    .button(format!("ray {name}"))
+                    .on_hover_text(format!("The slide's ray {name}"))
+                    .clicked()
+                {
+                    self.both_rays = false;
+                    self.use_ray(ray);
+                }
+            }
+            if self.named_rays().len() > 1
+                && ui
+                    .selectable_label(self.both_rays, "r1 and r2 together")
+                    .on_hover_text("Trace both of the slide's rays, step by step in lockstep")
+                    .clicked()
+            {
+                self.both_rays = !self.both_rays;
+                if self.both_rays
+                    && let Some((_, first)) = self.named_rays().first().cloned()
+                {
+                    self.use_ray(first);
+                }
+            }
+        });
+        let mut leaf_size = self.stage.scene.scene.settings.max_leaf_size;
+        if ui
+            .add(egui::Slider::new(&mut leaf_size, 1..=8).text("max leaf size"))
+            .changed()
+        {
+            self.stage.scene.scene.settings.max_leaf_size = leaf_size;
+            self.stage.scene.touch();
+        }
+        let Some(tree) = self.tree.get().cloned() else {
+            ui.label("Building…");
+            return;
+        };
+        self.inspector_tree_ui(ui, &tree);
+        ui.separator();
+        self.node_ui(ui, &tree, self.tree.generation());
+    }
+
+    fn canvas_ui(&mut self, ui: &mut egui::Ui) {
+        let canvas = self.stage.scene.canvas_ui(ui, None);
+        let Some(tree) = self.tree.get().cloned() else {
+            return;
+        };
+        let depths = self.depths();
+        // The deepest box in the depth range under the pointer lights up (and its tree node).
+        let pointer_node = canvas
+            .response
+            .hover_pos()
+            .and_then(|pos| node_under(&canvas, &tree, pos, &depths));
+        if canvas.response.hovered() {
+            self.hovered = pointer_node;
+        }
+        if canvas.response.clicked()
+            && pointer_node.is_some()
+            && self.stage.scene.selected.is_none()
+        {
+            self.selected = pointer_node;
+        }
+        let frame = self.stage.timeline.shown;
+        let traces = self.traces.get();
+        let first = traces.and_then(|traces| traces.first());
+        let shown = first.map_or(&[][..], |traced| traced.trace.shown(frame));
+        draw_tested_shapes(ui, &canvas, &tree.shapes, shown, None);
+        let both = traces.is_some_and(|traces| traces.len() > 1);
+        // The tree with the first ray's traversal, then each further ray's traversal over it.
+        draw_tree(
+            &canvas,
+            &tree,
+            &TreeLook {
+                depths: depths.clone(),
+                hovered: self.hovered,
+                selected: self.selected,
+                steps: shown,
+                structure_alpha: if both { 120 } else { 230 },
+            },
+        );
+        for traced in traces.into_iter().flatten().skip(1) {
+            draw_tree(
+                &canvas,
+                &tree,
+                &TreeLook {
+                    depths: depths.clone(),
+                    steps: traced.trace.shown(frame),
+                    structure_alpha: 0,
+                    ..TreeLook::default()
+                },
+            );
+        }
+        label_shapes(ui, &canvas, &tree.shapes);
+        for traced in traces.into_iter().flatten() {
+            let state = traced.trace.state(frame);
+            draw_ray_colored(
+                &canvas,
+                &traced.ray,
+                state.closest.map(|(_, t)| t),
+                traced.color,
+                "closest",
+            );
+            if traces.is_some_and(|traces| traces.len() > 1) {
+                canvas.label(
+                    traced.ray.origin,
+                    &format!(" {}", traced.name),
+                    traced.color,
+                );
+            }
+        }
+        if let Err(error) = self.stage.scene.ray() {
+            canvas.caption(&[(format!("No ray: {error}"), palette::MISS)]);
+        }
+        self.stage.scene.draw_handles(&canvas);
+        let mut lines = Vec::new();
+        for traced in traces.into_iter().flatten() {
+            let counters = traced.trace.state(frame).counters;
+            lines.push((
+                format!(
+                    "{}: boxes tested {}, primitives tested {} (of {})",
+                    traced.name,
+                    counters.box_tests,
+                    counters.primitive_tests,
+                    count(tree.shapes.len())
+                ),
+                traced.color,
+            ));
+        }
+        lines.insert(
+            0,
+            (
+                format!(
+                    "{} nodes, depth {}",
+                    count(tree.built.facts.node_count()),
+                    tree.built.facts.max_depth()
+                ),
+                Color32::WHITE,
+            ),
+        );
+        canvas.caption(&lines);
+        self.stage.scene.draw_footer(&canvas);
+        canvas.finish();
     }
 }

@@ -1,87 +1,78 @@
 //! Lesson 8, "Cost-Optimized Split": the teapot in a stadium. A dense cluster in a large, nearly
 //! empty scene: middle splits spend levels cutting empty space in halves, median splits cut
 //! through the cluster, the SAH isolates the cluster and cuts the empty space off in big chunks.
+//! The empty leaves and their share of the scene are the core's `TreeStats`.
 
-use accelviz_core::Aabb;
-use egui::{RichText, Stroke};
-use glam::DVec2;
+use std::sync::Arc;
 
-use super::compare::{BuiltTree, Comparison, RULE_NAMES, Structure};
-use super::{Lesson, LessonText};
+use accelviz_core::format::number;
+use accelviz_core::{Family, Structure};
+use egui::{Color32, RichText};
+
+use crate::background::Derived;
 use crate::canvas::faded;
-use crate::editor::{EditableScene, Editing};
+use crate::editor::Editing;
+use crate::lesson::{Lesson, LessonText};
+use crate::stage::Stage;
+use crate::views::compare::{Comparison, LECTURE_RULES as RULES, rule_color};
 
 /// The colour of empty leaves: space cut off, where rays pass without a test.
-const EMPTY_COLOR: egui::Color32 = egui::Color32::from_rgb(90, 200, 140);
+const EMPTY_COLOR: Color32 = Color32::from_rgb(90, 200, 140);
 
 /// The lesson.
 pub struct CostSplitLesson {
-    text: LessonText,
-    scene: EditableScene,
-    structure: Structure,
-    comparison: Option<Comparison>,
-    comparison_key: (u64, Structure),
+    stage: Stage,
+    family: Family,
+    comparison: Derived<(u64, Family), Comparison>,
 }
 
 impl CostSplitLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(text.scene.clone(), Editing::SHAPES);
         Self {
-            text,
-            scene,
-            structure: Structure::Kd,
-            comparison: None,
-            comparison_key: (0, Structure::Kd),
+            stage: Stage::new(text, Editing::SHAPES),
+            family: Family::Kd,
+            comparison: Derived::default(),
         }
     }
-
-    fn refresh(&mut self) {
-        let key = (self.scene.revision, self.structure);
-        if self.comparison.is_none() || self.comparison_key != key {
-            self.comparison = Some(Comparison::new(&self.scene, self.structure));
-            self.comparison_key = key;
-        }
-    }
-}
-
-/// The empty leaves' cells of a kD-tree, and the share of the root cell's area they cover.
-fn empty_cells(tree: &BuiltTree) -> (Vec<Aabb<DVec2>>, f64) {
-    let BuiltTree::Kd(built) = tree else {
-        return (Vec::new(), 0.0);
-    };
-    let cells: Vec<Aabb<DVec2>> = built
-        .tree
-        .nodes
-        .iter()
-        .enumerate()
-        .filter(|(_, node)| node.is_leaf() && node.count == 0)
-        .map(|(index, _)| built.cells[index])
-        .collect();
-    let total = built.tree.bounds.measure();
-    let empty: f64 = cells.iter().map(Aabb::measure).sum();
-    (cells, if total > 0.0 { empty / total } else { 0.0 })
 }
 
 impl Lesson for CostSplitLesson {
-    fn text(&self) -> &LessonText {
-        &self.text
+    fn stage(&self) -> &Stage {
+        &self.stage
     }
 
-    fn scene_mut(&mut self) -> Option<&mut EditableScene> {
-        Some(&mut self.scene)
+    fn stage_mut(&mut self) -> &mut Stage {
+        &mut self.stage
+    }
+
+    fn update(&mut self) {
+        let scene = &self.stage.scene;
+        let family = self.family;
+        self.comparison.request(
+            &(scene.shapes_revision, family),
+            scene.scene.shapes.shapes.len(),
+            || {
+                let shapes = Arc::new(scene.scene.shapes.clone());
+                let settings = scene.scene.settings;
+                let structures = RULES.map(|rule| Structure::lecture(family, rule));
+                move || Comparison::build(&structures, shapes, settings)
+            },
+        );
     }
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal(|ui| {
             ui.label("Compare");
-            ui.selectable_value(&mut self.structure, Structure::Kd, "kD-trees");
-            ui.selectable_value(&mut self.structure, Structure::Bvh, "BVHs");
+            for family in [Family::Kd, Family::Bvh] {
+                ui.selectable_value(&mut self.family, family, format!("{}s", family.label()));
+            }
         });
-        self.refresh();
-        let Some(comparison) = &self.comparison else {
+        let Some(comparison) = self.comparison.get().cloned() else {
+            ui.label("Building…");
             return;
         };
+        let kd = self.family == Family::Kd;
         ui.separator();
         egui::Grid::new("cost split table")
             .striped(true)
@@ -91,24 +82,25 @@ impl Lesson for CostSplitLesson {
                 ui.strong("depth");
                 ui.strong("nodes/ray");
                 ui.strong("tests/ray");
-                if self.structure == Structure::Kd {
+                if kd {
                     ui.strong("empty area");
                 }
                 ui.end_row();
-                for (pane, rule) in RULE_NAMES.iter().enumerate() {
-                    let stats = &comparison.stats[pane];
-                    let counters = &comparison.counters[pane];
-                    let rays = comparison.ray_count.max(1) as f64;
-                    ui.label(*rule);
-                    ui.label(format!("{:.2}", stats.sah_cost));
+                for (pane, rule) in RULES.iter().enumerate() {
+                    let stats = &comparison.trees[pane].stats;
+                    ui.colored_label(rule_color(*rule), rule.label());
+                    ui.label(number(stats.sah_cost));
                     ui.label(stats.max_depth.to_string());
-                    ui.label(format!("{:.1}", counters.nodes_visited as f64 / rays));
-                    ui.label(format!("{:.1}", counters.primitive_tests as f64 / rays));
-                    if self.structure == Structure::Kd {
-                        ui.label(format!(
-                            "{:.0} %",
-                            empty_cells(&comparison.trees[pane]).1 * 100.0
-                        ));
+                    ui.label(format!(
+                        "{:.1}",
+                        comparison.per_ray(pane, |c| c.nodes_visited)
+                    ));
+                    ui.label(format!(
+                        "{:.1}",
+                        comparison.per_ray(pane, |c| c.primitive_tests)
+                    ));
+                    if kd {
+                        ui.label(format!("{:.0} %", stats.empty_leaf_share * 100.0));
                     }
                     ui.end_row();
                 }
@@ -117,33 +109,70 @@ impl Lesson for CostSplitLesson {
             "Measured on {} seeded rays through the scene.",
             comparison.ray_count
         ));
-        ui.label(
-            RichText::new("Green: empty leaves, space a ray crosses without a single test. The SAH makes them large.")
-                .small()
-                .weak(),
-        );
+        if kd {
+            ui.label(
+                RichText::new("Green: empty leaves, space a ray crosses without a single test. The SAH makes them large.")
+                    .small()
+                    .weak(),
+            );
+        } else {
+            ui.label(
+                RichText::new("A BVH has no empty leaves: its boxes shrink around what they hold, and the space between them is what a ray skips.")
+                    .small()
+                    .weak(),
+            );
+        }
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        self.scene.toolbar_ui(ui);
-        self.refresh();
+        self.stage.scene.toolbar_ui(ui);
         let height = ui.available_height();
-        let Some(comparison) = self.comparison.take() else {
+        let Some(comparison) = self.comparison.get().cloned() else {
+            ui.label("Building…");
             return;
         };
-        let canvases = comparison.panes_ui(ui, &mut self.scene, height);
-        for (pane, canvas) in canvases.iter().enumerate() {
-            for cell in empty_cells(&comparison.trees[pane]).0 {
-                canvas.box_outline(&cell, Stroke::NONE, Some(faded(EMPTY_COLOR, 40)));
+        let titles: Vec<(String, Color32)> = RULES
+            .iter()
+            .zip(&comparison.trees)
+            .map(|(rule, tree)| (tree.built.structure.name(), rule_color(*rule)))
+            .collect();
+        let canvases = comparison.panes_ui(
+            ui,
+            &mut self.stage.scene,
+            height,
+            &titles,
+            |pane, canvas| {
+                let tree = &comparison.trees[pane];
+                let facts = &tree.built.facts;
+                if tree.built.tree.family() != Family::Kd {
+                    return;
+                }
+                let empty = (0..facts.node_count())
+                    .filter(|&node| facts.is_leaf(node as u32) && facts.leaf_sizes[node] == 0);
+                let mut batch = canvas.batch();
+                for node in empty {
+                    let screen = canvas.screen_rect(&facts.bounds[node]);
+                    if canvas.rect.intersects(screen) {
+                        batch.rect(screen, faded(EMPTY_COLOR, 40));
+                    }
+                }
+                canvas.draw_batch(batch);
+            },
+        );
+        if let Some(working) = self.comparison.working_for() {
+            if let Some(canvas) = canvases.first() {
+                canvas.note(&format!(
+                    "Building the three trees… {:.1} s",
+                    working.as_secs_f64()
+                ));
             }
+            ui.ctx().request_repaint();
         }
-        self.comparison = Some(comparison);
-        let mut changed = false;
         for canvas in &canvases {
-            changed |= self.scene.interact(ui, canvas);
+            self.stage.scene.interact(ui, canvas);
         }
-        if changed {
-            self.refresh();
+        if let Some(canvas) = canvases.last() {
+            self.stage.scene.draw_footer(canvas);
         }
     }
 }

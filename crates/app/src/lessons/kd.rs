@@ -1,19 +1,27 @@
 //! Lesson 5, "kD-Tree" and "Traversing a kD-tree": split lines and cells, and the core's kD
-//! traversal stepped with the line of the lecture's pseudo-code it is on, and the ray clipped
-//! to the near and the far side drawn (the segments are the ones the traversal reports through
-//! `Observer::cell_entered`).
+//! traversal stepped with the line of the lecture's pseudo-code it is on. Each frame is read
+//! once into a [`KdStepView`]: which code lines run, which cell and which parent plane the
+//! call is about, which part of the ray it clips (rayNear, rayFar), and its words. The canvas,
+//! the code panel and the status line all draw that one view, so they always tell the same
+//! step. A straddling primitive tested twice is said to be, and the mailbox switch shows the
+//! test it saves.
 
-use accelviz_core::kd::KdTree;
-use accelviz_core::{Aabb, Order, Step, TreeStats};
+use std::sync::Arc;
+
+use accelviz_core::format::{count, number};
+use accelviz_core::{CATALOGUE, Family, Order, Ray, SlabRay, Step, Structure, TraceOptions};
 use egui::{Color32, RichText, Stroke};
 use glam::DVec2;
 
-use super::common::{self, KdRule, Recording, number};
-use super::tree_diagram::TreeShape;
-use super::{Lesson, LessonText};
-use crate::canvas::{Canvas, depth_color, faded, palette};
-use crate::editor::{EditableScene, Editing};
-use crate::timeline::Timeline;
+use crate::background::{Cached, Derived};
+use crate::canvas::{Canvas, faded, palette};
+use crate::editor::Editing;
+use crate::lesson::{Lesson, LessonText};
+use crate::stage::{SceneTree, Stage};
+use crate::trace::Trace;
+use crate::views::scene_view::{draw_ray, draw_tested_shapes};
+use crate::views::tree_diagram::{DiagramLook, diagram_ui};
+use crate::views::tree_view::{TreeLook, draw_tree, node_outline, node_under, traversal_emphasis};
 
 /// The lecture's pseudo-code, line by line.
 pub const PSEUDO_CODE: [&str; 9] = [
@@ -32,149 +40,248 @@ pub const PSEUDO_CODE: [&str; 9] = [
 const NEAR_COLOR: Color32 = Color32::from_rgb(80, 170, 255);
 const FAR_COLOR: Color32 = Color32::from_rgb(200, 120, 255);
 
-/// A built kD-tree with each node's cell, parent and depth.
-pub struct BuiltKd {
-    /// The tree.
-    pub tree: KdTree<DVec2>,
-    /// Each node's cell.
-    pub cells: Vec<Aabb<DVec2>>,
-    /// Its shape, for the diagram.
-    pub shape: TreeShape,
+/// Which part of the ray a call has.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// The ray clipped to the root cell.
+    Root,
+    /// rayNear.
+    Near,
+    /// rayFar.
+    Far,
 }
 
-impl BuiltKd {
-    /// Builds with `rule` and finds every node's cell.
-    pub fn new(scene: &EditableScene, rule: KdRule) -> Self {
-        Self::with_tree(rule.build(&scene.scene.shapes, &scene.scene.settings))
-    }
+/// What one frame of the kD traversal is, read once for every panel.
+#[derive(Clone, Debug, PartialEq)]
+pub struct KdStepView {
+    /// The pseudo-code lines that run.
+    pub lines: Vec<usize>,
+    /// The step in words.
+    pub text: String,
+    /// The cell the call is about.
+    pub cell: Option<u32>,
+    /// The node whose plane the call clips at (the cell's parent).
+    pub plane_of: Option<u32>,
+    /// The part of the ray the call has: `[t_near, t_far]` and which part it is.
+    pub segment: Option<(f64, f64, Part)>,
+    /// Whether the call finds nothing to do (an empty part, a skipped far side).
+    pub returns_at_once: bool,
+}
 
-    /// Cells, depths and parents of a built tree.
-    pub fn with_tree(tree: KdTree<DVec2>) -> Self {
-        let children = tree
-            .nodes
-            .iter()
-            .map(|node| (!node.is_leaf()).then(|| node.children()))
-            .collect();
-        let shape = TreeShape::new(children);
-        let mut cells = vec![tree.bounds; tree.nodes.len()];
-        // Parents come before their children, so one forward pass cuts every cell.
-        for index in 0..tree.nodes.len() {
-            let node = &tree.nodes[index];
-            if !node.is_leaf() {
-                let [below, above] = node.children();
-                let [below_cell, above_cell] = KdTree::child_cells(node, &cells[index]);
-                cells[below as usize] = below_cell;
-                cells[above as usize] = above_cell;
-            }
-        }
-        Self { tree, cells, shape }
-    }
+/// Which part of the ray child `node` gets: near when the ray meets it first (by the sign of
+/// the ray's direction across the parent's plane, as the traversal decides).
+fn part_of(tree: &SceneTree, node: u32, ray: &Ray<DVec2>) -> (Option<u32>, Part) {
+    let facts = &tree.built.facts;
+    let Some(parent) = facts.parent[node as usize] else {
+        return (None, Part::Root);
+    };
+    let Some((axis, _)) = tree.built.plane(parent) else {
+        return (Some(parent), Part::Near);
+    };
+    let negative = SlabRay::new(ray, false).negative[axis];
+    let below = facts.children[parent as usize].is_some_and(|[below, _]| below == node);
+    (
+        Some(parent),
+        if below != negative {
+            Part::Near
+        } else {
+            Part::Far
+        },
+    )
+}
 
-    /// Draws the cells: the root cell, and each node's split line across its cell, coloured by
-    /// depth; `emphasized`'s line thicker.
-    pub fn draw_splits(&self, canvas: &Canvas, emphasized: Option<u32>) {
-        canvas.box_outline(&self.tree.bounds, Stroke::new(1.5, depth_color(0)), None);
-        let interior: Vec<usize> = (0..self.tree.nodes.len())
-            .filter(|&index| !self.tree.nodes[index].is_leaf())
-            .collect();
-        canvas.split_lines(interior.into_iter().map(|index| {
-            let node = &self.tree.nodes[index];
-            let width = if emphasized == Some(index as u32) {
-                3.0
-            } else {
-                1.5
-            };
-            let stroke = Stroke::new(width, depth_color(self.shape.depth[index] + 1));
-            (self.cells[index], node.axis as usize, node.split, stroke)
-        }));
-    }
-
-    /// Whether `node` is its parent's near child for a ray going `direction`: the child the
-    /// ray meets first (below the plane when it moves up the axis).
-    pub fn is_near_child(&self, node: u32, direction: DVec2) -> Option<bool> {
-        let parent = self.shape.parent[node as usize]?;
-        let parent_node = &self.tree.nodes[parent as usize];
-        let [below, _] = parent_node.children();
-        let moves_up = direction[parent_node.axis as usize] >= 0.0;
-        Some((node == below) == moves_up)
+/// The plane of `node` in words: `x = 52.00`.
+fn plane_text(tree: &SceneTree, node: u32) -> String {
+    match tree.built.plane(node) {
+        Some((axis, position)) => format!("{} = {}", ["x", "y"][axis.min(1)], number(position)),
+        None => format!("node {node}"),
     }
 }
 
-/// The pseudo-code lines a step is on, and what it means there.
-fn code_position(step: &Step<f64>, built: &BuiltKd, direction: DVec2) -> (Vec<usize>, String) {
-    match *step {
-        Step::BoxTested { hit, .. } => (
-            vec![0],
-            if hit {
-                "clip the ray to the root cell: it is not empty".to_owned()
+/// Reads frame `frame` of `trace` into the one view every panel draws.
+pub fn step_view(trace: &Trace, frame: usize, tree: &SceneTree, ray: &Ray<DVec2>) -> KdStepView {
+    let blank = KdStepView {
+        lines: Vec::new(),
+        text: String::new(),
+        cell: None,
+        plane_of: None,
+        segment: None,
+        returns_at_once: false,
+    };
+    let Some(step) = trace.frame(frame).first().copied() else {
+        return KdStepView {
+            text: "Press step: intersectKDTree(ray, root) begins.".to_owned(),
+            ..blank
+        };
+    };
+    let shown = trace.shown(frame);
+    // The leaf being searched: the last cell entered.
+    let leaf = shown.iter().rev().find_map(|step| match *step {
+        Step::CellEntered { node, .. } => Some(node),
+        _ => None,
+    });
+    match step {
+        Step::BoxTested {
+            t_enter,
+            t_exit,
+            hit,
+            ..
+        } => KdStepView {
+            lines: if hit { vec![0] } else { vec![0, 1] },
+            text: if hit {
+                format!(
+                    "intersectKDTree(ray, root): the ray clipped to the root cell is t in [{}, {}], not empty",
+                    number(t_enter),
+                    number(t_exit)
+                )
             } else {
-                "the ray misses the root cell: empty, return".to_owned()
+                "intersectKDTree(ray, root): the ray misses the root cell, so empty(ray): return"
+                    .to_owned()
             },
-        ),
+            cell: Some(0),
+            segment: hit.then_some((t_enter, t_exit, Part::Root)),
+            returns_at_once: !hit,
+            ..blank
+        },
         Step::CellEntered {
             node,
             t_near,
             t_far,
         } => {
-            let segment = format!("t in [{}, {}]", number(t_near), number(t_far));
-            match built.is_near_child(node, direction) {
-                None => (
-                    vec![0],
-                    format!("start at the root with the ray clipped to its cell, {segment}"),
-                ),
-                Some(true) => (
+            let (parent, part) = part_of(tree, node, ray);
+            let what = if tree.built.facts.is_leaf(node) {
+                "a leaf: intersectObjects next"
+            } else {
+                "split again"
+            };
+            let (lines, text) = match (parent, part) {
+                (Some(parent), Part::Near) => (
                     vec![4, 5],
-                    format!("near side first: node {node}, rayNear is {segment}"),
+                    format!(
+                        "at {}: rayNear = t in [{}, {}]; intersectKDTree(rayNear, nearChild = node {node}), {what}",
+                        plane_text(tree, parent),
+                        number(t_near),
+                        number(t_far)
+                    ),
                 ),
-                Some(false) => (
+                (Some(parent), Part::Far) => (
                     vec![6, 7, 8],
-                    format!("no hit before the plane: far side, node {node}, rayFar is {segment}"),
+                    format!(
+                        "at {}: no hit before the plane, so rayFar = t in [{}, {}]; intersectKDTree(rayFar, farChild = node {node}), {what}",
+                        plane_text(tree, parent),
+                        number(t_near),
+                        number(t_far)
+                    ),
                 ),
+                _ => (
+                    vec![0, 3],
+                    format!(
+                        "the root with the ray clipped to its cell, t in [{}, {}]: {what}",
+                        number(t_near),
+                        number(t_far)
+                    ),
+                ),
+            };
+            KdStepView {
+                lines,
+                text,
+                cell: Some(node),
+                plane_of: parent,
+                segment: Some((t_near, t_far, part)),
+                ..blank
+            }
+        }
+        Step::CellMissed { node } => {
+            let (parent, part) = part_of(tree, node, ray);
+            let (clip, name) = match part {
+                Part::Far => (vec![1, 7, 8], "rayFar"),
+                _ => (vec![1, 4, 5], "rayNear"),
+            };
+            KdStepView {
+                lines: clip,
+                text: format!(
+                    "at {}: the ray does not reach node {node}'s side inside this cell, so {name} is empty: that call returns at 'If empty(ray)'",
+                    parent.map_or("the root".to_owned(), |parent| plane_text(tree, parent))
+                ),
+                cell: Some(node),
+                plane_of: parent,
+                returns_at_once: true,
+                ..blank
             }
         }
         Step::NodeCulled {
             node,
             t_enter,
             t_closest,
-        } => (
-            vec![6],
-            format!(
-                "a hit at t = {} comes before the far part starts (t = {}): skip node {node}",
+        } => KdStepView {
+            lines: vec![6],
+            text: format!(
+                "If (no intersection) is false: the hit at t = {} comes before the far part starts (t = {}), so the far child, node {node}, is never searched",
                 number(t_closest),
                 number(t_enter)
             ),
-        ),
-        Step::PrimitiveTested { primitive, t_hit } => (
-            vec![2],
-            match t_hit {
-                Some(t) => format!("leaf: primitive {primitive} hit at t = {}", number(t)),
-                None => format!("leaf: primitive {primitive} missed"),
-            },
-        ),
-        Step::ClosestHitUpdated { primitive, t } => (
-            vec![2],
-            format!(
+            cell: Some(node),
+            plane_of: tree.built.facts.parent[node as usize],
+            returns_at_once: true,
+            ..blank
+        },
+        Step::PrimitiveTested { primitive, t_hit } => {
+            let before = shown[..shown.len() - trace.frame(frame).len()]
+                .iter()
+                .any(|step| matches!(step, Step::PrimitiveTested { primitive: earlier, .. } if *earlier == primitive));
+            let result = match t_hit {
+                Some(t) => format!("hit at t = {}", number(t)),
+                None => "missed".to_owned(),
+            };
+            let again = if before {
+                ". Tested again: it straddles a plane, so it is listed in both cells. A mailbox (a per-ray note of what was tested) would skip this test"
+            } else {
+                ""
+            };
+            KdStepView {
+                lines: vec![2],
+                text: format!(
+                    "leaf {}: intersectObjects: primitive {primitive} {result}{again}",
+                    leaf.map_or("?".to_owned(), |leaf| leaf.to_string())
+                ),
+                cell: leaf,
+                ..blank
+            }
+        }
+        Step::PrimitiveSkipped { primitive } => KdStepView {
+            lines: vec![2],
+            text: format!(
+                "leaf {}: primitive {primitive} is not tested again: the mailbox shows it was tested for this ray in another cell",
+                leaf.map_or("?".to_owned(), |leaf| leaf.to_string())
+            ),
+            cell: leaf,
+            ..blank
+        },
+        Step::ClosestHitUpdated { primitive, t } => KdStepView {
+            lines: vec![2],
+            text: format!(
                 "closest hit so far: primitive {primitive} at t = {}",
                 number(t)
             ),
-        ),
-        Step::NodeEntered { node } => (vec![0], format!("enter node {node}")),
-        Step::PrimitiveSkipped { primitive } => {
-            (vec![2], format!("primitive {primitive} already tested"))
-        }
-        Step::CellMissed { node } => (vec![1], format!("node {node}: empty(ray), return")),
+            cell: leaf,
+            ..blank
+        },
+        Step::NodeEntered { node } => KdStepView {
+            lines: vec![0],
+            text: format!("enter node {node}"),
+            cell: Some(node),
+            ..blank
+        },
     }
 }
 
 /// The lesson.
 pub struct KdLesson {
-    text: LessonText,
-    scene: EditableScene,
-    rule: KdRule,
-    built: Option<BuiltKd>,
-    built_key: (u64, KdRule),
-    recording: Recording,
-    timeline: Timeline,
+    stage: Stage,
+    structure: Structure,
+    mailboxing: bool,
+    tree: Derived<(u64, Structure), SceneTree>,
+    trace: Cached<(u64, u64, bool), Trace>,
     hovered: Option<u32>,
     selected: Option<u32>,
 }
@@ -182,96 +289,163 @@ pub struct KdLesson {
 impl KdLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(text.scene.clone(), Editing::ALL);
         Self {
-            text,
-            scene,
-            rule: KdRule::Middle,
-            built: None,
-            built_key: (0, KdRule::Middle),
-            recording: Recording::default(),
-            timeline: Timeline::default(),
+            stage: Stage::new(text, Editing::ALL),
+            structure: Structure::KdMiddle,
+            mailboxing: false,
+            tree: Derived::default(),
+            trace: Cached::default(),
             hovered: None,
             selected: None,
         }
     }
 
-    fn refresh(&mut self) {
-        let key = (self.scene.revision, self.rule);
-        if self.built.is_some() && self.built_key == key {
+    /// The view of the current frame, if there is a tree and a ray.
+    pub fn view(&self) -> Option<KdStepView> {
+        let tree = self.tree.get()?;
+        let trace = self.trace.get()?;
+        let ray = self.stage.scene.ray().ok()?;
+        Some(step_view(trace, self.stage.timeline.shown, tree, &ray))
+    }
+
+    /// The recorded trace.
+    pub fn trace(&self) -> Option<&Trace> {
+        self.trace.get()
+    }
+
+    /// The built tree.
+    pub fn tree(&self) -> Option<&Arc<SceneTree>> {
+        self.tree.get()
+    }
+
+    /// A leaf's label in the diagram: how many primitives it lists.
+    fn node_label(tree: &SceneTree, node: u32) -> String {
+        if tree.built.facts.is_leaf(node) {
+            match tree.built.facts.leaf_sizes[node as usize] {
+                0 => "empty".to_owned(),
+                1 => "1 prim".to_owned(),
+                many => format!("{many} prims"),
+            }
+        } else {
+            plane_text(tree, node)
+        }
+    }
+
+    /// The ray's part in the current call, drawn beside the ray in its colour.
+    fn draw_segment(canvas: &Canvas, ray: &Ray<DVec2>, (t_near, t_far, part): (f64, f64, Part)) {
+        let along = (canvas.to_screen(ray.origin + ray.direction) - canvas.to_screen(ray.origin))
+            .normalized();
+        let side = egui::Vec2::new(-along.y, along.x) * 8.0;
+        let t_far = canvas.clip_t(ray.origin, ray.direction, t_far);
+        if t_near > t_far {
             return;
         }
-        let built = BuiltKd::new(&self.scene, self.rule);
-        self.recording = match self.scene.ray() {
-            Ok(ray) => common::record_kd(
-                &built.tree,
-                &self.scene.scene.shapes,
-                &ray,
-                Order::NearFirst,
-            ),
-            Err(_) => Recording::default(),
+        let color = match part {
+            Part::Near => NEAR_COLOR,
+            Part::Far => FAR_COLOR,
+            Part::Root => palette::CURRENT,
         };
-        self.timeline.set_len(self.recording.steps.len());
-        self.selected = None;
-        self.hovered = None;
-        self.built = Some(built);
-        self.built_key = key;
-    }
-
-    fn shown(&self) -> &[Step<f64>] {
-        &self.recording.steps[..self.timeline.shown.min(self.recording.steps.len())]
-    }
-
-    fn direction(&self) -> DVec2 {
-        self.scene
-            .ray()
-            .map(|ray| ray.direction)
-            .unwrap_or(DVec2::X)
+        canvas.painter.line_segment(
+            [
+                canvas.to_screen(ray.at(t_near)) + side,
+                canvas.to_screen(ray.at(t_far)) + side,
+            ],
+            Stroke::new(6.0, color),
+        );
+        canvas.ray_mark(ray.origin, ray.direction, t_near, color, "", 0.0);
+        canvas.ray_mark(ray.origin, ray.direction, t_far, color, "", 0.0);
     }
 }
 
 impl Lesson for KdLesson {
-    fn text(&self) -> &LessonText {
-        &self.text
+    fn stage(&self) -> &Stage {
+        &self.stage
     }
 
-    fn scene_mut(&mut self) -> Option<&mut EditableScene> {
-        Some(&mut self.scene)
+    fn stage_mut(&mut self) -> &mut Stage {
+        &mut self.stage
     }
 
-    fn timeline(&mut self) -> Option<(&mut Timeline, String)> {
-        self.refresh();
-        let caption = match (self.shown().last(), &self.built) {
-            (Some(step), Some(built)) => code_position(step, built, self.direction()).1,
-            _ => "Press step: intersectKDTree(ray, root) begins.".to_owned(),
+    fn update(&mut self) {
+        let scene = &self.stage.scene;
+        let structure = self.structure;
+        self.tree.request(
+            &(scene.shapes_revision, structure),
+            scene.scene.shapes.shapes.len(),
+            || {
+                let shapes = Arc::new(scene.scene.shapes.clone());
+                let settings = scene.scene.settings;
+                move || SceneTree::build(structure, shapes, settings)
+            },
+        );
+        let Some(tree) = self.tree.get().cloned() else {
+            return;
         };
-        Some((&mut self.timeline, caption))
+        let mailboxing = self.mailboxing;
+        let trace =
+            self.trace
+                .get_or_make(
+                    (self.tree.generation(), scene.revision, mailboxing),
+                    || match scene.ray() {
+                        Ok(ray) => Trace::of_tree(
+                            &tree,
+                            &ray,
+                            &TraceOptions {
+                                order: Order::NearFirst,
+                                mailboxing,
+                                ..TraceOptions::default()
+                            },
+                        ),
+                        Err(_) => Trace::default(),
+                    },
+                );
+        self.stage.timeline.set_len(trace.frames());
+        let nodes = tree.built.facts.node_count() as u32;
+        self.selected = self.selected.filter(|&node| node < nodes);
+        self.hovered = self.hovered.filter(|&node| node < nodes);
+    }
+
+    fn caption(&self) -> Option<String> {
+        let view = self.view()?;
+        let trace = self.trace.get()?;
+        let frame = self.stage.timeline.shown;
+        Some(if frame >= trace.frames() && frame > 0 {
+            format!("{}. {}", view.text, trace.summary())
+        } else {
+            view.text
+        })
     }
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui) {
-        self.refresh();
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.label("Build with");
-            for rule in [KdRule::Middle, KdRule::Median, KdRule::Sah] {
-                ui.selectable_value(&mut self.rule, rule, rule.label());
+            for entry in CATALOGUE.iter().filter(|entry| {
+                entry.family == Family::Kd && entry.structure != Structure::KdSahPerNode
+            }) {
+                ui.selectable_value(&mut self.structure, entry.structure, entry.label)
+                    .on_hover_text(entry.about);
             }
         });
-        let mut leaf_size = self.scene.scene.settings.max_leaf_size;
+        let mut leaf_size = self.stage.scene.scene.settings.max_leaf_size;
         if ui
             .add(egui::Slider::new(&mut leaf_size, 1..=8).text("max leaf size"))
             .changed()
         {
-            self.scene.scene.settings.max_leaf_size = leaf_size;
-            self.scene.touch();
+            self.stage.scene.scene.settings.max_leaf_size = leaf_size;
+            self.stage.scene.touch();
         }
-        self.refresh();
-        let Some(built) = &self.built else { return };
+        ui.checkbox(&mut self.mailboxing, "mailboxing: test a straddling primitive once per ray")
+            .on_hover_text("A per-ray note of the primitives already tested, so one listed in several cells is tested once (the core's TraceOptions::mailboxing)");
+        let Some(tree) = self.tree.get().cloned() else {
+            ui.label("Building…");
+            return;
+        };
         ui.separator();
         ui.heading("The traversal, line by line");
-        let current = self
-            .shown()
-            .last()
-            .map(|step| code_position(step, built, self.direction()).0)
+        let view = self.view();
+        let lines = view
+            .as_ref()
+            .map(|view| view.lines.clone())
             .unwrap_or_default();
         egui::Frame::new()
             .fill(ui.visuals().extreme_bg_color)
@@ -279,142 +453,129 @@ impl Lesson for KdLesson {
             .show(ui, |ui| {
                 for (line, code) in PSEUDO_CODE.iter().enumerate() {
                     let mut text = RichText::new(*code).monospace().size(11.5);
-                    if current.contains(&line) {
-                        text = text.background_color(faded(palette::CURRENT, 90)).strong();
+                    if lines.contains(&line) {
+                        text = text.background_color(faded(palette::CURRENT, 110)).strong();
                     }
                     ui.add(egui::Label::new(text).wrap_mode(egui::TextWrapMode::Extend));
                 }
             });
         ui.separator();
-        let stats = TreeStats::of(&built.tree, &self.scene.scene.settings.cost());
+        let stats = &tree.stats;
         ui.label(format!(
-            "{} nodes, {} leaves, depth {}, {} primitive references for {} primitives (straddlers are in both cells), SAH cost {:.2}",
-            stats.node_count,
-            stats.leaf_count,
+            "{} nodes, {} leaves ({} empty), depth {}, {} primitive references for {} primitives (a straddler is listed in each cell it reaches), SAH cost {}",
+            count(stats.node_count),
+            count(stats.leaf_count),
+            count(stats.empty_leaf_count),
             stats.max_depth,
-            built.tree.primitive_indices.len(),
-            self.scene.scene.shapes.shapes.len(),
-            stats.sah_cost
+            count(stats.primitive_references),
+            count(tree.shapes.shapes.len()),
+            number(stats.sah_cost)
         ));
-        let shown = self.shown();
-        let emphasis = common::traversal_emphasis(shown, built.tree.nodes.len());
-        let hovered = built.shape.ui(
+        if let Some(note) = tree.limits_note() {
+            ui.colored_label(palette::RAY, note);
+        }
+        let frame = self.stage.timeline.shown;
+        let shown = self.trace.get().map_or(&[][..], |trace| trace.shown(frame));
+        let emphasis = traversal_emphasis(shown, tree.built.facts.node_count());
+        let label = |node: u32| Self::node_label(&tree, node);
+        let emphasis = |node: u32| emphasis[node as usize];
+        let hovered = diagram_ui(
             ui,
-            |node| match built.tree.nodes[node as usize].is_leaf() {
-                true => format!("{} prims", built.tree.nodes[node as usize].count),
-                false => {
-                    let entry = &built.tree.nodes[node as usize];
-                    format!(
-                        "{} = {:.1}",
-                        ["x", "y"][entry.axis as usize % 2],
-                        entry.split
-                    )
-                }
+            &tree.built.facts,
+            &DiagramLook {
+                label: &label,
+                emphasis: &emphasis,
+                hovered: self.hovered,
             },
-            |node| emphasis[node as usize],
-            self.hovered,
             &mut self.selected,
         );
         if hovered.is_some() {
             self.hovered = hovered;
         }
+        if let Some(reason) = self
+            .selected
+            .and_then(|node| tree.built.facts.leaf_reason(node))
+        {
+            ui.label(format!("Selected leaf: {reason}."));
+        }
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        let canvas = self.scene.canvas_ui(ui, None);
-        self.refresh();
-        let Some(built) = &self.built else { return };
-        let shown = &self.recording.steps[..self.timeline.shown.min(self.recording.steps.len())];
+        let canvas = self.stage.scene.canvas_ui(ui, None);
+        let Some(tree) = self.tree.get().cloned() else {
+            return;
+        };
         // The leaf cell under the pointer lights up (and its node in the tree).
         if canvas.response.hovered() {
-            self.hovered = canvas.response.hover_pos().and_then(|pos| {
-                let at = canvas.to_world(pos);
-                (0..built.tree.nodes.len() as u32).find(|&node| {
-                    built.tree.nodes[node as usize].is_leaf()
-                        && built.cells[node as usize].contains_point(at)
-                })
+            self.hovered = canvas
+                .response
+                .hover_pos()
+                .and_then(|pos| node_under(&canvas, &tree, pos, &(0..=usize::MAX)));
+        }
+        let frame = self.stage.timeline.shown;
+        let shown = self.trace.get().map_or(&[][..], |trace| trace.shown(frame));
+        let view = self.view();
+        let current = self
+            .trace
+            .get()
+            .and_then(|trace| match trace.frame(frame).first() {
+                Some(Step::PrimitiveTested { primitive, .. }) => Some(*primitive),
+                _ => None,
             });
-        }
-        for node in [self.hovered, self.selected].into_iter().flatten() {
-            canvas.box_outline(
-                &built.cells[node as usize],
-                Stroke::new(2.0, palette::CURRENT),
-                Some(faded(palette::CURRENT, 30)),
-            );
-        }
-        common::draw_tested_shapes(ui, &canvas, &self.scene.scene.shapes, shown, None);
-        // The hovered cell's plane (its parent's) stands out.
-        built.draw_splits(
+        draw_tested_shapes(ui, &canvas, &tree.shapes, shown, current);
+        draw_tree(
             &canvas,
-            self.hovered
-                .and_then(|node| built.shape.parent[node as usize]),
+            &tree,
+            &TreeLook {
+                hovered: self.hovered,
+                selected: self.selected,
+                ..TreeLook::default()
+            },
         );
-        let Ok(ray) = self.scene.ray() else {
+        let Ok(ray) = self.stage.scene.ray() else {
             canvas.caption(&[(
                 "No ray: drag its head away from its origin".to_owned(),
                 palette::MISS,
             )]);
+            self.stage.scene.draw_handles(&canvas);
             return;
         };
-        common::draw_ray(&canvas, &ray, common::closest_so_far(shown).map(|(_, t)| t));
-        // The segments so far, and the current one split at its plane into near and far.
-        let current_cell = shown.iter().rev().find_map(|step| match *step {
-            Step::CellEntered {
-                node,
-                t_near,
-                t_far,
-            } => Some((node, t_near, t_far)),
-            _ => None,
-        });
-        let along = (canvas.to_screen(ray.origin + ray.direction) - canvas.to_screen(ray.origin))
-            .normalized();
-        let side = egui::Vec2::new(-along.y, along.x) * 7.0;
-        let segment = |t_from: f64, t_to: f64, color: Color32, width: f32| {
-            let t_to = canvas.clip_t(ray.origin, ray.direction, t_to);
-            if t_from <= t_to {
-                canvas.painter.line_segment(
-                    [
-                        canvas.to_screen(ray.at(t_from)) + side,
-                        canvas.to_screen(ray.at(t_to)) + side,
-                    ],
-                    Stroke::new(width, color),
+        draw_ray(
+            &canvas,
+            &ray,
+            crate::trace::closest_so_far(shown).map(|(_, t)| t),
+        );
+        if let Some(view) = &view {
+            // The cell the call is about, then the parent's plane it clips at, on top.
+            if let Some(cell) = view.cell {
+                let color = if view.returns_at_once {
+                    palette::MISS
+                } else {
+                    palette::CURRENT
+                };
+                node_outline(
+                    &canvas,
+                    &tree,
+                    cell,
+                    Stroke::new(3.5, color),
+                    Some(faded(color, 30)),
                 );
             }
-        };
-        if let Some((node, t_near, t_far)) = current_cell {
-            let entry = &built.tree.nodes[node as usize];
-            canvas.box_outline(
-                &built.cells[node as usize],
-                Stroke::new(3.0, palette::CURRENT),
-                None,
-            );
-            if entry.is_leaf() {
-                let near = built.is_near_child(node, ray.direction).unwrap_or(true);
-                segment(
-                    t_near,
-                    t_far,
-                    if near { NEAR_COLOR } else { FAR_COLOR },
-                    5.0,
+            if let Some(parent) = view.plane_of
+                && let Some((axis, position)) = tree.built.plane(parent)
+            {
+                canvas.split_line(
+                    &tree.built.facts.bounds[parent as usize],
+                    axis,
+                    position,
+                    Stroke::new(4.0, Color32::WHITE),
                 );
-            } else {
-                // Where the ray crosses this node's plane splits its part into rayNear, rayFar.
-                let axis = entry.axis as usize;
-                let t_plane = (entry.split - ray.origin[axis]) / ray.direction[axis];
-                let t_cut = t_plane.clamp(t_near, t_far);
-                segment(
-                    t_near,
-                    if t_plane.is_nan() { t_far } else { t_cut },
-                    NEAR_COLOR,
-                    5.0,
-                );
-                if t_plane.is_finite() && t_plane < t_far && t_plane > t_near {
-                    segment(t_cut, t_far, FAR_COLOR, 5.0);
-                }
             }
-            canvas.ray_mark(ray.origin, ray.direction, t_near, palette::CURRENT, "", 0.0);
-            canvas.ray_mark(ray.origin, ray.direction, t_far, palette::CURRENT, "", 0.0);
+            if let Some(segment) = view.segment {
+                Self::draw_segment(&canvas, &ray, segment);
+            }
         }
-        self.scene.draw_handles(&canvas);
+        self.stage.scene.draw_handles(&canvas);
         canvas.caption(&[
             (
                 "rayNear: the part of the ray on the near side".to_owned(),
@@ -422,5 +583,7 @@ impl Lesson for KdLesson {
             ),
             ("rayFar: the part on the far side".to_owned(), FAR_COLOR),
         ]);
+        self.stage.scene.draw_footer(&canvas);
+        canvas.finish();
     }
 }

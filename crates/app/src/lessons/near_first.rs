@@ -1,150 +1,160 @@
-//! Lesson 6, the lecture's quiz: near side first, or file order? Two panes step in lockstep
-//! through the one BVH traversal, run with `Order::NearFirst` and `Order::FileOrder` on the
-//! same tree and ray. The counters are the core's (`counters_of` replays the recorded steps).
+//! Lesson 6, the lecture's quiz: "Why first do near side? What happens if we just traverse in
+//! file order?" The slide asks it of the kD-tree traversal; the lesson shows it on a kD-tree
+//! and on a BVH of the same scene, each traced near side first and in file order: four panes
+//! stepping in lockstep through the one traversal of each kind (`Order::NearFirst` against
+//! `Order::FileOrder`). Everything shown part-way is the state at that step: the counters are
+//! the core's, replayed; the closest hit is the closest so far. The answers stay hidden until
+//! asked for.
 
-use accelviz_core::{Counters, Order, Step, counters_of};
-use egui::{Color32, Stroke, Vec2};
+use std::sync::Arc;
 
-use super::bvh::BuiltBvh;
-use super::common::{self, BvhRule, Recording};
-use super::{Lesson, LessonText};
-use crate::canvas::{Canvas, faded, palette};
-use crate::editor::{EditableScene, Editing};
-use crate::timeline::Timeline;
+use accelviz_core::format::{count, number};
+use accelviz_core::{Counters, Family, Order, SplitRule, Structure};
+use accelviz_scene::document::Scene2d;
+use egui::{Color32, RichText, Vec2};
+use glam::DVec2;
 
-/// The two orders, left pane first.
+use crate::background::{Cached, Derived};
+use crate::canvas::{Canvas, View2d};
+use crate::editor::Editing;
+use crate::lesson::{Lesson, LessonText};
+use crate::stage::{SceneTree, Stage};
+use crate::trace::{Trace, TraceState, describe_step, options_in};
+use crate::views::scene_view::{draw_ray, draw_tested_shapes};
+use crate::views::tree_view::{TreeLook, draw_tree};
+
+/// The two orders, in column order.
 pub const ORDERS: [(Order, &str); 2] = [
     (Order::NearFirst, "near side first"),
     (Order::FileOrder, "file order"),
 ];
 
+/// The two structures, in row order: the slide's kD-tree, then a BVH.
+pub const FAMILIES: [Family; 2] = [Family::Kd, Family::Bvh];
+
+/// The quiz's questions and answers.
+const QUESTIONS: [(&str, &str); 2] = [
+    (
+        "Why first do the near side?",
+        "The first hit found near the origin is a cut-off: every cell or box that starts beyond it cannot hold anything nearer and is skipped without being opened. Searching the near side first finds the closest hit as early as the tree allows, so the most is skipped. (A kD-tree can even stop at the first leaf with a hit inside its cell.)",
+    ),
+    (
+        "What happens if we just traverse in file order?",
+        "The order in memory has nothing to do with the ray: file order opens the far side first whenever the ray runs against it. Its hits are found, then beaten by a nearer one, and the far side's work was wasted. Both orders give the same answer; only the cost differs, and near first never depends on luck.",
+    ),
+];
+
 /// Reads one counter.
 type CounterOf = fn(&Counters) -> u64;
 
+/// The counters of the table, in row order.
+const COUNTER_ROWS: [(&str, CounterOf); 4] = [
+    ("nodes visited", |c| c.nodes_visited),
+    ("box tests", |c| c.box_tests),
+    ("primitive tests", |c| c.primitive_tests),
+    ("nodes skipped", |c| c.nodes_culled),
+];
+
 /// The lesson.
 pub struct NearFirstLesson {
-    text: LessonText,
-    scene: EditableScene,
-    built: Option<BuiltBvh>,
-    built_revision: u64,
-    recordings: [Recording; 2],
-    timeline: Timeline,
+    stage: Stage,
+    /// The kD-tree and the BVH, in [`FAMILIES`] order.
+    trees: Derived<u64, [SceneTree; 2]>,
+    /// By structure, then by order.
+    traces: Cached<(u64, u64), [[Trace; 2]; 2]>,
+    /// Which answers have been asked for.
+    revealed: [bool; 2],
 }
 
 impl NearFirstLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(text.scene.clone(), Editing::ALL);
         Self {
-            text,
-            scene,
-            built: None,
-            built_revision: 0,
-            recordings: Default::default(),
-            timeline: Timeline::default(),
+            stage: Stage::new(text, Editing::ALL),
+            trees: Derived::default(),
+            traces: Cached::default(),
+            revealed: [false; 2],
         }
     }
 
-    fn refresh(&mut self) {
-        if self.built.is_some() && self.built_revision == self.scene.revision {
-            return;
-        }
-        let built = BuiltBvh::new(&self.scene, BvhRule::BinnedSah);
-        self.recordings = match self.scene.ray() {
-            Ok(ray) => ORDERS.map(|(order, _)| {
-                common::record_bvh(&built.bvh, &self.scene.scene.shapes, &ray, order)
+    /// The recording of pane (structure, order).
+    pub fn trace(&self, structure: usize, order: usize) -> Option<&Trace> {
+        Some(&self.traces.get()?[structure][order])
+    }
+
+    /// What pane (structure, order) shows at the timeline's frame.
+    pub fn pane_state(&self, structure: usize, order: usize) -> Option<TraceState> {
+        let traces = self.traces.get()?;
+        Some(traces[structure][order].state(self.stage.timeline.shown))
+    }
+
+    /// The counters every pane shows now, by structure then order.
+    pub fn pane_counters(&self) -> Option<[[Counters; 2]; 2]> {
+        let traces = self.traces.get()?;
+        let frame = self.stage.timeline.shown;
+        Some(
+            [0, 1].map(|structure| {
+                [0, 1].map(|order| traces[structure][order].state(frame).counters)
             }),
-            Err(_) => Default::default(),
-        };
-        self.timeline.set_len(
-            self.recordings
-                .iter()
-                .map(|recording| recording.steps.len())
-                .max()
-                .unwrap_or(0),
-        );
-        self.built = Some(built);
-        self.built_revision = self.scene.revision;
+        )
     }
 
-    /// The steps each pane shows: the same number, or all of a pane's when it is done.
-    pub fn shown(&self, pane: usize) -> &[Step<f64>] {
-        let steps = &self.recordings[pane].steps;
-        &steps[..self.timeline.shown.min(steps.len())]
-    }
-
-    /// Counters of what each pane has shown so far.
-    pub fn pane_counters(&mut self) -> [Counters; 2] {
-        self.refresh();
-        [counters_of(self.shown(0)), counters_of(self.shown(1))]
+    /// Whether answer `question` is shown.
+    pub fn revealed(&self, question: usize) -> bool {
+        self.revealed[question]
     }
 
     fn pane_ui(
         &self,
         ui: &mut egui::Ui,
-        pane: usize,
+        (structure, order): (usize, usize),
         size: Vec2,
-        view: &mut crate::canvas::View2d,
+        view: &mut View2d,
     ) -> Canvas {
-        let bounds = self.scene.bounds();
+        let bounds = self.stage.scene.bounds();
         let canvas = Canvas::allocate(ui, size, view, &bounds, false);
-        let Some(built) = &self.built else {
+        let (Some(trees), Some(traces)) = (self.trees.get(), self.traces.get()) else {
             return canvas;
         };
-        let shown = self.shown(pane);
-        common::draw_tested_shapes(ui, &canvas, &self.scene.scene.shapes, shown, None);
-        let faint = faded(ui.visuals().weak_text_color(), 70);
-        canvas.box_outlines(
-            built
-                .bvh
-                .nodes
-                .iter()
-                .map(|entry| (entry.bounds, Stroke::new(1.0, faint))),
+        let tree = &trees[structure];
+        let trace = &traces[structure][order];
+        let frame = self.stage.timeline.shown;
+        let shown = trace.shown(frame);
+        let state = trace.state(frame);
+        draw_tested_shapes(ui, &canvas, &tree.shapes, shown, None);
+        draw_tree(
+            &canvas,
+            tree,
+            &TreeLook {
+                steps: shown,
+                structure_alpha: 90,
+                ..TreeLook::default()
+            },
         );
-        for step in shown {
-            match step {
-                Step::NodeEntered { node } => canvas.box_outline(
-                    &built.bvh.nodes[*node as usize].bounds,
-                    Stroke::new(2.0, faded(palette::HIT, 200)),
-                    None,
-                ),
-                Step::NodeCulled { node, .. }
-                | Step::BoxTested {
-                    node, hit: false, ..
-                } => canvas.box_outline(
-                    &built.bvh.nodes[*node as usize].bounds,
-                    Stroke::new(2.0, faded(palette::MISS, 200)),
-                    Some(faded(palette::MISS, 25)),
-                ),
-                _ => {}
-            }
+        if let Ok(ray) = self.stage.scene.ray() {
+            draw_ray(&canvas, &ray, state.closest.map(|(_, t)| t));
         }
-        if let Some(
-            Step::BoxTested { node, .. }
-            | Step::NodeEntered { node }
-            | Step::NodeCulled { node, .. },
-        ) = shown.last()
-        {
-            canvas.box_outline(
-                &built.bvh.nodes[*node as usize].bounds,
-                Stroke::new(4.0, palette::CURRENT),
-                None,
-            );
-        }
-        if let Ok(ray) = self.scene.ray() {
-            common::draw_ray(&canvas, &ray, common::closest_so_far(shown).map(|(_, t)| t));
-        }
-        self.scene.draw_handles(&canvas);
-        let counters = counters_of(shown);
-        let done = shown.len() == self.recordings[pane].steps.len() && !shown.is_empty();
+        self.stage.scene.draw_handles(&canvas);
+        let counters = state.counters;
+        let progress = if state.done {
+            ": done".to_owned()
+        } else if frame >= trace.frames() {
+            String::new()
+        } else {
+            format!(", step {frame} of {}", trace.frames())
+        };
         canvas.caption(&[
             (
-                format!("{}{}", ORDERS[pane].1, if done { ": done" } else { "" }),
+                format!(
+                    "{}, {}{progress}",
+                    FAMILIES[structure].label(),
+                    ORDERS[order].1
+                ),
                 Color32::WHITE,
             ),
             (
                 format!(
-                    "nodes {}  boxes {}  primitives {}  skipped {}",
+                    "nodes {}  boxes {}  tests {}  skipped {}",
                     counters.nodes_visited,
                     counters.box_tests,
                     counters.primitive_tests,
@@ -153,104 +163,200 @@ impl NearFirstLesson {
                 Color32::WHITE,
             ),
         ]);
+        canvas.finish();
         canvas
     }
 }
 
 impl Lesson for NearFirstLesson {
-    fn text(&self) -> &LessonText {
-        &self.text
+    fn stage(&self) -> &Stage {
+        &self.stage
     }
 
-    fn scene_mut(&mut self) -> Option<&mut EditableScene> {
-        Some(&mut self.scene)
+    fn stage_mut(&mut self) -> &mut Stage {
+        &mut self.stage
     }
 
-    fn timeline(&mut self) -> Option<(&mut Timeline, String)> {
-        self.refresh();
-        let describe = |pane: usize| match self.shown(pane).last() {
-            Some(step) => common::describe_step(step, |node| format!("node {node}")),
-            None => "start".to_owned(),
-        };
-        let caption = format!(
-            "near first: {}  |  file order: {}",
-            describe(0),
-            describe(1)
+    fn update(&mut self) {
+        let scene = &self.stage.scene;
+        self.trees.request(
+            &scene.shapes_revision,
+            scene.scene.shapes.shapes.len(),
+            || {
+                let shapes = Arc::new(scene.scene.shapes.clone());
+                let settings = scene.scene.settings;
+                move || {
+                    FAMILIES.map(|family| {
+                        SceneTree::build(
+                            Structure::lecture(family, SplitRule::Sah),
+                            shapes.clone(),
+                            settings,
+                        )
+                    })
+                }
+            },
         );
-        Some((&mut self.timeline, caption))
+        let Some(trees) = self.trees.get().cloned() else {
+            return;
+        };
+        let traces = self
+            .traces
+            .get_or_make((self.trees.generation(), scene.revision), || {
+                let ray = scene.ray().ok();
+                [0, 1].map(|structure| {
+                    ORDERS.map(|(order, _)| match &ray {
+                        Some(ray) => Trace::of_tree(&trees[structure], ray, &options_in(order)),
+                        None => Trace::default(),
+                    })
+                })
+            });
+        let frames = traces
+            .iter()
+            .flatten()
+            .map(Trace::frames)
+            .max()
+            .unwrap_or(0);
+        self.stage.timeline.set_len(frames);
+    }
+
+    fn caption(&self) -> Option<String> {
+        let traces = self.traces.get()?;
+        let frame = self.stage.timeline.shown;
+        let describe = |structure: usize, order: usize| {
+            let trace = &traces[structure][order];
+            match trace.frame(frame).first() {
+                Some(step) => describe_step(step, |node| format!("node {node}")),
+                None if frame == 0 => "start".to_owned(),
+                None => "done".to_owned(),
+            }
+        };
+        Some(format!(
+            "kD near first: {}  |  kD file order: {}",
+            describe(0, 0),
+            describe(0, 1)
+        ))
+    }
+
+    /// A generated scene gets a ray from beyond its top right corner towards the lower left:
+    /// against the order the builders store children in (below the plane, or the lower
+    /// centroids, first), so file order meets the far side first and the lesson's point shows.
+    fn place_generated_ray(&self, scene: &Scene2d) -> Option<(DVec2, DVec2)> {
+        let bounds = scene
+            .shapes
+            .shapes
+            .iter()
+            .fold(accelviz_core::Aabb::empty(), |acc, shape| {
+                acc.union(shape.bounds())
+            });
+        if bounds.is_empty() {
+            return None;
+        }
+        let extent = bounds.extent();
+        let origin = bounds.max + extent * 0.05;
+        Some((
+            origin,
+            origin - DVec2::new(extent.x * 0.12, extent.y * 0.09),
+        ))
     }
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui) {
-        let now = self.pane_counters();
-        let totals = [
-            counters_of(&self.recordings[0].steps),
-            counters_of(&self.recordings[1].steps),
-        ];
-        ui.heading("Counters");
+        let (Some(counters), Some(traces)) = (self.pane_counters(), self.traces.get()) else {
+            ui.label("Building…");
+            return;
+        };
+        let frame = self.stage.timeline.shown;
+        ui.heading("Counters so far");
         egui::Grid::new("order counters")
             .striped(true)
             .show(ui, |ui| {
                 ui.label("");
-                ui.strong("near first");
-                ui.strong("file order");
+                for family in ["kD", "BVH"] {
+                    for order in ["near", "file"] {
+                        ui.strong(format!("{family} {order}"))
+                            .on_hover_text(format!("{family}, {order} order"));
+                    }
+                }
                 ui.end_row();
-                let rows: [(&str, CounterOf); 4] = [
-                    ("nodes visited", |c| c.nodes_visited),
-                    ("box tests", |c| c.box_tests),
-                    ("primitive tests", |c| c.primitive_tests),
-                    ("nodes skipped", |c| c.nodes_culled),
-                ];
-                for (name, value) in rows {
+                for (name, value) in COUNTER_ROWS {
                     ui.label(name);
-                    for pane in 0..2 {
-                        ui.label(format!("{} of {}", value(&now[pane]), value(&totals[pane])));
+                    for row in &counters {
+                        for pane in row {
+                            ui.label(value(pane).to_string());
+                        }
                     }
                     ui.end_row();
                 }
-                ui.label("closest hit");
-                for recording in &self.recordings {
-                    ui.label(match recording.hit {
-                        Some(hit) => format!("#{} at t = {}", hit.primitive, common::number(hit.t)),
-                        None => "none".to_owned(),
-                    });
+                ui.label("closest hit so far");
+                for row in traces.iter() {
+                    for trace in row {
+                        ui.label(match trace.state(frame).closest {
+                            Some((primitive, t)) => format!("#{primitive}, t = {}", number(t)),
+                            None if trace.state(frame).done => "none".to_owned(),
+                            None => "not yet".to_owned(),
+                        });
+                    }
                 }
                 ui.end_row();
             });
+        if traces.iter().flatten().all(|trace| trace.state(frame).done) {
+            let total = |structure: usize, order: usize| {
+                accelviz_core::counters_of(&traces[structure][order].steps).nodes_visited
+            };
+            ui.label(format!(
+                "Done. Nodes visited, near first against file order: kD-tree {} against {}, BVH {} against {}.",
+                total(0, 0),
+                total(0, 1),
+                total(1, 0),
+                total(1, 1)
+            ));
+        }
         ui.separator();
-        ui.label(egui::RichText::new("Why first do the near side?").strong());
+        ui.heading("Quiz");
+        for (index, (question, answer)) in QUESTIONS.iter().enumerate() {
+            ui.label(RichText::new(*question).strong());
+            let label = if self.revealed[index] {
+                "hide the answer"
+            } else {
+                "show the answer"
+            };
+            if ui.button(label).clicked() {
+                self.revealed[index] = !self.revealed[index];
+            }
+            if self.revealed[index] {
+                ui.label(*answer);
+            }
+        }
         ui.label(
-            "A hit found early lowers the cut-off, and every node that starts beyond it is skipped \
-             without opening it. Near first finds the closest hit as early as the tree allows.",
-        );
-        ui.label(egui::RichText::new("What happens in file order?").strong());
-        ui.label(
-            "The far side may be opened first: its hits are found, then beaten by a nearer one, \
-             and the work on the far side was wasted. Both orders give the same answer; only the \
-             cost differs.",
+            RichText::new(format!(
+                "Think first, then play the four panes ({} steps) and compare the counters.",
+                count(self.stage.timeline.len)
+            ))
+            .small()
+            .weak(),
         );
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        self.scene.toolbar_ui(ui);
-        self.refresh();
+        self.stage.scene.toolbar_ui(ui);
         let size = ui.available_size();
-        let pane_size = Vec2::new((size.x - 8.0) * 0.5, size.y);
-        let mut view = self.scene.view;
-        let canvases = ui
-            .horizontal(|ui| {
-                [
-                    self.pane_ui(ui, 0, pane_size, &mut view),
-                    self.pane_ui(ui, 1, pane_size, &mut view),
-                ]
-            })
-            .inner;
-        self.scene.view = view;
-        let mut changed = false;
-        for canvas in &canvases {
-            changed |= self.scene.interact(ui, canvas);
+        let gap = 6.0;
+        let pane_size = Vec2::new((size.x - gap) * 0.5, (size.y - gap) * 0.5);
+        let mut view = self.stage.scene.view;
+        let mut canvases = Vec::new();
+        ui.spacing_mut().item_spacing = Vec2::splat(gap);
+        for structure in 0..2 {
+            ui.horizontal(|ui| {
+                for order in 0..2 {
+                    canvases.push(self.pane_ui(ui, (structure, order), pane_size, &mut view));
+                }
+            });
         }
-        if changed {
-            self.refresh();
+        self.stage.scene.view = view;
+        for canvas in &canvases {
+            self.stage.scene.interact(ui, canvas);
+        }
+        if let Some(canvas) = canvases.last() {
+            self.stage.scene.draw_footer(canvas);
         }
     }
 }

@@ -1,41 +1,52 @@
-//! Lesson 3, "Fast BV Tests (AABB)": the slab test, step by step. Per axis the ray's
-//! [t_near, t_far] is drawn on the ray and on a number line; the max of the nears and the min
-//! of the fars are marked; the slide's Near/Far table fills in live. The numbers are the
-//! core's `slab_record`, the same arithmetic the traversals run.
+//! Lesson 3, "Fast BV Tests (AABB)": the slab test, step by step. A 2D box is two slabs: the
+//! horizontal slab between its bottom and top lines (where the ray's y is in range) and the
+//! vertical slab between its left and right lines (x in range), the slide's "Horizontal" and
+//! "Vertical" rows. Per slab the ray's [t_near, t_far] is drawn on the ray and on a number
+//! line; the max of the nears and the min of the fars are marked; the slide's Near/Far table
+//! fills in live. The numbers are the core's `slab_record`, the arithmetic traversal runs.
+//! Labels are laid out so that none covers another, whatever the case.
 
+use accelviz_core::format::{number, point};
 use accelviz_core::{Aabb, Shape, SlabRecord, slab_record};
-use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, Vec2};
+use egui::{Color32, FontId, Pos2, Rect, Sense, Stroke, Vec2};
 use glam::DVec2;
 
-use super::common::{self, number};
-use super::{Lesson, LessonText};
-use crate::canvas::{Canvas, faded, palette};
-use crate::editor::{EditableScene, Editing};
-use crate::timeline::Timeline;
+use crate::canvas::{Canvas, Labels, faded, palette};
+use crate::editor::Editing;
+use crate::lesson::{Lesson, LessonText};
+use crate::stage::Stage;
+use crate::views::scene_view::{draw_ray, draw_shapes};
+
+/// The two slabs in the slide's table order: name, the axis whose interval it gives, and its
+/// colour. The horizontal slab lies between two horizontal lines, so it bounds y.
+pub const SLABS: [(&str, usize, Color32); 2] = [
+    ("Horizontal slab", 1, palette::Y_AXIS),
+    ("Vertical slab", 0, palette::X_AXIS),
+];
 
 /// The lesson's steps, in the slide's order.
 const STEP_CAPTIONS: [&str; 6] = [
-    "A box is pairs of parallel planes (lines in 2D), each pair across one axis. The ray is r(t) = p + t·d.",
-    "Horizontal: where the ray crosses x = min.x and x = max.x gives [t_near, t_far] on x.",
-    "Vertical: where it crosses y = min.y and y = max.y gives [t_near, t_far] on y.",
+    "A box is pairs of parallel planes (lines in 2D), one pair per axis: a slab. The ray is r(t) = p + t·d.",
+    "Horizontal slab, between the box's bottom and top lines: where the ray crosses y = min.y and y = max.y gives [t_near, t_far].",
+    "Vertical slab, between its left and right lines: where the ray crosses x = min.x and x = max.x gives [t_near, t_far].",
     "Find the max of the t_near: the ray is inside every slab only after it.",
     "Find the min of the t_far: the ray has left some slab after it.",
     "If max t_near > min t_far the box is not intersected (also missed when min t_far < 0: behind).",
 ];
 
 /// The edge cases one click away: a name, and where the ray goes relative to the box.
-const GALLERY: [(&str, &str); 6] = [
+pub const GALLERY: [(&str, &str); 6] = [
     (
         "crossing",
         "a plain hit, entering through one slab and leaving through the other",
     ),
     (
         "parallel to a slab",
-        "d.y = 0 inside the y slab: t_near.y = −∞, t_far.y = +∞",
+        "d.y = 0 inside the horizontal slab: its t_near = −∞, t_far = +∞",
     ),
     (
         "parallel, outside",
-        "d.y = 0 outside the y slab: that axis's interval is empty",
+        "d.y = 0 outside the horizontal slab: that slab's interval is empty",
     ),
     (
         "origin inside",
@@ -53,30 +64,29 @@ const GALLERY: [(&str, &str); 6] = [
 
 /// The lesson.
 pub struct SlabLesson {
-    text: LessonText,
-    scene: EditableScene,
-    timeline: Timeline,
+    stage: Stage,
     robust: bool,
+    /// Where the last frame put its labels, on the canvas and on the number lines.
+    label_rects: Vec<Vec<Rect>>,
 }
 
 impl SlabLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(text.scene.clone(), Editing::BY_HAND);
-        let mut timeline = Timeline::default();
-        timeline.set_len(STEP_CAPTIONS.len() - 1);
-        timeline.shown = timeline.len;
+        let mut stage = Stage::new(text, Editing::BY_HAND);
+        stage.timeline.set_len(STEP_CAPTIONS.len() - 1);
+        stage.timeline.shown = stage.timeline.len;
         Self {
-            text,
-            scene,
-            timeline,
+            stage,
             robust: false,
+            label_rects: Vec::new(),
         }
     }
 
     /// The first box of the scene: the one tested.
     fn tested_box(&self) -> Option<Aabb<DVec2>> {
-        self.scene
+        self.stage
+            .scene
             .scene
             .shapes
             .shapes
@@ -90,12 +100,17 @@ impl SlabLesson {
     /// The tested box and the core's slab record for the current ray.
     pub fn record(&self) -> Option<(Aabb<DVec2>, SlabRecord<DVec2>)> {
         let bounds = self.tested_box()?;
-        let ray = self.scene.ray().ok()?;
+        let ray = self.stage.scene.ray().ok()?;
         Some((bounds, slab_record(&bounds, &ray, self.robust)))
     }
 
-    /// Puts the ray where an edge case happens.
-    fn apply_case(&mut self, case: usize) {
+    /// Where the last frame's labels went: one list for the canvas, one for the number lines.
+    pub fn label_rects(&self) -> &[Vec<Rect>] {
+        &self.label_rects
+    }
+
+    /// Puts the ray where edge case `case` of [`GALLERY`] happens.
+    pub fn show_case(&mut self, case: usize) {
         let Some(bounds) = self.tested_box() else {
             return;
         };
@@ -118,62 +133,31 @@ impl SlabLesson {
             ),
         };
         let length = extent.length().max(1e-9) * 0.4;
-        self.scene.scene.ray_origin = origin;
-        self.scene.scene.ray_toward = origin + direction.normalize() * length;
-        self.scene.touch();
-    }
-}
-
-impl Lesson for SlabLesson {
-    fn text(&self) -> &LessonText {
-        &self.text
+        let scene = &mut self.stage.scene;
+        scene.scene.ray_origin = origin;
+        scene.scene.ray_toward = origin + direction.normalize() * length;
+        scene.touch_ray();
+        scene.view.placed = false;
     }
 
-    fn scene_mut(&mut self) -> Option<&mut EditableScene> {
-        Some(&mut self.scene)
-    }
-
-    fn timeline(&mut self) -> Option<(&mut Timeline, String)> {
-        let caption = STEP_CAPTIONS[self.timeline.shown.min(STEP_CAPTIONS.len() - 1)].to_owned();
-        Some((&mut self.timeline, caption))
-    }
-
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
-        ui.heading("Edge cases");
-        ui.horizontal_wrapped(|ui| {
-            for (index, (name, explanation)) in GALLERY.iter().enumerate() {
-                if ui.button(*name).on_hover_text(*explanation).clicked() {
-                    self.apply_case(index);
-                }
-            }
-        });
-        ui.checkbox(
-            &mut self.robust,
-            "conservative test (t_far widened by 1 + 2γ₃, Ize 2013)",
-        );
-        ui.separator();
-        let Some((_, record)) = self.record() else {
-            ui.label("The scene needs a box and a ray with a direction.");
-            return;
-        };
-        let shown = self.timeline.shown;
-        ui.heading("Near and far, per slab");
+    /// The slide's table: Near and Far per slab, and the max of the nears and min of the fars.
+    fn table_ui(ui: &mut egui::Ui, record: &SlabRecord<DVec2>, shown: usize) {
         let enter_axis = (record.t_near.y > record.t_near.x) as usize;
         let exit_axis = (record.t_far.y < record.t_far.x) as usize;
         egui::Grid::new("slab table")
             .striped(true)
-            .min_col_width(70.0)
+            .min_col_width(64.0)
             .show(ui, |ui| {
                 ui.label("");
                 ui.strong("Near");
                 ui.strong("Far");
                 ui.end_row();
-                for (axis, name, color) in [
-                    (0, "Horizontal (x)", palette::X_AXIS),
-                    (1, "Vertical (y)", palette::Y_AXIS),
-                ] {
-                    ui.colored_label(color, name);
-                    let known = shown > axis;
+                for (row, (name, axis, color)) in SLABS.iter().enumerate() {
+                    ui.colored_label(*color, *name).on_hover_text(match axis {
+                        1 => "between the box's bottom and top lines: the ray's y is in range",
+                        _ => "between the box's left and right lines: the ray's x is in range",
+                    });
+                    let known = shown > row;
                     let cell = |ui: &mut egui::Ui, value: f64, chosen: bool| {
                         let text = if known { number(value) } else { "?".to_owned() };
                         let rich = egui::RichText::new(text).monospace();
@@ -183,8 +167,8 @@ impl Lesson for SlabLesson {
                             rich
                         });
                     };
-                    cell(ui, record.t_near[axis], shown >= 3 && axis == enter_axis);
-                    cell(ui, record.t_far[axis], shown >= 4 && axis == exit_axis);
+                    cell(ui, record.t_near[*axis], shown >= 3 && *axis == enter_axis);
+                    cell(ui, record.t_far[*axis], shown >= 4 && *axis == exit_axis);
                     ui.end_row();
                 }
                 ui.strong("max / min");
@@ -200,6 +184,53 @@ impl Lesson for SlabLesson {
                 });
                 ui.end_row();
             });
+    }
+}
+
+impl Lesson for SlabLesson {
+    fn stage(&self) -> &Stage {
+        &self.stage
+    }
+
+    fn stage_mut(&mut self) -> &mut Stage {
+        &mut self.stage
+    }
+
+    fn caption(&self) -> Option<String> {
+        let step = self.stage.timeline.shown.min(STEP_CAPTIONS.len() - 1);
+        let said = STEP_CAPTIONS[step];
+        if step == STEP_CAPTIONS.len() - 1
+            && let Some((_, record)) = self.record()
+        {
+            return Some(format!(
+                "{said} Here: {}.",
+                if record.hit { "a hit" } else { "a miss" }
+            ));
+        }
+        Some(said.to_owned())
+    }
+
+    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+        ui.heading("Edge cases");
+        ui.horizontal_wrapped(|ui| {
+            for (index, (name, explanation)) in GALLERY.iter().enumerate() {
+                if ui.button(*name).on_hover_text(*explanation).clicked() {
+                    self.show_case(index);
+                }
+            }
+        });
+        ui.checkbox(
+            &mut self.robust,
+            "conservative test (t_far widened by 1 + 2γ₃, Ize 2013)",
+        );
+        ui.separator();
+        let Some((bounds, record)) = self.record() else {
+            ui.label("The scene needs a box and a ray with a direction.");
+            return;
+        };
+        let shown = self.stage.timeline.shown;
+        ui.heading("Near and far, per slab");
+        Self::table_ui(ui, &record, shown);
         if shown >= 5 {
             let verdict = if record.hit {
                 format!(
@@ -228,49 +259,57 @@ impl Lesson for SlabLesson {
                 verdict,
             );
         }
-        if let Ok(ray) = self.scene.ray() {
+        if let Ok(ray) = self.stage.scene.ray() {
             ui.label(format!(
-                "p = ({}, {}), d = ({}, {})",
-                number(ray.origin.x),
-                number(ray.origin.y),
-                number(ray.direction.x),
-                number(ray.direction.y)
+                "p = {}, d = {}; the box runs from {} to {}",
+                point(&[ray.origin.x, ray.origin.y]),
+                point(&[ray.direction.x, ray.direction.y]),
+                point(&[bounds.min.x, bounds.min.y]),
+                point(&[bounds.max.x, bounds.max.y]),
             ));
         }
+        ui.label(
+            egui::RichText::new(
+                "t depends on the arrow's length: t = 1 at the arrow's head. Drag the head to halve d and every t doubles; hit or miss stays.",
+            )
+            .small()
+            .weak(),
+        );
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        self.scene.toolbar_ui(ui);
+        self.stage.scene.toolbar_ui(ui);
         // Room around the box for the slab lines and the ray beyond it.
         let bounds = match self.tested_box() {
             Some(tested) => Aabb::new(tested.min - tested.extent(), tested.max + tested.extent())
-                .union(self.scene.bounds()),
-            None => self.scene.bounds(),
+                .union(self.stage.scene.bounds()),
+            None => self.stage.scene.bounds(),
         };
-        let number_lines_height = 120.0;
+        let number_lines_height = 130.0;
         let size = ui.available_size() - Vec2::new(0.0, number_lines_height + 6.0);
         let canvas = Canvas::allocate(
             ui,
             size.max(Vec2::splat(50.0)),
-            &mut self.scene.view,
+            &mut self.stage.scene.view,
             &bounds,
             false,
         );
-        self.scene.interact(ui, &canvas);
-        common::draw_shapes(ui, &canvas, &self.scene.scene.shapes, |_| None);
+        self.stage.scene.interact(ui, &canvas);
+        draw_shapes(ui, &canvas, &self.stage.scene.scene.shapes, |_| None);
         let record = self.record();
-        let shown = self.timeline.shown;
-        let ray = self.scene.ray();
+        let shown = self.stage.timeline.shown;
+        let ray = self.stage.scene.ray();
+        let mut labels = Labels::new(canvas.rect.shrink(4.0));
         if let (Some((bounds, record)), Ok(ray)) = (record, &ray) {
-            // The slab planes, as lines across the canvas.
+            // The slab lines across the canvas, in the order the steps reveal them.
             let visible = canvas.rect;
-            for (axis, color) in [(0, palette::X_AXIS), (1, palette::Y_AXIS)] {
-                if shown <= axis {
+            for (row, (_, axis, color)) in SLABS.iter().enumerate() {
+                if shown <= row {
                     continue;
                 }
-                for value in [bounds.min[axis], bounds.max[axis]] {
+                for value in [bounds.min[*axis], bounds.max[*axis]] {
                     let on_screen = canvas.to_screen(DVec2::splat(value));
-                    let line = if axis == 0 {
+                    let line = if *axis == 0 {
                         [
                             Pos2::new(on_screen.x, visible.top()),
                             Pos2::new(on_screen.x, visible.bottom()),
@@ -283,99 +322,103 @@ impl Lesson for SlabLesson {
                     };
                     canvas
                         .painter
-                        .line_segment(line, Stroke::new(1.0, faded(color, 160)));
+                        .line_segment(line, Stroke::new(1.0, faded(*color, 160)));
                 }
             }
-            common::draw_ray(&canvas, ray, None);
-            // Each axis's interval along the ray, drawn beside it.
+            draw_ray(&canvas, ray, None);
+            // Each slab's interval along the ray, drawn beside it.
             let along = (canvas.to_screen(ray.origin + ray.direction)
                 - canvas.to_screen(ray.origin))
             .normalized();
             let side = Vec2::new(-along.y, along.x);
-            for (axis, color) in [(0, palette::X_AXIS), (1, palette::Y_AXIS)] {
-                if shown <= axis {
+            for (row, (name, axis, color)) in SLABS.iter().enumerate() {
+                if shown <= row {
                     continue;
                 }
-                let (t_near, t_far) = (record.t_near[axis], record.t_far[axis]);
+                let (t_near, t_far) = (record.t_near[*axis], record.t_far[*axis]);
                 if t_near <= t_far {
                     let t_start =
                         t_near.max(-canvas.clip_t(ray.origin, -ray.direction, f64::INFINITY));
                     let t_end = canvas.clip_t(ray.origin, ray.direction, t_far);
-                    let offset = side * (8.0 + 7.0 * axis as f32);
+                    let offset = side * (8.0 + 7.0 * row as f32);
                     canvas.painter.line_segment(
                         [
                             canvas.to_screen(ray.at(t_start)) + offset,
                             canvas.to_screen(ray.at(t_end)) + offset,
                         ],
-                        Stroke::new(4.0, faded(color, 200)),
+                        Stroke::new(4.0, faded(*color, 200)),
                     );
                 }
-                let name = if axis == 0 { "x" } else { "y" };
-                canvas.ray_mark(
+                let short = if *axis == 1 { "horizontal" } else { "vertical" };
+                let _ = name;
+                canvas.ray_mark_labeled(
+                    &mut labels,
                     ray.origin,
                     ray.direction,
                     t_near,
-                    color,
-                    &format!("near {name}"),
-                    2.2 + 1.8 * axis as f32,
+                    *color,
+                    &format!("near, {short}"),
+                    1.0,
                 );
-                canvas.ray_mark(
+                canvas.ray_mark_labeled(
+                    &mut labels,
                     ray.origin,
                     ray.direction,
                     t_far,
-                    color,
-                    &format!("far {name}"),
-                    -2.2 - 1.8 * axis as f32,
+                    *color,
+                    &format!("far, {short}"),
+                    -1.0,
                 );
             }
             if shown >= 3 {
-                canvas.ray_mark(
+                canvas.ray_mark_labeled(
+                    &mut labels,
                     ray.origin,
                     ray.direction,
                     record.t_enter,
                     palette::CURRENT,
                     "max near",
-                    6.0,
+                    1.0,
                 );
             }
             if shown >= 4 {
-                canvas.ray_mark(
+                canvas.ray_mark_labeled(
+                    &mut labels,
                     ray.origin,
                     ray.direction,
                     record.t_exit,
                     palette::CURRENT,
                     "min far",
-                    -6.0,
+                    -1.0,
                 );
             }
-            canvas.box_outline(
-                &bounds,
-                Stroke::new(
-                    2.5,
-                    if shown >= 5 {
-                        if record.hit {
-                            palette::HIT
-                        } else {
-                            palette::MISS
-                        }
-                    } else {
-                        palette::BOX
-                    },
-                ),
-                None,
-            );
+            let outcome = match (shown >= 5, record.hit) {
+                (false, _) => palette::BOX,
+                (true, true) => palette::HIT,
+                (true, false) => palette::MISS,
+            };
+            canvas.box_outline(&bounds, Stroke::new(2.5, outcome), None);
         } else if let Err(error) = &ray {
             canvas.caption(&[(format!("No ray: {error}"), palette::MISS)]);
         }
-        self.scene.draw_handles(&canvas);
+        self.stage.scene.draw_handles(&canvas);
+        canvas.finish();
+        let mut rects = vec![labels.placed().to_vec()];
         if let Some((_, record)) = record {
-            number_lines_ui(ui, &record, shown, number_lines_height);
+            rects.push(number_lines_ui(ui, &record, shown, number_lines_height));
         }
+        self.label_rects = rects;
     }
 }
 
-/// One number line per axis and one for the result, sharing a t scale.
-fn number_lines_ui(ui: &mut egui::Ui, record: &SlabRecord<DVec2>, shown: usize, height: f32) {
+/// One number line per slab and one for the result, sharing a t scale. Returns where its
+/// labels went.
+fn number_lines_ui(
+    ui: &mut egui::Ui,
+    record: &SlabRecord<DVec2>,
+    shown: usize,
+    height: f32,
+) -> Vec<Rect> {
     let (rect, _) = ui.allocate_exact_size(Vec2::new(ui.available_width(), height), Sense::hover());
     let painter = ui.painter_at(rect);
     painter.rect_filled(rect, 4.0, ui.visuals().faint_bg_color);
@@ -395,83 +438,38 @@ fn number_lines_ui(ui: &mut egui::Ui, record: &SlabRecord<DVec2>, shown: usize, 
     let high = finite.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     let margin = ((high - low) * 0.15).max(0.5);
     let (low, high) = (low - margin, high + margin);
-    let left = rect.left() + 110.0;
-    let right = rect.right() - 20.0;
+    let left = rect.left() + 150.0;
+    let right = rect.right() - 30.0;
     let x_of = |t: f64| -> f32 {
         if t == f64::INFINITY {
-            right + 10.0
+            right + 16.0
         } else if t == f64::NEG_INFINITY {
-            left - 10.0
+            left - 16.0
         } else {
             left + ((t - low) / (high - low)) as f32 * (right - left)
         }
     };
+    let mut labels = Labels::new(rect.shrink(2.0));
     let rows = [
         (
-            "x slab",
-            palette::X_AXIS,
-            Some((record.t_near.x, record.t_far.x)),
+            "horizontal slab",
+            SLABS[0].2,
+            (record.t_near.y, record.t_far.y),
             shown >= 1,
         ),
         (
-            "y slab",
-            palette::Y_AXIS,
-            Some((record.t_near.y, record.t_far.y)),
+            "vertical slab",
+            SLABS[1].2,
+            (record.t_near.x, record.t_far.x),
             shown >= 2,
         ),
         (
             "both",
             palette::CURRENT,
-            Some((record.t_enter, record.t_exit)),
+            (record.t_enter, record.t_exit),
             shown >= 4,
         ),
     ];
-    for (row, (name, color, interval, visible)) in rows.into_iter().enumerate() {
-        let y = rect.top() + 22.0 + row as f32 * 32.0;
-        painter.text(
-            Pos2::new(rect.left() + 10.0, y),
-            Align2::LEFT_CENTER,
-            name,
-            FontId::proportional(13.0),
-            color,
-        );
-        painter.line_segment(
-            [Pos2::new(left - 10.0, y), Pos2::new(right + 10.0, y)],
-            Stroke::new(1.0, faded(text_color, 90)),
-        );
-        if !visible {
-            continue;
-        }
-        let Some((t_near, t_far)) = interval else {
-            continue;
-        };
-        if t_near <= t_far {
-            let span = Rect::from_x_y_ranges(x_of(t_near)..=x_of(t_far), (y - 5.0)..=(y + 5.0));
-            painter.rect_filled(span, 2.0, faded(color, 170));
-        } else {
-            painter.text(
-                Pos2::new((x_of(t_far) + x_of(t_near)) * 0.5, y - 10.0),
-                Align2::CENTER_CENTER,
-                "empty: near > far",
-                FontId::proportional(12.0),
-                palette::MISS,
-            );
-        }
-        for (t, label) in [(t_near, "near"), (t_far, "far")] {
-            let x = x_of(t);
-            painter.line_segment(
-                [Pos2::new(x, y - 8.0), Pos2::new(x, y + 8.0)],
-                Stroke::new(2.0, color),
-            );
-            painter.text(
-                Pos2::new(x, y + 14.0),
-                Align2::CENTER_CENTER,
-                format!("{label} {}", number(t)),
-                FontId::proportional(11.0),
-                text_color,
-            );
-        }
-    }
     // t = 0, where the ray starts: hits behind it do not count.
     let zero = x_of(0.0);
     painter.line_segment(
@@ -481,11 +479,68 @@ fn number_lines_ui(ui: &mut egui::Ui, record: &SlabRecord<DVec2>, shown: usize, 
         ],
         Stroke::new(1.0, Color32::from_gray(160)),
     );
-    painter.text(
-        Pos2::new(zero + 3.0, rect.top() + 8.0),
-        Align2::LEFT_TOP,
+    labels.place(
+        &painter,
         "t = 0",
         FontId::proportional(11.0),
         text_color,
+        Pos2::new(zero, rect.top() + 9.0),
+        &[Vec2::new(18.0, 0.0), Vec2::new(-18.0, 0.0)],
+        None,
     );
+    for (row, (name, color, (t_near, t_far), visible)) in rows.into_iter().enumerate() {
+        let y = rect.top() + 26.0 + row as f32 * 36.0;
+        labels.place(
+            &painter,
+            name,
+            FontId::proportional(13.0),
+            color,
+            Pos2::new(rect.left() + 70.0, y),
+            &[Vec2::ZERO],
+            None,
+        );
+        painter.line_segment(
+            [Pos2::new(left - 16.0, y), Pos2::new(right + 16.0, y)],
+            Stroke::new(1.0, faded(text_color, 90)),
+        );
+        if !visible {
+            continue;
+        }
+        if t_near <= t_far {
+            let span = Rect::from_x_y_ranges(x_of(t_near)..=x_of(t_far), (y - 5.0)..=(y + 5.0));
+            painter.rect_filled(span, 2.0, faded(color, 170));
+        } else {
+            labels.place(
+                &painter,
+                "empty: near > far",
+                FontId::proportional(12.0),
+                palette::MISS,
+                Pos2::new((x_of(t_far) + x_of(t_near)) * 0.5, y),
+                &[Vec2::new(0.0, -11.0), Vec2::new(0.0, 11.0)],
+                None,
+            );
+        }
+        for (t, label, below) in [(t_near, "near", 1.0), (t_far, "far", -1.0)] {
+            let x = x_of(t);
+            painter.line_segment(
+                [Pos2::new(x, y - 8.0), Pos2::new(x, y + 8.0)],
+                Stroke::new(2.0, color),
+            );
+            labels.place(
+                &painter,
+                &format!("{label} {}", number(t)),
+                FontId::proportional(11.0),
+                text_color,
+                Pos2::new(x, y),
+                &[
+                    Vec2::new(0.0, 13.0 * below),
+                    Vec2::new(0.0, -13.0 * below),
+                    Vec2::new(34.0 * below, 13.0 * below),
+                    Vec2::new(-34.0 * below, 13.0 * below),
+                ],
+                None,
+            );
+        }
+    }
+    labels.placed().to_vec()
 }

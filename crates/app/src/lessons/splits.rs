@@ -1,39 +1,47 @@
 //! Lesson 7, "Building good kD-trees" to "Surface Area Heuristic": middle, median and SAH
-//! side by side, and the SAH cost of every candidate split of a node (the core's cost curve:
-//! the builders' own sweep and the shared `SahCost`, so the curve's minimum is the split the
-//! SAH builder made). Hovering a candidate selects it and ghosts its split in the canvas.
+//! side by side (kD-trees or BVHs, each the catalogue's structure for that rule), and the SAH
+//! cost of every candidate split of a node (the core's cost curve: the builders' own sweep and
+//! the shared `SahCost`, so the curve's minimum is the split the SAH builder made). Hovering a
+//! candidate selects it and ghosts its split in the SAH pane. Where a rule cuts on the other
+//! axis than the one plotted, its cost still shows, as a dashed level.
 
-use accelviz_core::TreeFacts;
-use accelviz_core::curve::{Candidate, CostCurve, bvh_curve, kd_curve};
-use accelviz_core::{Aabb, PrimitiveSet};
+use std::sync::Arc;
+
+use accelviz_core::curve::{Candidate, CostCurve, Mark, node_curve};
+use accelviz_core::format::number;
+use accelviz_core::{Aabb, Family, PrimitiveSet, SplitRule, Structure};
 use egui::{Color32, Pos2, RichText, Stroke, Vec2};
 use egui_plot::{
-    HLine, Legend, Line, MarkerShape, Plot, PlotPoint, PlotPoints, PlotTransform, Points, VLine,
+    HLine, Legend, Line, LineStyle, MarkerShape, Plot, PlotPoint, PlotPoints, PlotTransform,
+    Points, VLine,
 };
-use glam::DVec2;
 
-use super::compare::{BuiltTree, Comparison, Structure, rule_color};
-use super::{Lesson, LessonText};
+use crate::background::{Cached, Derived};
 use crate::canvas::{Canvas, faded, palette};
-use crate::editor::{EditableScene, Editing};
+use crate::editor::Editing;
+use crate::lesson::{Lesson, LessonText};
+use crate::stage::{SceneTree, Stage};
+use crate::views::compare::{Comparison, LECTURE_RULES as RULES, rule_color};
 
 /// The SAH pane: where the selected node lives.
 const SAH_PANE: usize = 2;
 
+/// The axis names.
+const AXES: [&str; 2] = ["x", "y"];
+
 /// The lesson.
 pub struct SplitsLesson {
-    text: LessonText,
-    scene: EditableScene,
-    structure: Structure,
-    comparison: Option<Comparison>,
-    comparison_key: (u64, Structure),
+    stage: Stage,
+    family: Family,
+    comparison: Derived<(u64, Family), Comparison>,
     /// The node whose candidates are plotted, in the SAH tree.
     node: u32,
     /// The axis plotted (0 = x, 1 = y).
     axis: usize,
     /// Whether binned candidates are overlaid.
     show_binned: bool,
-    curve: Option<CostCurve>,
+    /// The node's cost curve, for the comparison, node and binning it is of.
+    curve: Cached<(u64, u32, Option<usize>), CostCurve>,
     /// The candidate under the pointer in the plot (hovering selects it).
     selected: Option<Candidate>,
     plot_transform: Option<PlotTransform>,
@@ -42,60 +50,22 @@ pub struct SplitsLesson {
 impl SplitsLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(text.scene.clone(), Editing::SHAPES);
         Self {
-            text,
-            scene,
-            structure: Structure::Kd,
-            comparison: None,
-            comparison_key: (0, Structure::Kd),
+            stage: Stage::new(text, Editing::SHAPES),
+            family: Family::Kd,
+            comparison: Derived::default(),
             node: 0,
             axis: 0,
             show_binned: true,
-            curve: None,
+            curve: Cached::default(),
             selected: None,
             plot_transform: None,
         }
     }
 
-    fn refresh(&mut self) {
-        let key = (self.scene.revision, self.structure);
-        if self.comparison.is_some() && self.comparison_key == key {
-            return;
-        }
-        let comparison = Comparison::new(&self.scene, self.structure);
-        let node_count = match &comparison.trees[SAH_PANE] {
-            BuiltTree::Bvh(built) => built.bvh.nodes.len(),
-            BuiltTree::Kd(built) => built.tree.nodes.len(),
-        };
-        if self.node as usize >= node_count || self.comparison_key.1 != self.structure {
-            self.node = 0;
-        }
-        self.comparison = Some(comparison);
-        self.comparison_key = key;
-        self.curve = self.compute_curve();
-        self.selected = None;
-    }
-
-    /// The cost curve of the selected node of the SAH tree.
-    fn compute_curve(&self) -> Option<CostCurve> {
-        let comparison = self.comparison.as_ref()?;
-        let boxes = self.scene.scene.shapes.all_bounds();
-        let cost = self.scene.scene.settings.cost();
-        let bins = self.show_binned.then_some(self.scene.scene.settings.bins);
-        Some(match &comparison.trees[SAH_PANE] {
-            BuiltTree::Bvh(built) => {
-                bvh_curve(&boxes, &built.primitives[self.node as usize], &cost, bins)
-            }
-            BuiltTree::Kd(built) => {
-                let facts = TreeFacts::of(&built.tree);
-                let (cell, primitives) = (
-                    facts.bounds[self.node as usize],
-                    facts.primitives_below(&built.tree, self.node),
-                );
-                kd_curve(&boxes, &primitives, &cell, &cost, bins)
-            }
-        })
+    /// The SAH tree (pane 3), if built.
+    fn sah_tree(&self) -> Option<&SceneTree> {
+        self.comparison.get()?.trees.get(SAH_PANE)
     }
 
     /// The candidate the plot shows selected.
@@ -106,7 +76,7 @@ impl SplitsLesson {
     /// The exact candidates on the plotted axis.
     pub fn candidates(&self) -> Vec<Candidate> {
         self.curve
-            .as_ref()
+            .get()
             .and_then(|curve| curve.axes.get(self.axis).cloned())
             .unwrap_or_default()
     }
@@ -117,87 +87,23 @@ impl SplitsLesson {
         Some(transform.position_from_point(&PlotPoint::new(candidate.position, candidate.cost)))
     }
 
-    fn node_box(&self) -> Option<Aabb<DVec2>> {
-        match &self.comparison.as_ref()?.trees[SAH_PANE] {
-            BuiltTree::Bvh(built) => Some(built.bvh.nodes[self.node as usize].bounds),
-            BuiltTree::Kd(built) => Some(built.cells[self.node as usize]),
-        }
-    }
-
-    fn node_children(&self) -> Option<[u32; 2]> {
-        match &self.comparison.as_ref()?.trees[SAH_PANE] {
-            BuiltTree::Bvh(built) => built.shape.children[self.node as usize],
-            BuiltTree::Kd(built) => built.shape.children[self.node as usize],
-        }
-    }
-
-    fn node_parent(&self) -> Option<u32> {
-        match &self.comparison.as_ref()?.trees[SAH_PANE] {
-            BuiltTree::Bvh(built) => built.shape.parent[self.node as usize],
-            BuiltTree::Kd(built) => built.shape.parent[self.node as usize],
+    /// Shows the curve of `axis` (0 = x).
+    pub fn set_axis(&mut self, axis: usize) {
+        if axis != self.axis {
+            self.axis = axis.min(1);
+            self.selected = None;
         }
     }
 
     fn select_node(&mut self, node: u32) {
         self.node = node;
-        self.curve = self.compute_curve();
         self.selected = None;
     }
 
-    /// The ghost of the selected candidate: its split line across the node and the two
-    /// children it would make.
-    fn draw_ghost(&self, canvas: &Canvas, candidate: &Candidate) {
-        let Some(node_box) = self.node_box() else {
+    fn plot_ui(&mut self, ui: &mut egui::Ui, height: f32) {
+        let Some(curve) = self.curve.get() else {
             return;
         };
-        let axis = candidate.axis;
-        let (left, right) = match self.structure {
-            Structure::Kd => {
-                let mut below = node_box;
-                let mut above = node_box;
-                below.max[axis] = candidate.position;
-                above.min[axis] = candidate.position;
-                (below, above)
-            }
-            Structure::Bvh => {
-                // The children group the node's primitives by which side their centre is on.
-                let mut left = Aabb::empty();
-                let mut right = Aabb::empty();
-                if let Some(Some(BuiltTree::Bvh(built))) =
-                    self.comparison.as_ref().map(|c| c.trees.get(SAH_PANE))
-                {
-                    for &primitive in &built.primitives[self.node as usize] {
-                        let bounds = self.scene.scene.shapes.bounds(primitive as usize);
-                        if bounds.center()[axis] < candidate.position {
-                            left = left.union(bounds);
-                        } else {
-                            right = right.union(bounds);
-                        }
-                    }
-                }
-                (left, right)
-            }
-        };
-        canvas.box_outline(
-            &left,
-            Stroke::new(2.0, palette::X_AXIS),
-            Some(faded(palette::X_AXIS, 35)),
-        );
-        canvas.box_outline(
-            &right,
-            Stroke::new(2.0, palette::Y_AXIS),
-            Some(faded(palette::Y_AXIS, 35)),
-        );
-        canvas.split_line(
-            &node_box,
-            axis,
-            candidate.position,
-            Stroke::new(3.0, palette::CURRENT),
-        );
-    }
-
-    fn plot_ui(&mut self, ui: &mut egui::Ui, height: f32) {
-        let Some(curve) = &self.curve else { return };
         let axis = self.axis;
         let exact = curve.axes.get(axis).cloned().unwrap_or_default();
         let binned: Vec<Candidate> = curve
@@ -205,18 +111,23 @@ impl SplitsLesson {
             .as_ref()
             .and_then(|binned| binned.axes.get(axis).cloned())
             .unwrap_or_default();
-        let marks = [
-            ("middle", curve.middle, rule_color(0)),
-            ("median", curve.median, rule_color(1)),
-            ("minimum (SAH)", curve.best, rule_color(2)),
+        let marks: [(&str, Option<Mark>, Color32); 3] = [
+            ("middle", curve.middle, rule_color(SplitRule::Middle)),
+            ("median", curve.median, rule_color(SplitRule::Median)),
+            ("minimum (SAH)", curve.best, rule_color(SplitRule::Sah)),
         ];
         let leaf_cost = curve.leaf_cost;
-        let axis_name = ["x", "y"][axis.min(1)];
+        let axis_name = AXES[axis.min(1)];
         let selected = self.selected;
         let (low, high) = exact
             .iter()
             .map(|candidate| candidate.cost)
             .chain([leaf_cost])
+            .chain(
+                marks
+                    .iter()
+                    .filter_map(|(_, mark, _)| mark.map(|mark| mark.cost)),
+            )
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), cost| {
                 (low.min(cost), high.max(cost))
             });
@@ -272,8 +183,25 @@ impl SplitsLesson {
                 }
                 plot.hline(HLine::new("leaf cost", leaf_cost).color(Color32::GRAY));
                 for (name, mark, color) in marks {
-                    if let Some(mark) = mark.filter(|mark| mark.axis == axis) {
+                    let Some(mark) = mark else { continue };
+                    if mark.axis == axis {
                         plot.vline(VLine::new(name, mark.position).color(color).width(2.0));
+                    } else {
+                        // The rule cuts the other axis: its cost still compares, as a level.
+                        plot.hline(
+                            HLine::new(
+                                format!(
+                                    "{name}: cuts {} at {}, cost {}",
+                                    AXES[mark.axis.min(1)],
+                                    number(mark.position),
+                                    number(mark.cost)
+                                ),
+                                mark.cost,
+                            )
+                            .color(color)
+                            .style(LineStyle::dashed_loose())
+                            .width(2.0),
+                        );
                     }
                 }
                 if let Some(candidate) = selected {
@@ -305,52 +233,141 @@ impl SplitsLesson {
     }
 }
 
+/// The ghost of the selected candidate: its split line across the node and the two
+/// children it would make.
+fn draw_ghost(canvas: &Canvas, tree: &SceneTree, family: Family, node: u32, candidate: &Candidate) {
+    let node_box = tree.built.facts.bounds[node as usize];
+    let axis = candidate.axis;
+    let (left, right) = match family {
+        Family::Kd => {
+            let mut below = node_box;
+            let mut above = node_box;
+            below.max[axis] = candidate.position;
+            above.min[axis] = candidate.position;
+            (below, above)
+        }
+        Family::Bvh => {
+            // The children group the node's primitives by which side their centre is on.
+            let mut left = Aabb::empty();
+            let mut right = Aabb::empty();
+            for primitive in tree.built.primitives_below(node) {
+                let bounds = tree.shapes.bounds(primitive as usize);
+                if bounds.center()[axis] < candidate.position {
+                    left = left.union(bounds);
+                } else {
+                    right = right.union(bounds);
+                }
+            }
+            (left, right)
+        }
+    };
+    canvas.box_outline(
+        &left,
+        Stroke::new(2.0, palette::X_AXIS),
+        Some(faded(palette::X_AXIS, 35)),
+    );
+    canvas.box_outline(
+        &right,
+        Stroke::new(2.0, palette::Y_AXIS),
+        Some(faded(palette::Y_AXIS, 35)),
+    );
+    canvas.split_line(
+        &node_box,
+        axis,
+        candidate.position,
+        Stroke::new(3.0, palette::CURRENT),
+    );
+}
+
 /// The lecture's cost formula with a candidate's numbers filled in.
-pub fn formula_text(candidate: &Candidate, curve: &CostCurve, structure: Structure) -> String {
+pub fn formula_text(candidate: &Candidate, curve: &CostCurve, family: Family) -> String {
     let cost = &curve.cost_model;
     let empty_side = candidate.count_left == 0 || candidate.count_right == 0;
-    let bonus = if structure == Structure::Kd && empty_side {
-        format!(" × (1 − {:.2}) for the empty side", cost.empty_bonus)
+    let bonus = if family == Family::Kd && empty_side {
+        format!(" × (1 − {}) for the empty side", number(cost.empty_bonus))
     } else {
         String::new()
     };
     format!(
-        "cost = C_trav + P(L)·N_L·C_isect + P(R)·N_R·C_isect\n     = {:.2} + {:.3}·{}·{:.2} + {:.3}·{}·{:.2}{}\n     = {:.3}   (leaf: N·C_isect = {:.3})\nP(L) = SA(L)/SA(node) = {:.2}/{:.2}, P(R) = {:.2}/{:.2}",
-        cost.traversal_cost,
-        candidate.p_left,
+        "cost = C_trav + P(L)·N_L·C_isect + P(R)·N_R·C_isect\n     = {} + {}·{}·{} + {}·{}·{}{}\n     = {}   (leaf: N·C_isect = {})\nP(L) = SA(L)/SA(node) = {}/{}, P(R) = {}/{}",
+        number(cost.traversal_cost),
+        number(candidate.p_left),
         candidate.count_left,
-        cost.intersection_cost,
-        candidate.p_right,
+        number(cost.intersection_cost),
+        number(candidate.p_right),
         candidate.count_right,
-        cost.intersection_cost,
+        number(cost.intersection_cost),
         bonus,
-        candidate.cost,
-        curve.leaf_cost,
-        candidate.area_left,
-        curve.area,
-        candidate.area_right,
-        curve.area,
+        number(candidate.cost),
+        number(curve.leaf_cost),
+        number(candidate.area_left),
+        number(curve.area),
+        number(candidate.area_right),
+        number(curve.area),
     )
 }
 
 impl Lesson for SplitsLesson {
-    fn text(&self) -> &LessonText {
-        &self.text
+    fn stage(&self) -> &Stage {
+        &self.stage
     }
 
-    fn scene_mut(&mut self) -> Option<&mut EditableScene> {
-        Some(&mut self.scene)
+    fn stage_mut(&mut self) -> &mut Stage {
+        &mut self.stage
+    }
+
+    fn update(&mut self) {
+        let scene = &self.stage.scene;
+        let family = self.family;
+        self.comparison.request(
+            &(scene.shapes_revision, family),
+            scene.scene.shapes.shapes.len(),
+            || {
+                let shapes = Arc::new(scene.scene.shapes.clone());
+                let settings = scene.scene.settings;
+                let structures = RULES.map(|rule| Structure::lecture(family, rule));
+                move || Comparison::build(&structures, shapes, settings)
+            },
+        );
+        let generation = self.comparison.generation();
+        let Some(comparison) = self.comparison.get().cloned() else {
+            return;
+        };
+        let Some(tree) = comparison.trees.get(SAH_PANE) else {
+            return;
+        };
+        if self.node as usize >= tree.built.facts.node_count() {
+            self.node = 0;
+        }
+        let node = self.node;
+        let bins = self.show_binned.then_some(tree.settings.bins);
+        let boxes = tree.shapes.all_bounds();
+        let cost = tree.settings.cost();
+        let built = &tree.built;
+        let before = self.curve.get().map(|curve| curve as *const CostCurve);
+        let curve = self.curve.get_or_make((generation, node, bins), || {
+            node_curve(built, node, &boxes, &cost, bins)
+        });
+        if before != Some(curve as *const CostCurve) {
+            self.selected = None;
+        }
     }
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui) {
-        self.refresh();
         ui.horizontal(|ui| {
             ui.label("Compare");
-            ui.selectable_value(&mut self.structure, Structure::Kd, "kD-trees");
-            ui.selectable_value(&mut self.structure, Structure::Bvh, "BVHs");
+            for family in [Family::Kd, Family::Bvh] {
+                if ui
+                    .selectable_label(self.family == family, format!("{}s", family.label()))
+                    .clicked()
+                {
+                    self.family = family;
+                    self.select_node(0);
+                }
+            }
         });
         ui.label(RichText::new("Cost model").strong());
-        let settings = &mut self.scene.scene.settings;
+        let settings = &mut self.stage.scene.scene.settings;
         let mut changed = false;
         changed |= ui
             .add(egui::Slider::new(&mut settings.traversal_cost, 0.0..=8.0).text("C_trav"))
@@ -358,16 +375,19 @@ impl Lesson for SplitsLesson {
         changed |= ui
             .add(egui::Slider::new(&mut settings.intersection_cost, 0.1..=8.0).text("C_isect"))
             .changed();
-        changed |= ui
-            .add(egui::Slider::new(&mut settings.empty_bonus, 0.0..=0.9).text("kD empty bonus"))
-            .changed();
+        if self.family == Family::Kd {
+            changed |= ui
+                .add(egui::Slider::new(&mut settings.empty_bonus, 0.0..=0.9).text("empty bonus"))
+                .on_hover_text(
+                    "kD-trees only: how much cheaper a cut that leaves one side empty counts",
+                )
+                .changed();
+        }
         changed |= ui
             .add(egui::Slider::new(&mut settings.max_leaf_size, 1..=16).text("max leaf size"))
             .changed();
         ui.horizontal(|ui| {
-            changed |= ui
-                .checkbox(&mut self.show_binned, "binned candidates")
-                .changed();
+            ui.checkbox(&mut self.show_binned, "binned candidates");
             changed |= ui
                 .add_enabled(
                     self.show_binned,
@@ -376,54 +396,73 @@ impl Lesson for SplitsLesson {
                 .changed();
         });
         if changed {
-            self.scene.touch();
+            self.stage.scene.touch();
         }
-        self.refresh();
         ui.separator();
-        ui.label(RichText::new("Node").strong());
+        ui.label(RichText::new("Node of the SAH tree").strong());
         ui.horizontal(|ui| {
             ui.label("plot axis");
-            let before = self.axis;
-            ui.selectable_value(&mut self.axis, 0, "x");
-            ui.selectable_value(&mut self.axis, 1, "y");
-            if before != self.axis {
-                self.selected = None;
+            for (axis, name) in AXES.iter().enumerate() {
+                if ui.selectable_label(self.axis == axis, *name).clicked() {
+                    self.set_axis(axis);
+                }
             }
         });
+        let Some(tree) = self.sah_tree() else {
+            ui.label("Building…");
+            return;
+        };
+        let facts = &tree.built.facts;
+        let parent = facts.parent.get(self.node as usize).copied().flatten();
+        let children = facts.children.get(self.node as usize).copied().flatten();
+        let mut go_to = None;
         ui.horizontal(|ui| {
             if ui.button("root").clicked() {
-                self.select_node(0);
+                go_to = Some(0);
             }
-            if let Some(parent) = self.node_parent()
+            if let Some(parent) = parent
                 && ui.button("parent").clicked()
             {
-                self.select_node(parent);
+                go_to = Some(parent);
             }
-            if let Some([left, right]) = self.node_children() {
+            if let Some([left, right]) = children {
                 if ui.button("left child").clicked() {
-                    self.select_node(left);
+                    go_to = Some(left);
                 }
                 if ui.button("right child").clicked() {
-                    self.select_node(right);
+                    go_to = Some(right);
                 }
             }
         });
-        if let Some(curve) = &self.curve {
+        let path = facts.path_to(self.node);
+        let reason = facts.leaf_reason(self.node);
+        if let Some(node) = go_to {
+            self.select_node(node);
+        }
+        if let Some(curve) = self.curve.get() {
             ui.label(format!(
-                "node {}: {} primitives, leaf cost {:.3}; best split {}",
+                "node {} ({}): {} primitives, leaf cost {}; best split {}",
                 self.node,
+                if path.is_empty() {
+                    "root".to_owned()
+                } else {
+                    path
+                },
                 curve.count,
-                curve.leaf_cost,
+                number(curve.leaf_cost),
                 match curve.best {
                     Some(best) => format!(
-                        "on {} at {:.3}, cost {:.3}",
-                        ["x", "y"][best.axis.min(1)],
-                        best.position,
-                        best.cost
+                        "on {} at {}, cost {}",
+                        AXES[best.axis.min(1)],
+                        number(best.position),
+                        number(best.cost)
                     ),
                     None => "none".to_owned(),
                 }
             ));
+            if let Some(reason) = reason {
+                ui.label(format!("The SAH builder made it a leaf: {reason}."));
+            }
             let shown = self.selected.or_else(|| {
                 let best = curve.best?;
                 curve
@@ -443,41 +482,66 @@ impl Lesson for SplitsLesson {
                     .strong(),
                 );
                 ui.label(
-                    RichText::new(formula_text(&candidate, curve, self.structure))
+                    RichText::new(formula_text(&candidate, curve, self.family))
                         .monospace()
                         .size(11.5),
                 );
             }
         }
         ui.label(
-            RichText::new("Hover the plot to pick a candidate: its split and children are ghosted in the SAH pane.")
+            RichText::new("Hover the plot to pick a candidate: its split and children are ghosted in the SAH pane. A rule that cuts the other axis shows as a dashed level.")
                 .small()
                 .weak(),
         );
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        self.scene.toolbar_ui(ui);
-        self.refresh();
+        self.stage.scene.toolbar_ui(ui);
         let pane_height = (ui.available_height() * 0.55).max(120.0);
-        let Some(comparison) = self.comparison.take() else {
+        let Some(comparison) = self.comparison.get().cloned() else {
+            ui.label("Building…");
             return;
         };
-        let canvases = comparison.panes_ui(ui, &mut self.scene, pane_height);
-        self.comparison = Some(comparison);
-        // The selected node, and the ghost of the selected candidate, in the SAH pane.
-        if let (Some(canvas), Some(node_box)) = (canvases.get(SAH_PANE), self.node_box()) {
-            canvas.box_outline(&node_box, Stroke::new(2.5, Color32::WHITE), None);
-            if let Some(candidate) = self.selected {
-                self.draw_ghost(canvas, &candidate);
+        let titles: Vec<(String, Color32)> = RULES
+            .iter()
+            .zip(&comparison.trees)
+            .map(|(rule, tree)| (tree.built.structure.name(), rule_color(*rule)))
+            .collect();
+        let node = self.node;
+        let selected = self.selected;
+        let family = self.family;
+        let canvases = comparison.panes_ui(
+            ui,
+            &mut self.stage.scene,
+            pane_height,
+            &titles,
+            |pane, canvas| {
+                // The selected node, and the ghost of the selected candidate, in the SAH pane.
+                if pane == SAH_PANE
+                    && let Some(tree) = comparison.trees.get(SAH_PANE)
+                    && let Some(node_box) = tree.built.facts.bounds.get(node as usize)
+                {
+                    canvas.box_outline(node_box, Stroke::new(3.0, Color32::WHITE), None);
+                    if let Some(candidate) = selected {
+                        draw_ghost(canvas, tree, family, node, &candidate);
+                    }
+                }
+            },
+        );
+        if let Some(working) = self.comparison.working_for() {
+            if let Some(canvas) = canvases.first() {
+                canvas.note(&format!(
+                    "Building the three trees… {:.1} s",
+                    working.as_secs_f64()
+                ));
             }
+            ui.ctx().request_repaint();
         }
-        let mut changed = false;
         for canvas in &canvases {
-            changed |= self.scene.interact(ui, canvas);
+            self.stage.scene.interact(ui, canvas);
         }
-        if changed {
-            self.refresh();
+        if let Some(canvas) = canvases.last() {
+            self.stage.scene.draw_footer(canvas);
         }
         ui.add_space(4.0);
         let plot_height = (ui.available_height() - 8.0).max(80.0);

@@ -1,214 +1,330 @@
 //! Lesson 1, "Trivial": loop over every primitive and intersect. The animation steps through
-//! the core's brute force; the plot shows tests per ray growing with n, beside a BVH's.
+//! the core's brute force, one test a step; the plot shows tests per ray against n on log
+//! scales, the trivial loop's n beside a BVH's few dozen, with this scene and this ray marked.
 
-use accelviz_core::{Counters, PrimitiveSet, Ray, Step, TraceOptions};
+use std::sync::Arc;
+
+use accelviz_core::format::{count, number};
+use accelviz_core::{
+    Counters, PrimitiveSet, Ray, ShapeSet, SplitRule, Structure, TraceOptions, TraversalStacks,
+};
 use accelviz_scene::document::SceneSettings;
-use accelviz_scene::rng::SplitMix64;
 use accelviz_scene::scene2d::{Layout, generate};
 use egui::Color32;
-use egui_plot::{Legend, Line, Plot, PlotPoints};
+use egui_plot::{GridMark, Legend, Line, MarkerShape, Plot, PlotPoints, Points};
 use glam::DVec2;
 
-use super::common::{self, BvhRule, Recording};
-use super::{Lesson, LessonText};
+use crate::background::{Cached, Derived};
 use crate::canvas::palette;
-use crate::editor::{EditableScene, Editing};
-use crate::timeline::Timeline;
+use crate::editor::Editing;
+use crate::lesson::{Lesson, LessonText};
+use crate::stage::{SceneTree, Stage};
+use crate::trace::{Trace, describe_step};
+use crate::views::compare::measured_rays;
+use crate::views::scene_view::{draw_ray, draw_tested_shapes};
+
+/// The scene sizes of the growth curve.
+const GROWTH_SIZES: [usize; 6] = [16, 64, 256, 1_024, 4_096, 16_384];
+
+/// Tests per ray in a scene of `count` shapes: the trivial loop tests all n; a BVH tests boxes
+/// and a few primitives.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GrowthPoint {
+    /// Shapes in the scene.
+    pub count: usize,
+    /// Tests per ray of the trivial loop (n).
+    pub brute_force_tests: f64,
+    /// Box and primitive tests per ray of a SAH BVH.
+    pub bvh_tests: f64,
+}
+
+/// A SAH BVH over the current scene, with its tests per ray averaged over the measured rays.
+struct CurrentScene {
+    tree: SceneTree,
+    point: GrowthPoint,
+}
+
+/// Box and primitive tests per ray through `tree`, over `rays`.
+fn bvh_tests_per_ray(tree: &SceneTree, rays: &[Ray<DVec2>]) -> f64 {
+    let mut counters = Counters::default();
+    let mut stacks = TraversalStacks::default();
+    for ray in rays {
+        tree.built.tree.trace(
+            tree.shapes.as_ref(),
+            ray,
+            &TraceOptions::default(),
+            &mut stacks,
+            &mut counters,
+        );
+    }
+    (counters.box_tests + counters.primitive_tests) as f64 / rays.len().max(1) as f64
+}
+
+fn growth_point(shapes: Arc<ShapeSet<DVec2>>, settings: SceneSettings) -> CurrentScene {
+    let structure = Structure::lecture(accelviz_core::Family::Bvh, SplitRule::Sah);
+    let rays = measured_rays(&shapes);
+    let count = shapes.len();
+    let tree = SceneTree::build(structure, shapes, settings);
+    let point = GrowthPoint {
+        count,
+        brute_force_tests: count as f64,
+        bvh_tests: bvh_tests_per_ray(&tree, &rays),
+    };
+    CurrentScene { tree, point }
+}
+
+/// The growth curve over uniform scenes of [`GROWTH_SIZES`] shapes.
+pub fn measure_growth() -> Vec<GrowthPoint> {
+    GROWTH_SIZES
+        .into_iter()
+        .map(|size| {
+            growth_point(
+                Arc::new(generate(Layout::Uniform, size, 5)),
+                SceneSettings::default(),
+            )
+            .point
+        })
+        .collect()
+}
 
 /// The trivial loop, stepped.
 pub struct TrivialLoop {
-    text: LessonText,
-    scene: EditableScene,
-    built_revision: u64,
-    recording: Recording,
-    timeline: Timeline,
-    growth: Option<Vec<GrowthPoint>>,
-}
-
-/// Tests per ray for a scene of `count` shapes.
-#[derive(Clone, Copy, Debug)]
-struct GrowthPoint {
-    count: usize,
-    brute_force_tests: f64,
-    bvh_tests: f64,
+    stage: Stage,
+    trace: Cached<u64, Trace>,
+    growth: Cached<(), Vec<GrowthPoint>>,
+    current: Derived<u64, CurrentScene>,
 }
 
 impl TrivialLoop {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
-        let scene = EditableScene::new(text.scene.clone(), Editing::ALL);
         Self {
-            text,
-            scene,
-            built_revision: 0,
-            recording: Recording::default(),
-            timeline: Timeline::default(),
-            growth: None,
+            stage: Stage::new(text, Editing::ALL),
+            trace: Cached::default(),
+            growth: Cached::default(),
+            current: Derived::default(),
         }
     }
 
-    fn refresh(&mut self) {
-        if self.built_revision == self.scene.revision {
-            return;
-        }
-        self.built_revision = self.scene.revision;
-        self.recording = match self.scene.ray() {
-            Ok(ray) => common::record_brute_force(&self.scene.scene.shapes, &ray),
-            Err(_) => Recording::default(),
+    fn trace(&self) -> Option<&Trace> {
+        self.trace.get()
+    }
+
+    /// What the lesson shows now: the trace's state at the timeline's frame.
+    pub fn shown_state(&self) -> Option<crate::trace::TraceState> {
+        Some(self.trace()?.state(self.stage.timeline.shown))
+    }
+
+    /// BVH tests on the current ray, for the plot's "this ray" mark.
+    fn bvh_tests_on_ray(&self) -> Option<f64> {
+        let current = self.current.get()?;
+        let ray = self.stage.scene.ray().ok()?;
+        Some(bvh_tests_per_ray(&current.tree, &[ray]))
+    }
+
+    fn plot_ui(&mut self, ui: &mut egui::Ui) {
+        let growth = self.growth.get_or_make((), measure_growth).clone();
+        let current = self.current.get().map(|current| current.point);
+        let this_ray = self.bvh_tests_on_ray();
+        let log = |value: f64| value.max(1.0).log10();
+        let line = |value: fn(&GrowthPoint) -> f64| -> PlotPoints {
+            growth
+                .iter()
+                .map(|point| [log(point.count as f64), log(value(point))])
+                .collect()
         };
-        self.timeline.set_len(self.recording.steps.len());
-    }
-
-    fn shown(&self) -> &[Step<f64>] {
-        &self.recording.steps[..self.timeline.shown.min(self.recording.steps.len())]
-    }
-}
-
-/// Tests per ray against n, averaged over seeded random rays through uniform scenes: the
-/// trivial loop tests all n, a BVH (SAH) tests boxes and a few primitives.
-fn measure_growth() -> Vec<GrowthPoint> {
-    let settings = SceneSettings::default();
-    let mut rng = SplitMix64::new(11);
-    [16, 32, 64, 128, 256, 512, 1024, 2048]
-        .into_iter()
-        .map(|count| {
-            let shapes = generate(Layout::Uniform, count, 5);
-            let bvh = BvhRule::BinnedSah.build(&shapes, &settings);
-            let rays = 64;
-            let mut bvh_counters = Counters::default();
-            let mut brute_counters = Counters::default();
-            for _ in 0..rays {
-                let origin = DVec2::new(rng.range(-10.0, 110.0), -10.0);
-                let toward = DVec2::new(rng.range(0.0, 100.0), rng.range(0.0, 100.0));
-                let Ok(ray) = Ray::try_new(origin, toward - origin) else {
-                    continue;
+        let power_of_ten = |mark: GridMark, _: &std::ops::RangeInclusive<f64>| {
+            if (mark.value - mark.value.round()).abs() < 1e-9 {
+                count(10f64.powf(mark.value).round() as usize)
+            } else {
+                String::new()
+            }
+        };
+        Plot::new("growth")
+            .height(220.0)
+            .legend(Legend::default().position(egui_plot::Corner::LeftTop))
+            // Room above the curves for the legend.
+            .x_axis_label("primitives n (log scale)")
+            .y_axis_label("tests per ray (log)")
+            .x_axis_formatter(power_of_ten)
+            .y_axis_formatter(power_of_ten)
+            .x_grid_spacer(egui_plot::log_grid_spacer(10))
+            .y_grid_spacer(egui_plot::log_grid_spacer(10))
+            .include_y(0.0)
+            .include_y(6.6)
+            .include_x(1.0)
+            .include_x(5.0)
+            .allow_scroll(false)
+            .allow_drag(false)
+            .allow_zoom(false)
+            .show(ui, |plot| {
+                plot.line(
+                    Line::new("trivial loop: n", line(|p| p.brute_force_tests))
+                        .color(palette::MISS),
+                );
+                plot.line(
+                    Line::new("SAH BVH: boxes + primitives", line(|p| p.bvh_tests))
+                        .color(palette::HIT),
+                );
+                if let Some(point) = current {
+                    let n = log(point.count as f64);
+                    plot.points(
+                        Points::new(
+                            format!("this scene, n = {}", count(point.count)),
+                            PlotPoints::new(vec![
+                                [n, log(point.brute_force_tests)],
+                                [n, log(point.bvh_tests)],
+                            ]),
+                        )
+                        .shape(MarkerShape::Diamond)
+                        .radius(6.0)
+                        .color(Color32::WHITE),
+                    );
+                    if let Some(tests) = this_ray {
+                        plot.points(
+                            Points::new(
+                                "this ray, with a BVH",
+                                PlotPoints::new(vec![[n, log(tests)]]),
+                            )
+                            .shape(MarkerShape::Circle)
+                            .radius(5.0)
+                            .color(palette::RAY),
+                        );
+                    }
+                }
+            });
+        match current {
+            Some(point) => {
+                let ratio = point.brute_force_tests / point.bvh_tests.max(1e-9);
+                let saving = if ratio >= 1.5 {
+                    format!("{ratio:.0}× fewer")
+                } else {
+                    "about as many: at this size a structure does not pay yet".to_owned()
                 };
-                accelviz_core::bvh::traverse(
-                    &bvh,
-                    &shapes,
-                    &ray,
-                    &TraceOptions::default(),
-                    &mut accelviz_core::bvh::TraversalStack::new(),
-                    &mut bvh_counters,
-                );
-                accelviz_core::brute_force(
-                    &shapes,
-                    &ray,
-                    &TraceOptions::default(),
-                    &mut brute_counters,
-                );
+                ui.label(format!(
+                    "This scene: the loop tests all {} shapes for every ray; a BVH tests {:.1} boxes and primitives per ray on average (256 seeded rays through the scene), {saving}.{}",
+                    count(point.count),
+                    point.bvh_tests,
+                    this_ray.map_or(String::new(), |tests| format!(" This ray: {tests:.0}."))
+                ))
             }
-            GrowthPoint {
-                count: shapes.len(),
-                brute_force_tests: brute_counters.primitive_tests as f64 / rays as f64,
-                bvh_tests: (bvh_counters.box_tests + bvh_counters.primitive_tests) as f64
-                    / rays as f64,
-            }
-        })
-        .collect()
+            None => ui.label("Measuring this scene…"),
+        };
+    }
 }
 
 impl Lesson for TrivialLoop {
-    fn text(&self) -> &LessonText {
-        &self.text
+    fn stage(&self) -> &Stage {
+        &self.stage
     }
 
-    fn scene_mut(&mut self) -> Option<&mut EditableScene> {
-        Some(&mut self.scene)
+    fn stage_mut(&mut self) -> &mut Stage {
+        &mut self.stage
     }
 
-    fn timeline(&mut self) -> Option<(&mut Timeline, String)> {
-        self.refresh();
-        let caption = match self.shown().last() {
-            None => "Press step (or the right arrow): the loop tests primitive 0 first, then every other in file order.".to_owned(),
-            Some(step) => common::describe_step(step, |node| format!("node {node}")),
-        };
-        Some((&mut self.timeline, caption))
+    fn update(&mut self) {
+        let scene = &self.stage.scene;
+        let trace = self
+            .trace
+            .get_or_make(scene.revision, || match scene.ray() {
+                Ok(ray) => Trace::of_brute_force(&scene.scene.shapes, &ray),
+                Err(_) => Trace::default(),
+            });
+        self.stage.timeline.set_len(trace.frames());
+        let shapes = &scene.scene.shapes;
+        let settings = scene.scene.settings;
+        self.current
+            .request(&scene.shapes_revision, shapes.len(), || {
+                let shapes = Arc::new(shapes.clone());
+                move || growth_point(shapes, settings)
+            });
+    }
+
+    fn caption(&self) -> Option<String> {
+        let trace = self.trace()?;
+        Some(trace.caption(
+            self.stage.timeline.shown,
+            "Press step (or the right arrow): the loop tests primitive 0 first, then every other in file order.",
+            |step| describe_step(step, |node| format!("node {node}")),
+        ))
     }
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui) {
-        self.refresh();
-        let total = self.scene.scene.shapes.len();
-        let tested = self
-            .shown()
-            .iter()
-            .filter(|step| matches!(step, Step::PrimitiveTested { .. }))
-            .count();
+        let total = self.stage.scene.scene.shapes.len();
         ui.heading("This ray");
-        ui.label(format!("primitives tested: {tested} of {total}"));
-        match common::closest_so_far(self.shown()) {
-            Some((primitive, t)) => ui.label(format!(
-                "closest hit so far: primitive {primitive} at t = {}",
-                common::number(t)
-            )),
-            None => ui.label("no hit yet"),
-        };
+        if let Some(state) = self.shown_state() {
+            ui.label(format!(
+                "primitives tested: {} of {}",
+                state.counters.primitive_tests,
+                count(total)
+            ));
+            ui.label(match state.closest {
+                Some((primitive, t)) => {
+                    format!(
+                        "closest hit so far: primitive {primitive} at t = {}",
+                        number(t)
+                    )
+                }
+                None if state.done => "done: the ray hits nothing".to_owned(),
+                None => "no hit yet".to_owned(),
+            });
+        }
+        ui.label("Every ray tests every primitive, hit or not: n tests per ray, n·m for m rays.");
         ui.label(
-            "Every ray tests every primitive, hit or not: the cost is n per ray, n·m for m rays.",
+            egui::RichText::new("t is measured in arrow lengths: t = 1 at the arrow's head.")
+                .small()
+                .weak(),
         );
         ui.separator();
         ui.heading("Tests per ray as n grows");
-        let growth = self.growth.get_or_insert_with(measure_growth);
-        let brute: PlotPoints = growth
-            .iter()
-            .map(|point| [point.count as f64, point.brute_force_tests])
-            .collect();
-        let bvh: PlotPoints = growth
-            .iter()
-            .map(|point| [point.count as f64, point.bvh_tests])
-            .collect();
-        Plot::new("growth")
-            .height(200.0)
-            .legend(Legend::default())
-            .x_axis_label("primitives n")
-            .y_axis_label("tests per ray")
-            .allow_scroll(false)
-            .show(ui, |plot| {
-                plot.line(Line::new("trivial loop: n", brute).color(palette::MISS));
-                plot.line(Line::new("BVH (SAH): boxes + primitives", bvh).color(palette::HIT));
-            });
-        if let Some(last) = growth.last() {
-            ui.label(format!(
-                "At n = {}: {:.0} tests per ray for the loop, {:.1} for a BVH (64 random rays, uniform scene). Can we do better? Yes: lesson 2 on.",
-                last.count, last.brute_force_tests, last.bvh_tests
-            ));
-        }
+        self.plot_ui(ui);
+        ui.label(
+            egui::RichText::new(
+                "Both axes are logarithmic, so the loop's n and the BVH's few dozen both show. Can we do better? Yes: lesson 2 on.",
+            )
+            .small()
+            .weak(),
+        );
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        let canvas = self.scene.canvas_ui(ui, None);
-        self.refresh();
-        let shown = self.shown();
-        let current = match shown.last() {
-            Some(Step::PrimitiveTested { primitive, .. }) => Some(*primitive as usize),
-            Some(Step::ClosestHitUpdated { primitive, .. }) => Some(*primitive as usize),
+        let canvas = self.stage.scene.canvas_ui(ui, None);
+        let Some(trace) = self.trace.get() else {
+            return;
+        };
+        let frame = self.stage.timeline.shown;
+        let state = trace.state(frame);
+        let shown = trace.shown(frame);
+        let current = match state.current {
+            Some(accelviz_core::Step::PrimitiveTested { primitive, .. }) => Some(primitive),
             _ => None,
         };
-        common::draw_tested_shapes(ui, &canvas, &self.scene.scene.shapes, shown, current);
-        let closest = common::closest_so_far(shown);
-        match self.scene.ray() {
-            Ok(ray) => common::draw_ray(&canvas, &ray, closest.map(|(_, t)| t)),
+        let shapes = &self.stage.scene.scene.shapes;
+        draw_tested_shapes(ui, &canvas, shapes, shown, current);
+        match self.stage.scene.ray() {
+            Ok(ray) => draw_ray(&canvas, &ray, state.closest.map(|(_, t)| t)),
             Err(error) => canvas.caption(&[(format!("No ray: {error}"), palette::MISS)]),
         }
-        for (index, shape) in self.scene.scene.shapes.shapes.iter().enumerate().take(60) {
-            let bounds = shape.bounds();
-            canvas.label(
-                DVec2::new(bounds.max.x, bounds.max.y),
-                &index.to_string(),
-                ui.visuals().weak_text_color(),
-            );
+        if shapes.len() <= 60 {
+            for (index, shape) in shapes.shapes.iter().enumerate() {
+                let bounds = shape.bounds();
+                canvas.label(
+                    DVec2::new(bounds.max.x, bounds.max.y),
+                    &index.to_string(),
+                    ui.visuals().weak_text_color(),
+                );
+            }
         }
-        self.scene.draw_handles(&canvas);
-        let tested_count = shown
-            .iter()
-            .filter(|step| matches!(step, Step::PrimitiveTested { .. }))
-            .count();
+        self.stage.scene.draw_handles(&canvas);
         canvas.caption(&[(
             format!(
-                "tested {tested_count} of {}: red missed, green hit, blue now",
-                self.scene.scene.shapes.len()
+                "tested {} of {}: red missed, green hit, blue now",
+                state.counters.primitive_tests,
+                count(shapes.len())
             ),
             Color32::WHITE,
         )]);
+        self.stage.scene.draw_footer(&canvas);
+        canvas.finish();
     }
 }

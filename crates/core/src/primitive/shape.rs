@@ -98,6 +98,62 @@ impl<V: Vector> Shape<V> {
     }
 }
 
+impl<V: Vector> Shape<V> {
+    /// Whether `point` lies in the solid shape (a segment has no inside).
+    pub fn contains(&self, point: V) -> bool {
+        match self {
+            Shape::Sphere(sphere) => {
+                let offset = point - sphere.center;
+                offset.dot(offset) <= sphere.radius * sphere.radius
+            }
+            Shape::Box(bounds) => bounds.contains_point(point),
+            Shape::Segment(_) => false,
+        }
+    }
+
+    /// Points whose hull holds the whole shape, for a bounding sphere around it: a box's
+    /// corners, a segment's ends, and around a disc a 64-gon pushed out just enough to enclose
+    /// it (in 3D, the corners of a ball's box).
+    pub fn hull_points(&self) -> Vec<V> {
+        match *self {
+            Shape::Sphere(sphere) if V::DIM == 2 => {
+                const SIDES: usize = 64;
+                let reach = sphere.radius.to_f64() / (std::f64::consts::PI / SIDES as f64).cos();
+                let center = sphere.center.to_f64_array();
+                (0..SIDES)
+                    .map(|index| {
+                        let angle = index as f64 / SIDES as f64 * std::f64::consts::TAU;
+                        V::from_f64_slice(&[
+                            center[0] + angle.cos() * reach,
+                            center[1] + angle.sin() * reach,
+                        ])
+                    })
+                    .collect()
+            }
+            Shape::Sphere(sphere) => box_corners(&sphere.bounds()),
+            Shape::Box(bounds) => box_corners(&bounds),
+            Shape::Segment(ends) => ends.to_vec(),
+        }
+    }
+}
+
+/// The 2^DIM corners of a box.
+fn box_corners<V: Vector>(bounds: &Aabb<V>) -> Vec<V> {
+    let (min, max) = (bounds.min.to_f64_array(), bounds.max.to_f64_array());
+    (0..1usize << V::DIM)
+        .map(|corner| {
+            let pick = |axis: usize| {
+                if corner >> axis & 1 == 1 {
+                    max[axis]
+                } else {
+                    min[axis]
+                }
+            };
+            V::from_f64_slice(&(0..V::DIM).map(pick).collect::<Vec<_>>())
+        })
+        .collect()
+}
+
 /// Where a 2D ray meets a segment: one `t`, or a range when the ray runs along it.
 fn segment_interval<V: Vector>(ray: &Ray<V>, [a, b]: &[V; 2]) -> Option<(V::Scalar, V::Scalar)> {
     if V::DIM != 2 {
@@ -128,6 +184,74 @@ fn segment_interval<V: Vector>(ray: &Ray<V>, [a, b]: &[V; 2]) -> Option<(V::Scal
 pub struct ShapeSet<V: Vector> {
     /// The shapes.
     pub shapes: Vec<Shape<V>>,
+}
+
+impl<V: Vector> ShapeSet<V> {
+    /// The area (2D) or volume (3D) the shapes cover together, overlaps counted once: the
+    /// share of a grid of `samples` points per axis over their box (each at its cell's centre)
+    /// that lies in some shape, times the box's measure. The error shrinks as 1/`samples`.
+    /// Each shape marks the grid points inside its own box, so the work grows with the
+    /// shapes' size on the grid, not with shapes × points.
+    pub fn covered_measure(&self, samples: usize) -> f64 {
+        let bounds = self
+            .shapes
+            .iter()
+            .fold(Aabb::empty(), |acc, shape| acc.union(shape.bounds()));
+        let samples = samples.max(1);
+        if bounds.is_empty() || self.shapes.is_empty() {
+            return 0.0;
+        }
+        let (min, max) = (bounds.min.to_f64_array(), bounds.max.to_f64_array());
+        let step: Vec<f64> = (0..V::DIM)
+            .map(|axis| (max[axis] - min[axis]) / samples as f64)
+            .collect();
+        let total = samples.pow(V::DIM as u32);
+        let mut covered = vec![false; total];
+        let mut coordinates = vec![0.0; V::DIM];
+        for shape in &self.shapes {
+            // The grid points inside the shape's box, axis by axis.
+            let shape_bounds = shape.bounds();
+            let (low, high) = (
+                shape_bounds.min.to_f64_array(),
+                shape_bounds.max.to_f64_array(),
+            );
+            let range: Vec<(usize, usize)> = (0..V::DIM)
+                .map(|axis| {
+                    if step[axis] <= 0.0 {
+                        return (0, samples);
+                    }
+                    let first = ((low[axis] - min[axis]) / step[axis] - 0.5).ceil().max(0.0);
+                    let last = ((high[axis] - min[axis]) / step[axis] - 0.5).floor();
+                    (
+                        first as usize,
+                        (last + 1.0).clamp(0.0, samples as f64) as usize,
+                    )
+                })
+                .collect();
+            if range.iter().any(|(first, end)| first >= end) {
+                continue;
+            }
+            let cells: usize = range.iter().map(|(first, end)| end - first).product();
+            for offset in 0..cells {
+                let mut rest = offset;
+                let mut index = 0;
+                let mut stride = 1;
+                for (axis, coordinate) in coordinates.iter_mut().enumerate() {
+                    let (first, end) = range[axis];
+                    let cell = first + rest % (end - first);
+                    rest /= end - first;
+                    *coordinate = min[axis] + step[axis] * (cell as f64 + 0.5);
+                    index += cell * stride;
+                    stride *= samples;
+                }
+                if !covered[index] && shape.contains(V::from_f64_slice(&coordinates)) {
+                    covered[index] = true;
+                }
+            }
+        }
+        let inside = covered.iter().filter(|&&point| point).count();
+        bounds.measure().to_f64() * inside as f64 / total as f64
+    }
 }
 
 impl<V: Vector> PrimitiveSet<V> for ShapeSet<V> {

@@ -46,6 +46,20 @@ fn build_checked<V: Vector, P: PrimitiveSet<V>>(
             structure
                 .validate(&built.tree, primitives)
                 .unwrap_or_else(|error| panic!("{name}: {error}"));
+            let by_depth = &built.facts.by_depth;
+            assert!(
+                by_depth
+                    .windows(2)
+                    .all(|pair| built.facts.depth[pair[0] as usize]
+                        <= built.facts.depth[pair[1] as usize]),
+                "{name}: nodes by depth"
+            );
+            let mut every = by_depth.clone();
+            every.sort_unstable();
+            assert!(
+                every.iter().copied().eq(0..built.facts.node_count() as u32),
+                "{name}: each node once"
+            );
             for node in 0..built.facts.node_count() as u32 {
                 assert_eq!(
                     built.facts.leaf_reason(node).is_some(),

@@ -1,0 +1,217 @@
+//! Work that can take a while (building three kD-trees over 100,000 shapes) runs on a worker
+//! thread on the desktop, so the UI keeps drawing the last result and says it is building.
+//! In the browser (no threads) and in tests the work is done at once, so a test sees the
+//! result in the frame that asked for it.
+//!
+//! A [`Derived`] value is remade when its key changes (the scene's revision, the lesson's
+//! choices). At most one job runs per value; a key that changes while it runs waits for it,
+//! and only the newest waiting key is made next, so dragging a slider does not queue a build
+//! per frame.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+use web_time::Instant;
+
+/// Whether work of some size goes to worker threads. Off until the desktop app turns it on.
+static BACKGROUND: AtomicBool = AtomicBool::new(false);
+
+/// Work on fewer primitives than this is done at once even in the background mode: it takes
+/// a few milliseconds, and a result in the same frame keeps small scenes flicker-free.
+pub const AT_ONCE_BELOW: usize = 3_000;
+
+/// Turns worker threads on (the desktop app) or off (the default: the browser, tests).
+pub fn set_background(on: bool) {
+    BACKGROUND.store(on && cfg!(not(target_arch = "wasm32")), Ordering::Relaxed);
+}
+
+/// Whether work of `size` primitives goes to a worker thread.
+fn in_background(size: usize) -> bool {
+    size >= AT_ONCE_BELOW && BACKGROUND.load(Ordering::Relaxed)
+}
+
+/// Work that makes a `T`.
+type Work<T> = Box<dyn FnOnce() -> T + Send>;
+
+/// A job on a worker thread.
+struct Job<K, T> {
+    key: K,
+    started: Instant,
+    result: std::sync::mpsc::Receiver<T>,
+}
+
+/// A value made from a key, remade when the key changes.
+pub struct Derived<K, T> {
+    current: Option<(K, Arc<T>)>,
+    /// Bumped every time `current` changes, so what is made from the value knows to follow.
+    generation: u64,
+    running: Option<Job<K, T>>,
+    waiting: Option<(K, Work<T>)>,
+}
+
+impl<K, T> Default for Derived<K, T> {
+    fn default() -> Self {
+        Self {
+            current: None,
+            generation: 0,
+            running: None,
+            waiting: None,
+        }
+    }
+}
+
+impl<K: Clone + PartialEq + Send + 'static, T: Send + Sync + 'static> Derived<K, T> {
+    /// Makes sure the value for `key` exists or is being made. `work` is asked for the work
+    /// only when the key is new (so it can clone its inputs then, not every frame); `size`
+    /// (primitives) decides whether it runs at once or on a worker thread.
+    pub fn request<W: FnOnce() -> T + Send + 'static>(
+        &mut self,
+        key: &K,
+        size: usize,
+        work: impl FnOnce() -> W,
+    ) {
+        self.poll();
+        let known = self.current.as_ref().is_some_and(|(made, _)| made == key)
+            || self.running.as_ref().is_some_and(|job| job.key == *key)
+            || self
+                .waiting
+                .as_ref()
+                .is_some_and(|(waiting, _)| waiting == key);
+        if known {
+            return;
+        }
+        let work: Work<T> = Box::new(work());
+        if !in_background(size) {
+            // At once: anything running or waiting is for an older key.
+            self.waiting = None;
+            self.running = None;
+            self.set(key.clone(), work());
+            return;
+        }
+        if self.running.is_some() {
+            self.waiting = Some((key.clone(), work));
+        } else {
+            self.start(key.clone(), work);
+        }
+    }
+
+    /// Takes a finished job's result, and starts the waiting one.
+    pub fn poll(&mut self) {
+        let Some(job) = &self.running else { return };
+        match job.result.try_recv() {
+            Ok(value) => {
+                let key = job.key.clone();
+                self.running = None;
+                self.set(key, value);
+            }
+            Err(std::sync::mpsc::TryRecvError::Empty) => return,
+            // The worker panicked: nothing will come. Keep the last value.
+            Err(std::sync::mpsc::TryRecvError::Disconnected) => {
+                log::error!("accelviz: a background build failed");
+                self.running = None;
+            }
+        }
+        if let Some((key, work)) = self.waiting.take() {
+            self.start(key, work);
+        }
+    }
+
+    fn set(&mut self, key: K, value: T) {
+        self.current = Some((key, Arc::new(value)));
+        self.generation += 1;
+    }
+
+    fn start(&mut self, key: K, work: Work<T>) {
+        let (sender, result) = std::sync::mpsc::channel();
+        let spawned = std::thread::Builder::new()
+            .name("accelviz build".into())
+            .spawn(move || {
+                let _ = sender.send(work());
+            });
+        match spawned {
+            Ok(_) => {
+                self.running = Some(Job {
+                    key,
+                    started: Instant::now(),
+                    result,
+                })
+            }
+            Err(error) => log::error!("accelviz: cannot start a worker thread: {error}"),
+        }
+    }
+
+    /// The newest value made (possibly for an older key while a newer one is being made).
+    pub fn get(&self) -> Option<&Arc<T>> {
+        self.current.as_ref().map(|(_, value)| value)
+    }
+
+    /// The key the current value was made for.
+    pub fn key(&self) -> Option<&K> {
+        self.current.as_ref().map(|(key, _)| key)
+    }
+
+    /// Changes whenever the value does.
+    pub fn generation(&self) -> u64 {
+        self.generation
+    }
+
+    /// How long the running job has been working, if one is.
+    pub fn working_for(&self) -> Option<Duration> {
+        self.running.as_ref().map(|job| job.started.elapsed())
+    }
+}
+
+/// Something made from a key at once, remade when the key changes (the cheap derived state:
+/// a traversal recorded on the current ray).
+pub struct Cached<K, T> {
+    current: Option<(K, T)>,
+}
+
+impl<K, T> Default for Cached<K, T> {
+    fn default() -> Self {
+        Self { current: None }
+    }
+}
+
+impl<K: PartialEq, T> Cached<K, T> {
+    /// The value for `key`, made by `make` if the key changed.
+    pub fn get_or_make(&mut self, key: K, make: impl FnOnce() -> T) -> &mut T {
+        if self.current.as_ref().is_none_or(|(made, _)| *made != key) {
+            self.current = Some((key, make()));
+        }
+        &mut self
+            .current
+            .as_mut()
+            .unwrap_or_else(|| unreachable!("set above"))
+            .1
+    }
+
+    /// The value, whatever key it was made for.
+    pub fn get(&self) -> Option<&T> {
+        self.current.as_ref().map(|(_, value)| value)
+    }
+
+    /// Forgets the value, so the next [`get_or_make`](Self::get_or_make) makes it again.
+    pub fn clear(&mut self) {
+        self.current = None;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn small_work_is_done_at_once_and_redone_only_for_a_new_key() {
+        let mut derived: Derived<u32, u32> = Derived::default();
+        derived.request(&1, 10, || || 10);
+        assert_eq!(derived.get().map(|value| **value), Some(10));
+        let generation = derived.generation();
+        derived.request(&1, 10, || -> fn() -> u32 { panic!("the key is known") });
+        assert_eq!(derived.generation(), generation);
+        derived.request(&2, 10, || || 20);
+        assert_eq!(derived.get().map(|value| **value), Some(20));
+        assert_eq!(derived.key(), Some(&2));
+    }
+}

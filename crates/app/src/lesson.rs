@@ -1,0 +1,122 @@
+//! What a lesson is: its text and scene (a RON file in `assets/lessons/`) and the code that
+//! shows it, behind the small [`Lesson`] trait the app draws its panels around.
+
+use accelviz_scene::LoadError;
+use accelviz_scene::document::{RayEntry, Scene2d, SceneDocument};
+use serde::Deserialize;
+
+use crate::stage::Stage;
+
+/// A lesson's text and scene, as written in `assets/lessons/NAME.ron`.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LessonFile {
+    /// Shown in the lesson list and above the canvas.
+    pub title: String,
+    /// The lecture slide(s) the lesson brings to life.
+    pub slide: String,
+    /// What to read: short paragraphs.
+    pub explanation: Vec<String>,
+    /// What to try, one action per entry.
+    #[serde(default)]
+    pub try_this: Vec<String>,
+    /// Rays the lesson can switch to by name, besides the scene's own (the slide's r1, r2).
+    #[serde(default)]
+    pub named_rays: Vec<NamedRay>,
+    /// Scenes the lesson offers by name, besides its own.
+    #[serde(default)]
+    pub presets: Vec<Preset>,
+    /// The scene the lesson opens with.
+    pub scene: SceneDocument,
+}
+
+/// A scene a lesson offers by name.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Preset {
+    /// Its name, on its button.
+    pub name: String,
+    /// What it shows, as the button's hint.
+    pub about: String,
+    /// The scene.
+    pub scene: SceneDocument,
+}
+
+/// A ray with a name, as a slide labels it.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct NamedRay {
+    /// Its name: "r2".
+    pub name: String,
+    /// Where it starts and where it heads.
+    pub ray: RayEntry,
+}
+
+/// A checked lesson file.
+#[derive(Clone, Debug)]
+pub struct LessonText {
+    /// Title, slide, explanation and things to try.
+    pub file: LessonFile,
+    /// The lesson's starting scene.
+    pub scene: Scene2d,
+}
+
+impl LessonText {
+    /// Parses a lesson file; errors name `path`, the line and the problem.
+    pub fn parse(text: &str, path: &str) -> Result<Self, LoadError> {
+        let file: LessonFile = ron::from_str(text).map_err(|error| {
+            LoadError::at_line(
+                path,
+                error.span.start.line,
+                format!("column {}: {}", error.span.start.col, error.code),
+            )
+        })?;
+        let scene = Scene2d::from_document(file.scene.clone(), path)?;
+        for preset in &file.presets {
+            Scene2d::from_document(preset.scene.clone(), path)?;
+        }
+        Ok(Self { file, scene })
+    }
+
+    /// The lesson's title.
+    pub fn title(&self) -> &str {
+        &self.file.title
+    }
+}
+
+/// What every lesson can do; the app draws the panels around it. The shared state (text,
+/// scene, timeline) is the lesson's [`Stage`]; what it derives from the scene it keeps itself.
+pub trait Lesson {
+    /// The shared state.
+    fn stage(&self) -> &Stage;
+
+    /// The shared state, to change.
+    fn stage_mut(&mut self) -> &mut Stage;
+
+    /// Brings what the lesson derives from its scene up to date. Called once a frame, before
+    /// anything is drawn, so every panel shows the same state.
+    fn update(&mut self) {}
+
+    /// What the current step of the animation is, in words; `None` if the lesson does not
+    /// animate (then no timeline is shown).
+    fn caption(&self) -> Option<String> {
+        None
+    }
+
+    /// The lesson's part of the inspector (right): statistics, tables, the tree.
+    fn inspector_ui(&mut self, ui: &mut egui::Ui);
+
+    /// The canvas (middle), with the lesson's controls above it.
+    fn canvas_ui(&mut self, ui: &mut egui::Ui);
+
+    /// Where a generated scene's ray goes (origin, toward), so that it shows what the lesson
+    /// is about; `None` keeps the generator's own placement.
+    fn place_generated_ray(&self, _scene: &Scene2d) -> Option<(glam::DVec2, glam::DVec2)> {
+        None
+    }
+
+    /// The lesson's text.
+    fn text(&self) -> &LessonText {
+        &self.stage().text
+    }
+}

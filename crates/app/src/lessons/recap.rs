@@ -1,0 +1,287 @@
+//! Lesson 10, "Recap": "BVH is inefficient in empty space"; kD-trees are "very commonly used".
+//! A SAH BVH and a SAH kD-tree over the same scene, measured on the same rays: when do the
+//! kD-tree's empty cells beat the BVH, and when do its straddling primitives, tested in every
+//! cell they reach, cost more than they save? Presets show each case; any scene can be
+//! measured, and the verdict is written from the numbers.
+
+use std::sync::Arc;
+
+use accelviz_core::format::{count, number};
+use accelviz_core::{Family, SplitRule, Structure};
+use accelviz_scene::document::Scene2d;
+use egui::{Color32, RichText};
+
+use crate::background::Derived;
+use crate::canvas::palette;
+use crate::editor::Editing;
+use crate::lesson::{Lesson, LessonText};
+use crate::stage::Stage;
+use crate::views::compare::Comparison;
+
+/// The two structures, in pane order.
+pub const FAMILIES: [Family; 2] = [Family::Bvh, Family::Kd];
+
+/// What one structure costs per ray on the scene, and what it holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Measured {
+    /// Nodes (BVH) or cells (kD) visited per ray.
+    pub nodes_per_ray: f64,
+    /// Primitive tests per ray.
+    pub tests_per_ray: f64,
+    /// `C_trav · nodes + C_isect · tests` per ray: the measured SAH cost.
+    pub cost_per_ray: f64,
+    /// Primitive references in leaves per primitive (1 for a BVH).
+    pub references_per_primitive: f64,
+    /// The share of the scene's area in empty leaves (kD).
+    pub empty_share: f64,
+    /// Nodes in the tree.
+    pub node_count: usize,
+}
+
+/// The two structures' figures, BVH first.
+pub fn measure(comparison: &Comparison) -> [Measured; 2] {
+    [0, 1].map(|pane| {
+        let tree = &comparison.trees[pane];
+        let cost = tree.settings.cost();
+        let nodes = comparison.per_ray(pane, |c| c.nodes_visited);
+        let tests = comparison.per_ray(pane, |c| c.primitive_tests);
+        Measured {
+            nodes_per_ray: nodes,
+            tests_per_ray: tests,
+            cost_per_ray: cost.traversal_cost * nodes + cost.intersection_cost * tests,
+            references_per_primitive: tree.stats.primitive_references as f64
+                / tree.shapes.shapes.len().max(1) as f64,
+            empty_share: tree.stats.empty_leaf_share,
+            node_count: tree.stats.node_count,
+        }
+    })
+}
+
+/// The verdict, from the numbers: who wins, by how much, and where the difference comes
+/// from (the node visits and the primitive tests, each with what causes it).
+pub fn verdict([bvh, kd]: [Measured; 2]) -> String {
+    let ratio = bvh.cost_per_ray / kd.cost_per_ray.max(1e-12);
+    let outcome = if ratio > 1.05 {
+        format!(
+            "Here the kD-tree wins: {} against the BVH's {} per ray ({ratio:.2}×).",
+            number(kd.cost_per_ray),
+            number(bvh.cost_per_ray)
+        )
+    } else if ratio < 1.0 / 1.05 {
+        format!(
+            "Here the BVH wins: {} against the kD-tree's {} per ray ({:.2}×).",
+            number(bvh.cost_per_ray),
+            number(kd.cost_per_ray),
+            1.0 / ratio
+        )
+    } else {
+        format!(
+            "Here they are even: {} (BVH) and {} (kD-tree) per ray.",
+            number(bvh.cost_per_ray),
+            number(kd.cost_per_ray)
+        )
+    };
+    let empty = if kd.empty_share >= 0.05 {
+        format!(
+            "; the kD-tree's empty cells, {:.0} % of the scene, are crossed without a test",
+            kd.empty_share * 100.0
+        )
+    } else {
+        String::new()
+    };
+    let nodes = if kd.nodes_per_ray < bvh.nodes_per_ray {
+        format!(
+            "The kD-tree visits {:.1} cells per ray against the BVH's {:.1} nodes: its cells do not overlap, so a ray is in one at a time and the first hit ends the search{empty}, while a BVH box big enough to hold something long also holds the empty space around it.",
+            kd.nodes_per_ray, bvh.nodes_per_ray
+        )
+    } else {
+        format!(
+            "The BVH visits {:.1} nodes per ray against the kD-tree's {:.1} cells: a ray that misses a box skips everything inside it, while a ray goes down through the kD-tree's cells level by level{empty}.",
+            bvh.nodes_per_ray, kd.nodes_per_ray
+        )
+    };
+    let straddlers = if kd.references_per_primitive >= 1.1 {
+        format!(
+            ", and a primitive is listed in {:.1} cells on average and tested again in each",
+            kd.references_per_primitive
+        )
+    } else {
+        String::new()
+    };
+    if kd.node_count == 1 {
+        return format!(
+            "{outcome} The kD-tree is a single leaf: no cut is cheaper than the leaf, since each would leave most primitives on both sides, so a ray tests all {:.0} against the BVH's {:.1}.",
+            kd.tests_per_ray, bvh.tests_per_ray
+        );
+    }
+    let tests = if kd.tests_per_ray > bvh.tests_per_ray {
+        format!(
+            " It tests {:.1} primitives per ray against the BVH's {:.1}: a kD cell cannot shrink around what it holds, so a ray through it tests primitives it passes far from{straddlers}.",
+            kd.tests_per_ray, bvh.tests_per_ray
+        )
+    } else {
+        format!(
+            " It tests {:.1} primitives per ray against the BVH's {:.1}.",
+            kd.tests_per_ray, bvh.tests_per_ray
+        )
+    };
+    format!("{outcome} {nodes}{tests}")
+}
+
+/// Writes one figure of a structure.
+type FigureOf = fn(&Measured) -> String;
+
+/// The lesson.
+pub struct RecapLesson {
+    stage: Stage,
+    comparison: Derived<u64, Comparison>,
+}
+
+impl RecapLesson {
+    /// The lesson with its file's scene.
+    pub fn new(text: LessonText) -> Self {
+        Self {
+            stage: Stage::new(text, Editing::ALL),
+            comparison: Derived::default(),
+        }
+    }
+
+    /// The figures of both structures on the current scene, once measured.
+    pub fn measured(&self) -> Option<[Measured; 2]> {
+        Some(measure(self.comparison.get()?))
+    }
+
+    /// Opens preset `index` of the lesson file's presets (its scene and name).
+    pub fn show_preset(&mut self, index: usize) {
+        if let Some(preset) = self.stage.text.file.presets.get(index)
+            && let Ok(scene) = Scene2d::from_document(preset.scene.clone(), &preset.name)
+        {
+            self.stage.scene.replace(scene);
+        }
+    }
+}
+
+impl Lesson for RecapLesson {
+    fn stage(&self) -> &Stage {
+        &self.stage
+    }
+
+    fn stage_mut(&mut self) -> &mut Stage {
+        &mut self.stage
+    }
+
+    fn update(&mut self) {
+        let scene = &self.stage.scene;
+        self.comparison.request(
+            &scene.shapes_revision,
+            scene.scene.shapes.shapes.len(),
+            || {
+                let shapes = Arc::new(scene.scene.shapes.clone());
+                let settings = scene.scene.settings;
+                let structures = FAMILIES.map(|family| Structure::lecture(family, SplitRule::Sah));
+                move || Comparison::build(&structures, shapes, settings)
+            },
+        );
+    }
+
+    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+        ui.label(RichText::new("Scenes that make the point").strong());
+        let presets: Vec<(String, String)> = self
+            .stage
+            .text
+            .file
+            .presets
+            .iter()
+            .map(|preset| (preset.name.clone(), preset.about.clone()))
+            .collect();
+        ui.horizontal_wrapped(|ui| {
+            for (index, (name, about)) in presets.iter().enumerate() {
+                if ui.button(name).on_hover_text(about).clicked() {
+                    self.show_preset(index);
+                }
+            }
+        });
+        let Some(comparison) = self.comparison.get().cloned() else {
+            ui.label("Building…");
+            return;
+        };
+        let figures = measure(&comparison);
+        ui.separator();
+        egui::Grid::new("recap table").striped(true).show(ui, |ui| {
+            ui.label("");
+            ui.strong("SAH BVH");
+            ui.strong("SAH kD-tree");
+            ui.end_row();
+            let rows: [(&str, FigureOf); 5] = [
+                ("nodes visited per ray", |m| {
+                    format!("{:.1}", m.nodes_per_ray)
+                }),
+                ("primitive tests per ray", |m| {
+                    format!("{:.1}", m.tests_per_ray)
+                }),
+                ("cost per ray", |m| number(m.cost_per_ray)),
+                ("references per primitive", |m| {
+                    format!("{:.2}", m.references_per_primitive)
+                }),
+                ("area in empty leaves", |m| {
+                    format!("{:.0} %", m.empty_share * 100.0)
+                }),
+            ];
+            for (name, value) in rows {
+                ui.label(name);
+                for figure in &figures {
+                    ui.label(value(figure));
+                }
+                ui.end_row();
+            }
+            ui.label("nodes");
+            for tree in &comparison.trees {
+                ui.label(count(tree.stats.node_count));
+            }
+            ui.end_row();
+        });
+        let settings = self.stage.scene.scene.settings;
+        ui.label(
+            RichText::new(format!(
+                "Measured on {} seeded rays through the scene. Cost per ray = C_trav · nodes + C_isect · tests, with C_trav = {} and C_isect = {}.",
+                comparison.ray_count,
+                number(settings.traversal_cost),
+                number(settings.intersection_cost)
+            ))
+            .small()
+            .weak(),
+        );
+        ui.separator();
+        ui.label(RichText::new(verdict(figures)).color(palette::CURRENT));
+    }
+
+    fn canvas_ui(&mut self, ui: &mut egui::Ui) {
+        self.stage.scene.toolbar_ui(ui);
+        let height = ui.available_height();
+        let Some(comparison) = self.comparison.get().cloned() else {
+            ui.label("Building…");
+            return;
+        };
+        let titles: Vec<(String, Color32)> = comparison
+            .trees
+            .iter()
+            .map(|tree| (tree.built.structure.name(), Color32::WHITE))
+            .collect();
+        let canvases = comparison.panes_ui(ui, &mut self.stage.scene, height, &titles, |_, _| {});
+        if let Some(working) = self.comparison.working_for() {
+            if let Some(canvas) = canvases.first() {
+                canvas.note(&format!(
+                    "Building both trees… {:.1} s",
+                    working.as_secs_f64()
+                ));
+            }
+            ui.ctx().request_repaint();
+        }
+        for canvas in &canvases {
+            self.stage.scene.interact(ui, canvas);
+        }
+        if let Some(canvas) = canvases.last() {
+            self.stage.scene.draw_footer(canvas);
+        }
+    }
+}

@@ -1,0 +1,137 @@
+//! What every lesson has: its text, its editable scene, its timeline, and the structures it
+//! builds over the scene ([`SceneTree`]), made by the core's catalogue with the app's budget.
+
+use std::sync::Arc;
+
+use accelviz_core::bvh::{BuildParams, KdBudget};
+use accelviz_core::{BuildObserver, Built, NoBuildObserver, ShapeSet, Structure, TreeStats};
+use accelviz_scene::document::SceneSettings;
+use glam::DVec2;
+use web_time::Instant;
+
+use crate::editor::{EditableScene, Editing};
+use crate::lesson::LessonText;
+use crate::timeline::Timeline;
+
+/// How large a kD-tree a lesson builds: enough for every scene the generator makes to be cut
+/// as its rule wants, small enough to draw in a frame and to hold a few at once. A build that
+/// would pass it is made shallower, and the lesson says so (`KdLimits`).
+pub const KD_BUDGET: KdBudget = KdBudget {
+    max_nodes: Some(200_000),
+    max_references: Some(1_000_000),
+};
+
+/// The shared state of a lesson.
+pub struct Stage {
+    /// The lesson's text and starting scene.
+    pub text: LessonText,
+    /// The scene being looked at and edited.
+    pub scene: EditableScene,
+    /// The animation's position.
+    pub timeline: Timeline,
+    /// Why the lesson file on disk was not used (the built-in copy is shown instead).
+    pub notice: Option<String>,
+}
+
+impl Stage {
+    /// A lesson's stage with its file's scene and these editing rights.
+    pub fn new(text: LessonText, editing: Editing) -> Self {
+        let scene = EditableScene::new(text.scene.clone(), editing);
+        Self {
+            text,
+            scene,
+            timeline: Timeline::default(),
+            notice: None,
+        }
+    }
+
+    /// Puts back the scene the lesson file starts with.
+    pub fn reset_scene(&mut self) {
+        self.scene.replace(self.text.scene.clone());
+        self.timeline.rewind();
+    }
+
+    /// The scene's settings.
+    pub fn settings(&self) -> &SceneSettings {
+        &self.scene.scene.settings
+    }
+}
+
+/// The parameters every builder gets from a scene's settings, with the app's kD budget.
+pub fn build_params(settings: &SceneSettings) -> BuildParams {
+    BuildParams {
+        max_leaf_size: settings.max_leaf_size,
+        cost: settings.cost(),
+        kd_budget: KD_BUDGET,
+    }
+}
+
+/// The structure a lesson builds with its settings: the binned SAH takes the scene's bins.
+pub fn with_settings(structure: Structure, settings: &SceneSettings) -> Structure {
+    structure.with_parameter(settings.bins.clamp(2, u16::MAX as usize) as u16)
+}
+
+/// A structure built over the scene's shapes as they were then: what a lesson draws, traces
+/// and measures. The shapes are kept with it, so a tree still being replaced by a newer build
+/// is drawn with the shapes it was built over.
+pub struct SceneTree {
+    /// The shapes it was built over.
+    pub shapes: Arc<ShapeSet<DVec2>>,
+    /// The settings it was built with.
+    pub settings: SceneSettings,
+    /// The tree and its facts.
+    pub built: Built<DVec2>,
+    /// Its statistics under the settings' cost model.
+    pub stats: TreeStats,
+    /// How long the build took.
+    pub build_millis: f64,
+}
+
+impl SceneTree {
+    /// Builds `structure` over `shapes`.
+    pub fn build(
+        structure: Structure,
+        shapes: Arc<ShapeSet<DVec2>>,
+        settings: SceneSettings,
+    ) -> Self {
+        Self::build_observed(structure, shapes, settings, &mut NoBuildObserver)
+    }
+
+    /// Builds `structure` over `shapes`, telling `observer` about each node.
+    pub fn build_observed(
+        structure: Structure,
+        shapes: Arc<ShapeSet<DVec2>>,
+        settings: SceneSettings,
+        observer: &mut impl BuildObserver,
+    ) -> Self {
+        let structure = with_settings(structure, &settings);
+        let started = Instant::now();
+        let built = Built::new(
+            structure,
+            shapes.as_ref(),
+            &build_params(&settings),
+            observer,
+        );
+        let build_millis = started.elapsed().as_secs_f64() * 1e3;
+        let stats = built.stats(0, &settings.cost());
+        Self {
+            shapes,
+            settings,
+            built,
+            stats,
+            build_millis,
+        }
+    }
+
+    /// The kD build's limits, when a limit changed the tree: what the lesson must say.
+    pub fn limits_note(&self) -> Option<String> {
+        let limits = self.built.tree.kd_limits()?;
+        limits.reached().then(|| {
+            format!(
+                "{} {}: {limits}",
+                self.built.structure.entry().label,
+                self.built.structure.family().label()
+            )
+        })
+    }
+}

@@ -1,0 +1,195 @@
+//! Several structures built over one scene, side by side, each measured on the same seeded
+//! rays: what lessons 7, 8 and 10 compare.
+
+use std::sync::Arc;
+
+use accelviz_core::{Counters, Ray, ShapeSet, SplitRule, Structure, TraceOptions, TraversalStacks};
+use accelviz_scene::document::SceneSettings;
+use accelviz_scene::rng::SplitMix64;
+use egui::{Color32, Vec2};
+use glam::DVec2;
+
+use crate::canvas::{Canvas, View2d, palette};
+use crate::editor::EditableScene;
+use crate::stage::SceneTree;
+use crate::views::scene_view::draw_shapes;
+use crate::views::tree_view::{TreeLook, draw_tree};
+
+/// The lecture's three rules, in pane order.
+pub const LECTURE_RULES: [SplitRule; 3] = [SplitRule::Middle, SplitRule::Median, SplitRule::Sah];
+
+/// Rays the panes are measured with: seeded, from a circle around the scene to points in it.
+pub const MEASURED_RAYS: usize = 256;
+
+/// Several trees of one scene with their counters on the same rays.
+pub struct Comparison {
+    /// The trees, in pane order.
+    pub trees: Vec<SceneTree>,
+    /// Counters summed over the measured rays, by tree.
+    pub counters: Vec<Counters>,
+    /// How many rays were measured.
+    pub ray_count: usize,
+}
+
+impl Comparison {
+    /// Builds each structure over `shapes` and traces the measured rays through each.
+    pub fn build(
+        structures: &[Structure],
+        shapes: Arc<ShapeSet<DVec2>>,
+        settings: SceneSettings,
+    ) -> Self {
+        let rays = measured_rays(&shapes);
+        let trees: Vec<SceneTree> = structures
+            .iter()
+            .map(|&structure| SceneTree::build(structure, shapes.clone(), settings))
+            .collect();
+        let options = TraceOptions::default();
+        let counters = trees
+            .iter()
+            .map(|tree| {
+                let mut counters = Counters::default();
+                let mut stacks = TraversalStacks::default();
+                for ray in &rays {
+                    tree.built.tree.trace(
+                        shapes.as_ref(),
+                        ray,
+                        &options,
+                        &mut stacks,
+                        &mut counters,
+                    );
+                }
+                counters
+            })
+            .collect();
+        Self {
+            trees,
+            counters,
+            ray_count: rays.len(),
+        }
+    }
+
+    /// A counter of pane `pane`, per measured ray.
+    pub fn per_ray(&self, pane: usize, counter: impl Fn(&Counters) -> u64) -> f64 {
+        counter(&self.counters[pane]) as f64 / self.ray_count.max(1) as f64
+    }
+
+    /// Short lines of statistics for pane `pane`.
+    pub fn summary(&self, pane: usize) -> Vec<String> {
+        let stats = &self.trees[pane].stats;
+        let mut lines = vec![
+            format!(
+                "SAH cost {}, depth {}",
+                accelviz_core::format::number(stats.sah_cost),
+                stats.max_depth
+            ),
+            format!(
+                "{} leaves of {}..{} (mean {:.1})",
+                accelviz_core::format::count(stats.leaf_count),
+                stats.min_leaf_size,
+                stats.max_leaf_size,
+                stats.mean_leaf_size
+            ),
+            format!(
+                "per ray: {:.1} nodes, {:.1} tests",
+                self.per_ray(pane, |c| c.nodes_visited),
+                self.per_ray(pane, |c| c.primitive_tests)
+            ),
+        ];
+        if let Some(note) = self.trees[pane].limits_note() {
+            lines.push(note);
+        }
+        lines
+    }
+
+    /// The panes side by side, sharing one view, each titled by `titles` and drawn by
+    /// `overlay` after its tree; returns their canvases for editing.
+    pub fn panes_ui(
+        &self,
+        ui: &mut egui::Ui,
+        scene: &mut EditableScene,
+        height: f32,
+        titles: &[(String, Color32)],
+        overlay: impl Fn(usize, &Canvas),
+    ) -> Vec<Canvas> {
+        let panes = self.trees.len().max(1);
+        let gap = 6.0;
+        let width = (ui.available_width() - gap * (panes - 1) as f32) / panes as f32;
+        let bounds = scene.bounds();
+        let mut view: View2d = scene.view;
+        let canvases = ui
+            .horizontal(|ui| {
+                ui.spacing_mut().item_spacing.x = gap;
+                (0..self.trees.len())
+                    .map(|pane| {
+                        let canvas = Canvas::allocate(
+                            ui,
+                            Vec2::new(width, height),
+                            &mut view,
+                            &bounds,
+                            false,
+                        );
+                        let tree = &self.trees[pane];
+                        draw_shapes(ui, &canvas, &tree.shapes, |_| None);
+                        draw_tree(
+                            &canvas,
+                            tree,
+                            &TreeLook {
+                                structure_alpha: 200,
+                                ..TreeLook::default()
+                            },
+                        );
+                        overlay(pane, &canvas);
+                        let mut lines: Vec<(String, Color32)> =
+                            titles.get(pane).cloned().into_iter().collect();
+                        lines.extend(
+                            self.summary(pane)
+                                .into_iter()
+                                .map(|line| (line, Color32::WHITE)),
+                        );
+                        canvas.caption(&lines);
+                        canvas.finish();
+                        canvas
+                    })
+                    .collect::<Vec<_>>()
+            })
+            .inner;
+        scene.view = view;
+        canvases
+    }
+}
+
+/// Seeded rays from a circle around the shapes to random points in their box.
+pub fn measured_rays(shapes: &ShapeSet<DVec2>) -> Vec<Ray<DVec2>> {
+    let bounds = shapes
+        .shapes
+        .iter()
+        .fold(accelviz_core::Aabb::empty(), |bounds, shape| {
+            bounds.union(shape.bounds())
+        });
+    if bounds.is_empty() {
+        return Vec::new();
+    }
+    let mut rng = SplitMix64::new(27);
+    let center = bounds.center();
+    let reach = bounds.extent().length() * 0.75 + 1e-9;
+    (0..MEASURED_RAYS)
+        .filter_map(|_| {
+            let angle = rng.range(0.0, std::f64::consts::TAU);
+            let origin = center + DVec2::new(angle.cos(), angle.sin()) * reach;
+            let target = DVec2::new(
+                rng.range(bounds.min.x, bounds.max.x),
+                rng.range(bounds.min.y, bounds.max.y),
+            );
+            Ray::try_new(origin, target - origin).ok()
+        })
+        .collect()
+}
+
+/// The colour of a rule's marks (pane titles, curve markers, ghost splits).
+pub fn rule_color(rule: SplitRule) -> Color32 {
+    match rule {
+        SplitRule::Middle => palette::X_AXIS,
+        SplitRule::Median => palette::Y_AXIS,
+        SplitRule::Sah => palette::CURRENT,
+    }
+}

@@ -1,0 +1,139 @@
+//! The scene's shapes and ray on a canvas, coloured by what a traversal did to them.
+
+use accelviz_core::{Ray, ShapeSet, Step};
+use egui::{Color32, Stroke};
+use glam::DVec2;
+
+use crate::canvas::{BATCH_ABOVE, Canvas, Labels, faded, palette};
+
+/// The fill of a shape nobody is looking at, readable on either theme.
+pub fn shape_fill(ui: &egui::Ui) -> Color32 {
+    if ui.visuals().dark_mode {
+        Color32::from_gray(150)
+    } else {
+        Color32::from_gray(110)
+    }
+}
+
+/// Draws every shape; `color_of` picks a colour for shapes that stand out.
+pub fn draw_shapes(
+    ui: &egui::Ui,
+    canvas: &Canvas,
+    shapes: &ShapeSet<DVec2>,
+    color_of: impl Fn(usize) -> Option<Color32>,
+) {
+    let plain = shape_fill(ui);
+    if shapes.shapes.len() > BATCH_ABOVE {
+        let mut batch = canvas.batch();
+        // A disc takes up to 41 vertices; boxes and segments 4.
+        batch.reserve(shapes.shapes.len() * 16, shapes.shapes.len() * 14);
+        for (index, shape) in shapes.shapes.iter().enumerate() {
+            canvas.batch_shape(&mut batch, shape, color_of(index).unwrap_or(plain));
+        }
+        canvas.draw_batch(batch);
+        return;
+    }
+    for (index, shape) in shapes.shapes.iter().enumerate() {
+        let color = color_of(index).unwrap_or(plain);
+        canvas.shape(shape, faded(color, 200), Stroke::new(1.0, color));
+    }
+}
+
+/// How each primitive fared in the steps shown: `Some(true)` hit, `Some(false)` missed by its
+/// last test, `None` not tested.
+pub fn tested_primitives(steps: &[Step<f64>], count: usize) -> Vec<Option<bool>> {
+    let mut tested = vec![None; count];
+    for step in steps {
+        if let Step::PrimitiveTested { primitive, t_hit } = step
+            && let Some(entry) = tested.get_mut(*primitive as usize)
+        {
+            *entry = Some(t_hit.is_some());
+        }
+    }
+    tested
+}
+
+/// Draws every shape, coloured by its last test in `steps` (green hit, red missed), `current`
+/// in the "now" colour.
+pub fn draw_tested_shapes(
+    ui: &egui::Ui,
+    canvas: &Canvas,
+    shapes: &ShapeSet<DVec2>,
+    steps: &[Step<f64>],
+    current: Option<u32>,
+) {
+    let tested = tested_primitives(steps, shapes.shapes.len());
+    draw_shapes(ui, canvas, shapes, |index| {
+        if Some(index as u32) == current {
+            return Some(palette::CURRENT);
+        }
+        tested[index].map(|hit| if hit { palette::HIT } else { palette::MISS })
+    });
+}
+
+/// Draws the ray: solid up to `t_solid` (the closest hit so far), faded beyond it.
+pub fn draw_ray(canvas: &Canvas, ray: &Ray<DVec2>, t_solid: Option<f64>) {
+    draw_ray_colored(canvas, ray, t_solid, palette::RAY, "closest");
+}
+
+/// [`draw_ray`] in another colour, with `hit_label` at the closest hit.
+pub fn draw_ray_colored(
+    canvas: &Canvas,
+    ray: &Ray<DVec2>,
+    t_solid: Option<f64>,
+    color: Color32,
+    hit_label: &str,
+) {
+    let t_end = canvas.clip_t(ray.origin, ray.direction, f64::INFINITY);
+    if let Some(t) = t_solid.filter(|t| *t < t_end) {
+        let cut = ray.origin + ray.direction * t;
+        canvas.painter.line_segment(
+            [
+                canvas.to_screen(cut),
+                canvas.to_screen(ray.origin + ray.direction * t_end),
+            ],
+            Stroke::new(1.5, faded(color, 70)),
+        );
+        canvas.ray(ray.origin, ray.direction, t, Stroke::new(2.5, color));
+        canvas.ray_mark(ray.origin, ray.direction, t, palette::HIT, hit_label, 2.0);
+    } else {
+        canvas.ray(ray.origin, ray.direction, t_end, Stroke::new(2.5, color));
+    }
+}
+
+/// A name for primitive `index`: a letter in small scenes (as on the slides), else a number.
+pub fn primitive_name(index: u32, count: usize) -> String {
+    if count <= 26 {
+        char::from(b'A' + index as u8).to_string()
+    } else {
+        index.to_string()
+    }
+}
+
+/// Writes each shape's name beside it in small scenes (letters, as on the slides), laid out
+/// so that none covers another or leaves the canvas.
+pub fn label_shapes(ui: &egui::Ui, canvas: &Canvas, shapes: &ShapeSet<DVec2>) {
+    let count = shapes.shapes.len();
+    if count > 26 {
+        return;
+    }
+    let mut labels = Labels::new(canvas.rect.shrink(2.0));
+    for (index, shape) in shapes.shapes.iter().enumerate() {
+        let bounds = shape.bounds();
+        let corner = canvas.to_screen(DVec2::new(bounds.max.x, bounds.max.y));
+        labels.place(
+            &canvas.painter,
+            &primitive_name(index as u32, count),
+            egui::FontId::proportional(14.0),
+            ui.visuals().strong_text_color(),
+            corner,
+            &[
+                egui::vec2(8.0, -8.0),
+                egui::vec2(-8.0, -8.0),
+                egui::vec2(8.0, 8.0),
+                egui::vec2(-8.0, 8.0),
+            ],
+            None,
+        );
+    }
+}

@@ -1,0 +1,210 @@
+//! A tree drawn as a diagram from the core's [`TreeFacts`]: leaves side by side in tree order,
+//! each parent above the middle of its children. Hovering a node reports it (the canvas lights
+//! its box), clicking selects it; the canvas reports its own hovering back, so the link works
+//! both ways. Levels too crowded to tell nodes apart are left out and the diagram says so;
+//! labels sit on plates, never on each other, and only where they fit.
+
+use accelviz_core::TreeFacts;
+use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, Vec2};
+use glam::DVec2;
+
+use crate::canvas::{Labels, depth_color, palette};
+
+/// Each shown node's column (in leaf widths) when the tree is cut at `bottom`: nodes at that
+/// depth count as leaves. Depth first, left to right: leaves take the next column, parents
+/// sit between their children.
+fn columns(facts: &TreeFacts<DVec2>, bottom: usize) -> (Vec<f32>, usize) {
+    let mut column = vec![f32::NAN; facts.node_count()];
+    let mut leaves = 0usize;
+    // An explicit stack: (node, whether its children are placed).
+    let mut pending = vec![(0u32, false)];
+    while let Some((node, children_done)) = pending.pop() {
+        let children = facts.children[node as usize]
+            .filter(|_| (facts.depth[node as usize] as usize) < bottom);
+        match (children, children_done) {
+            (None, _) => {
+                column[node as usize] = leaves as f32;
+                leaves += 1;
+            }
+            (Some([left, right]), true) => {
+                column[node as usize] = (column[left as usize] + column[right as usize]) * 0.5;
+            }
+            (Some([left, right]), false) => {
+                pending.push((node, true));
+                pending.push((right, false));
+                pending.push((left, false));
+            }
+        }
+    }
+    (column, leaves)
+}
+
+/// What the diagram shows of each node.
+pub struct DiagramLook<'a> {
+    /// A node's label.
+    pub label: &'a dyn Fn(u32) -> String,
+    /// A node's highlight colour (visited, skipped), if any.
+    pub emphasis: &'a dyn Fn(u32) -> Option<Color32>,
+    /// The node lit from the canvas.
+    pub hovered: Option<u32>,
+}
+
+/// Draws the diagram at the available width. Returns the node under the pointer; a click on a
+/// node selects it.
+pub fn diagram_ui(
+    ui: &mut egui::Ui,
+    facts: &TreeFacts<DVec2>,
+    look: &DiagramLook,
+    selected: &mut Option<u32>,
+) -> Option<u32> {
+    if facts.node_count() == 0 {
+        return None;
+    }
+    let row_height = 36.0;
+    let width = ui.available_width().max(120.0);
+    // Levels too crowded to tell nodes apart (a few points each) are left out.
+    let shown_depth = facts
+        .nodes_per_depth
+        .iter()
+        .position(|&count| count as f32 * 4.0 > width)
+        .map_or(facts.max_depth(), |crowded| crowded.saturating_sub(1));
+    let (column, leaf_count) = columns(facts, shown_depth);
+    // Room below the last row for its labels.
+    let height = (shown_depth + 1) as f32 * row_height + 30.0;
+    let (rect, response) = ui.allocate_exact_size(Vec2::new(width, height), Sense::click());
+    let painter = ui.painter_at(rect);
+    let column_width = (width - 20.0) / leaf_count.max(1) as f32;
+    let position = |node: u32| -> Pos2 {
+        Pos2::new(
+            rect.left() + 10.0 + (column[node as usize] + 0.5) * column_width,
+            rect.top() + 12.0 + facts.depth[node as usize] as f32 * row_height,
+        )
+    };
+    let visible = |node: u32| (facts.depth[node as usize] as usize) <= shown_depth;
+    let line_color = ui.visuals().weak_text_color();
+    for node in (0..facts.node_count() as u32).filter(|&node| visible(node)) {
+        if (facts.depth[node as usize] as usize) >= shown_depth {
+            continue;
+        }
+        if let Some(children) = facts.children[node as usize] {
+            for child in children {
+                painter.line_segment(
+                    [position(node), position(child)],
+                    Stroke::new(1.0, line_color),
+                );
+            }
+        }
+    }
+    let widest = facts.nodes_per_depth[..=shown_depth]
+        .iter()
+        .copied()
+        .max()
+        .unwrap_or(1)
+        .max(1);
+    let radius = ((width - 20.0) / widest as f32 * 0.42)
+        .min(column_width * 0.42)
+        .clamp(3.0, 11.0);
+    let pointer = response.hover_pos();
+    let mut under_pointer = None;
+    let mut labels = Labels::new(rect);
+    // Nodes first, then labels, which keep clear of the nodes and of each other.
+    for node in (0..facts.node_count() as u32).filter(|&node| visible(node)) {
+        let center = position(node);
+        let base = depth_color(facts.depth[node as usize] as usize);
+        let fill = (look.emphasis)(node).unwrap_or(base);
+        painter.circle_filled(center, radius, fill);
+        labels.reserve(Rect::from_center_size(center, Vec2::splat(radius * 2.0)));
+        let lit = look.hovered == Some(node) || *selected == Some(node);
+        if lit {
+            let color = if *selected == Some(node) {
+                palette::CURRENT
+            } else {
+                Color32::WHITE
+            };
+            painter.circle_stroke(center, radius + 3.0, Stroke::new(3.0, color));
+        }
+        if let Some(pointer) = pointer
+            && Rect::from_center_size(center, Vec2::splat(radius * 2.0 + 6.0)).contains(pointer)
+        {
+            under_pointer = Some(node);
+        }
+    }
+    if radius >= 6.0 {
+        let plate = ui.visuals().panel_fill;
+        let below = radius + 8.0;
+        for node in (0..facts.node_count() as u32).filter(|&node| visible(node)) {
+            labels.place(
+                &painter,
+                &(look.label)(node),
+                FontId::proportional(11.0),
+                ui.visuals().text_color(),
+                position(node),
+                &[
+                    Vec2::new(0.0, below),
+                    Vec2::new(-radius * 2.5, below * 0.6),
+                    Vec2::new(radius * 2.5, below * 0.6),
+                ],
+                Some(plate),
+            );
+        }
+    }
+    if shown_depth < facts.max_depth() {
+        painter.text(
+            rect.right_bottom() - Vec2::new(4.0, 2.0),
+            Align2::RIGHT_BOTTOM,
+            format!(
+                "depths {}..{} not drawn: too many nodes to tell apart",
+                shown_depth + 1,
+                facts.max_depth()
+            ),
+            FontId::proportional(10.0),
+            ui.visuals().weak_text_color(),
+        );
+    }
+    if response.clicked() {
+        *selected = under_pointer.or(*selected);
+    }
+    if let Some(node) = under_pointer {
+        response.on_hover_text((look.label)(node));
+    }
+    under_pointer
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use accelviz_core::bvh::BuildParams;
+    use accelviz_core::{Built, NoBuildObserver, Shape, ShapeSet, Sphere, Structure};
+
+    /// Leaves take columns left to right; a parent sits between its children; a cut-off node
+    /// takes one column for its whole subtree.
+    #[test]
+    fn parents_sit_between_their_children() {
+        let shapes = ShapeSet {
+            shapes: (0..4)
+                .map(|index| {
+                    Shape::Sphere(Sphere {
+                        center: DVec2::new(index as f64 * 4.0, 0.0),
+                        radius: 1.0,
+                    })
+                })
+                .collect(),
+        };
+        let params = BuildParams {
+            max_leaf_size: 1,
+            ..BuildParams::default()
+        };
+        let built = Built::new(Structure::BvhMedian, &shapes, &params, &mut NoBuildObserver);
+        let facts = &built.facts;
+        let (column, leaves) = columns(facts, facts.max_depth());
+        assert_eq!(leaves, 4);
+        let [left, right] = facts.children[0].unwrap_or_else(|| unreachable!());
+        assert_eq!(
+            column[0],
+            (column[left as usize] + column[right as usize]) * 0.5
+        );
+        let (column, leaves) = columns(facts, 1);
+        assert_eq!(leaves, 2, "the second level stands for its subtrees");
+        assert_eq!(column[0], 0.5);
+    }
+}

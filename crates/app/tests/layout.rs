@@ -1,0 +1,113 @@
+//! Layout holds whatever the input: the slab lesson's labels never overlap each other or leave
+//! their panel in any edge case at any step, and a scene of huge (but finite) coordinates
+//! keeps every panel at its size, numbers written short.
+
+use accelviz_app::AccelvizApp;
+use accelviz_app::canvas::any_overlap;
+use accelviz_app::lesson::{Lesson, LessonText};
+use accelviz_app::lessons::slab::{GALLERY, SlabLesson};
+use accelviz_app::registry::LESSONS;
+use egui_kittest::Harness;
+
+fn lesson_text(file: &str) -> LessonText {
+    let entry = LESSONS
+        .iter()
+        .find(|entry| entry.path.ends_with(file))
+        .expect("lesson file is registered");
+    LessonText::parse(entry.embedded, entry.path).expect("lesson file parses")
+}
+
+#[test]
+fn slab_labels_never_overlap_in_any_edge_case() {
+    let size = egui::vec2(1200.0, 760.0);
+    let mut harness = Harness::builder().with_size(size).build_ui_state(
+        |ui, lesson: &mut SlabLesson| {
+            lesson.update();
+            egui::Panel::right("inspector").show(ui, |ui| lesson.inspector_ui(ui));
+            egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
+        },
+        SlabLesson::new(lesson_text("03-slab-test.ron")),
+    );
+    harness.run();
+    for (case, (name, _)) in GALLERY.iter().enumerate() {
+        harness.state_mut().show_case(case);
+        for step in 0..=5 {
+            harness.state_mut().stage_mut().timeline.shown = step;
+            harness.run_steps(2);
+            let rects = harness.state().label_rects().to_vec();
+            assert_eq!(rects.len(), 2, "the canvas's labels and the number lines'");
+            for (area, placed) in ["canvas", "number lines"].iter().zip(&rects) {
+                assert!(
+                    !any_overlap(placed),
+                    "{}, step {step}, {area}: labels overlap: {placed:?}",
+                    name
+                );
+                for rect in placed {
+                    assert!(
+                        rect.min.x >= 0.0
+                            && rect.max.x <= size.x
+                            && rect.min.y >= 0.0
+                            && rect.max.y <= size.y,
+                        "{}, step {step}: a label leaves the window: {rect:?}",
+                        name
+                    );
+                }
+            }
+            if step == 5 {
+                // Every mark that has a finite t is labelled somewhere: nothing was dropped
+                // for want of room in the common cases.
+                assert!(rects[0].len() >= 2, "{}: {rects:?}", name);
+            }
+        }
+    }
+}
+
+/// A scene with coordinates of 1e300: every lesson still lays out, the inspector keeps its
+/// width, the canvas keeps its room, and numbers are written short.
+#[test]
+fn huge_coordinates_keep_the_layout() {
+    let scene = "(
+        shapes: [
+            Box(min: (1e300, 1e300), max: (3e300, 2e300)),
+            Disc(center: (-1e300, 5e299), radius: 4e299),
+            Segment(from: (0, 0), to: (2e300, -1e300)),
+        ],
+        ray: (origin: (-5e300, -5e300), toward: (-4e300, -4.5e300)),
+    )";
+    let size = egui::vec2(1400.0, 860.0);
+    let mut harness = Harness::builder().with_size(size).build_ui_state(
+        |ui, app: &mut AccelvizApp| app.contents_ui(ui),
+        AccelvizApp::new(),
+    );
+    for index in 0..harness.state().lesson_count() {
+        harness.state_mut().selected = index;
+        assert!(
+            harness.state_mut().open_scene_text("huge.ron", scene),
+            "opens"
+        );
+        harness.run_steps(3);
+        if let Some(lesson) = harness.state_mut().lesson_mut() {
+            let timeline = &mut lesson.stage_mut().timeline;
+            timeline.shown = timeline.len / 2;
+        }
+        harness.run_steps(2);
+        let title = harness.state().titles()[index].clone();
+        let layout = harness.state().last_layout;
+        let width = layout.inspector.width();
+        assert!(
+            width <= 570.0,
+            "{title}: the inspector grew to {width} points"
+        );
+        let canvas_room = layout.canvas.width();
+        assert!(
+            canvas_room >= 500.0,
+            "{title}: the canvas has {canvas_room} points left"
+        );
+        // No number is written out in full.
+        use egui_kittest::kittest::Queryable;
+        assert!(
+            harness.query_by_label_contains("0000000000").is_none(),
+            "{title}: a number written out in full"
+        );
+    }
+}
