@@ -138,7 +138,7 @@ try {
   check(colourCount(first) > 50, `the canvas shows the app (${colourCount(first)} colours in the screenshot)`);
 
   // Every lesson of the list, in turn: each opens and draws.
-  const lessonCount = 9;
+  const lessonCount = 10;
   for (let index = 0; index < lessonCount; index++) {
     await page.mouse.click(60, 65 + 23 * index);
     const wanted = `${index + 1}. `;

@@ -8,18 +8,7 @@ use accelviz_scene::document::{GeneratorEntry, LayoutEntry};
 use criterion::{Criterion, criterion_group, criterion_main};
 
 fn frame(ctx: &egui::Context, app: &mut AccelvizApp) -> usize {
-    let input = egui::RawInput {
-        screen_rect: Some(egui::Rect::from_min_size(
-            egui::Pos2::ZERO,
-            egui::vec2(1400.0, 860.0),
-        )),
-        ..Default::default()
-    };
-    let mut output = ctx.run_ui(input, |ui| app.contents_ui(ui));
-    // No renderer takes the font texture's updates here.
-    output.textures_delta.clear();
-    let meshes = ctx.tessellate(output.shapes, output.pixels_per_point);
-    meshes.len()
+    app.tessellated_frame(ctx, egui::vec2(1400.0, 860.0)).len()
 }
 
 fn frame_cost(c: &mut Criterion) {

@@ -203,6 +203,10 @@ impl AccelvizApp {
             {
                 self.save_scene();
             }
+            if let Some(working) = self.lesson().and_then(|lesson| lesson.building()) {
+                ui.add(egui::Spinner::new());
+                ui.label(format!("building… {:.1} s", working.as_secs_f64()));
+            }
             if let Some((message, problem)) = &self.status {
                 let color = if *problem {
                     crate::canvas::palette::MISS
@@ -351,6 +355,25 @@ impl AccelvizApp {
             ui.ctx()
                 .send_viewport_cmd(egui::ViewportCommand::Title(format!("accelviz: {title}")));
         }
+    }
+}
+
+impl AccelvizApp {
+    /// One frame of `size` points, laid out and tessellated into the triangles a renderer would
+    /// draw, without a renderer: what the frame bench times and the bounds test counts.
+    pub fn tessellated_frame(
+        &mut self,
+        ctx: &egui::Context,
+        size: egui::Vec2,
+    ) -> Vec<egui::ClippedPrimitive> {
+        let input = egui::RawInput {
+            screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, size)),
+            ..Default::default()
+        };
+        let mut output = ctx.run_ui(input, |ui| self.contents_ui(ui));
+        // No renderer takes the font texture's updates here.
+        output.textures_delta.clear();
+        ctx.tessellate(output.shapes, output.pixels_per_point)
     }
 }
 

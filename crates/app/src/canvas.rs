@@ -62,6 +62,8 @@ pub struct Canvas {
     budget: std::cell::Cell<usize>,
     /// Shapes, boxes or lines left out this frame because the budget ran out.
     left_out: std::cell::Cell<usize>,
+    /// The labels written on the canvas this frame, laid out so none covers another.
+    labels: std::cell::RefCell<Labels>,
 }
 
 /// The most vertices one canvas draws in a frame: far more than a screen shows (a box smaller
@@ -141,7 +143,13 @@ impl Canvas {
             response,
             budget: std::cell::Cell::new(VERTEX_BUDGET),
             left_out: std::cell::Cell::new(0),
+            labels: std::cell::RefCell::new(Labels::new(rect.shrink(2.0))),
         }
+    }
+
+    /// Where this frame's labels went on the canvas (for tests).
+    pub fn placed_labels(&self) -> Vec<Rect> {
+        self.labels.borrow().placed().to_vec()
     }
 
     /// How many things were left out this frame because the canvas's budget ran out.
@@ -379,13 +387,11 @@ impl Canvas {
         }
     }
 
-    /// A tick across the ray at parameter `t`, labelled by `labels` beside it (on the side
-    /// `side` says first: 1 left of the ray, −1 right), so marks at nearby `t` never write
-    /// over each other. Returns where the label went.
-    #[allow(clippy::too_many_arguments)]
+    /// A tick across the ray at parameter `t`, labelled beside it (on the side `side` says
+    /// first: 1 left of the ray, −1 right) where no other label is, so marks at nearby `t`
+    /// never write over each other. Returns where the label went.
     pub fn ray_mark_labeled(
         &self,
-        labels: &mut Labels,
         origin: DVec2,
         direction: DVec2,
         t: f64,
@@ -405,7 +411,7 @@ impl Canvas {
             Stroke::new(2.5, color),
         );
         let first = normal * side * 18.0;
-        labels.place(
+        self.labels.borrow_mut().place(
             &self.painter,
             label,
             FontId::proportional(13.0),
@@ -423,14 +429,23 @@ impl Canvas {
         )
     }
 
-    /// A label at a world point.
+    /// A label beside a world point (above right of it, or where there is room), never over
+    /// another label of this canvas.
     pub fn label(&self, at: DVec2, text: &str, color: Color32) {
-        self.painter.text(
-            self.to_screen(at),
-            Align2::LEFT_BOTTOM,
+        let anchor = self.to_screen(at);
+        self.labels.borrow_mut().place(
+            &self.painter,
             text,
             FontId::proportional(13.0),
             color,
+            anchor,
+            &[
+                Vec2::new(10.0, -9.0),
+                Vec2::new(-10.0, -9.0),
+                Vec2::new(10.0, 9.0),
+                Vec2::new(-10.0, 9.0),
+            ],
+            None,
         );
     }
 

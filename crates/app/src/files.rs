@@ -75,6 +75,7 @@ pub fn install_logger(inner: Option<Box<dyn log::Log>>, max_level: log::LevelFil
 }
 
 /// Runs a dialog and returns its answer, or why it could not open (what rfd logged).
+#[cfg(not(target_arch = "wasm32"))]
 fn run_dialog<T>(dialog: impl FnOnce() -> Option<T>) -> Result<Option<T>, String> {
     if let Ok(mut messages) = DIALOG_LOG.lock() {
         messages.clear();

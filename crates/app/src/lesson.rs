@@ -115,8 +115,39 @@ pub trait Lesson {
         None
     }
 
+    /// How long a newer build of what the lesson shows has been running on a worker thread,
+    /// if one is (what is shown meanwhile is the last build).
+    fn building(&self) -> Option<std::time::Duration> {
+        None
+    }
+
     /// The lesson's text.
     fn text(&self) -> &LessonText {
         &self.stage().text
     }
+}
+
+/// Implements [`Lesson::stage`], [`Lesson::stage_mut`] and [`Lesson::building`] for a lesson
+/// whose `stage` field is its [`Stage`] and whose named fields are the [`Derived`] values it
+/// builds (`staged!(tree, traces)`).
+///
+/// [`Derived`]: crate::background::Derived
+#[macro_export]
+macro_rules! staged {
+    () => {
+        fn stage(&self) -> &$crate::stage::Stage {
+            &self.stage
+        }
+
+        fn stage_mut(&mut self) -> &mut $crate::stage::Stage {
+            &mut self.stage
+        }
+    };
+    ($($derived:ident),+) => {
+        $crate::staged!();
+
+        fn building(&self) -> Option<std::time::Duration> {
+            [$(self.$derived.working_for()),+].into_iter().flatten().max()
+        }
+    };
 }

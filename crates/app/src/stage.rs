@@ -9,6 +9,7 @@ use accelviz_scene::document::SceneSettings;
 use glam::DVec2;
 use web_time::Instant;
 
+use crate::background::Derived;
 use crate::editor::{EditableScene, Editing};
 use crate::lesson::LessonText;
 use crate::timeline::Timeline;
@@ -134,4 +135,39 @@ impl SceneTree {
             )
         })
     }
+}
+
+/// Asks `derived` for what `make` builds over the scene's shapes and settings, for the shapes'
+/// revision and the lesson's `choice` (a structure, a family): the shapes are copied only when
+/// a new build is wanted, which runs on a worker thread if the scene is large.
+pub fn request_over_shapes<C, T, F>(
+    derived: &mut Derived<(u64, C), T>,
+    scene: &EditableScene,
+    choice: C,
+    make: F,
+) where
+    C: Clone + PartialEq + Send + 'static,
+    T: Send + Sync + 'static,
+    F: FnOnce(Arc<ShapeSet<DVec2>>, SceneSettings) -> T + Send + 'static,
+{
+    derived.request(
+        &(scene.shapes_revision, choice),
+        scene.scene.shapes.shapes.len(),
+        || {
+            let shapes = Arc::new(scene.scene.shapes.clone());
+            let settings = scene.scene.settings;
+            move || make(shapes, settings)
+        },
+    );
+}
+
+/// Asks `derived` for `structure` built over the scene (see [`request_over_shapes`]).
+pub fn request_tree(
+    derived: &mut Derived<(u64, Structure), SceneTree>,
+    scene: &EditableScene,
+    structure: Structure,
+) {
+    request_over_shapes(derived, scene, structure, move |shapes, settings| {
+        SceneTree::build(structure, shapes, settings)
+    });
 }

@@ -21,16 +21,7 @@ const MAX_PEAK_KB: u64 = 5 << 19;
 
 /// Runs one frame without rendering and counts the indices of its triangles.
 fn frame_indices(ctx: &egui::Context, app: &mut AccelvizApp) -> usize {
-    let input = egui::RawInput {
-        screen_rect: Some(egui::Rect::from_min_size(
-            egui::Pos2::ZERO,
-            egui::vec2(1400.0, 860.0),
-        )),
-        ..Default::default()
-    };
-    let mut output = ctx.run_ui(input, |ui| app.contents_ui(ui));
-    output.textures_delta.clear();
-    ctx.tessellate(output.shapes, output.pixels_per_point)
+    app.tessellated_frame(ctx, egui::vec2(1400.0, 860.0))
         .iter()
         .map(|clipped| match &clipped.primitive {
             egui::epaint::Primitive::Mesh(mesh) => mesh.indices.len(),

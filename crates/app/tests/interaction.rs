@@ -2,54 +2,16 @@
 //! computed, stepping is reversible, and opening and saving scenes work, also without a file
 //! dialog.
 
+mod common;
+
+use common::{app_harness, lesson_harness, lesson_text};
+
 use accelviz_app::AccelvizApp;
-use accelviz_app::lesson::{Lesson, LessonText};
+use accelviz_app::lesson::Lesson;
 use accelviz_app::lessons::slab::SlabLesson;
 use accelviz_app::lessons::splits::SplitsLesson;
-use accelviz_app::registry::LESSONS;
 use egui::Key;
-use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-
-/// The parsed file of the lesson whose file name ends in `file`.
-pub fn lesson_text(file: &str) -> LessonText {
-    let entry = LESSONS
-        .iter()
-        .find(|entry| entry.path.ends_with(file))
-        .expect("lesson file is registered");
-    LessonText::parse(entry.embedded, entry.path).expect("lesson file parses")
-}
-
-/// One lesson with the app's panels around it (updated first, as the app does).
-fn lesson_harness<L: Lesson + 'static>(lesson: L) -> Harness<'static, L> {
-    Harness::builder()
-        .with_size(egui::vec2(1200.0, 760.0))
-        .wgpu()
-        .build_ui_state(
-            |ui, lesson: &mut L| {
-                lesson.update();
-                let caption = lesson.caption();
-                egui::Panel::bottom("timeline").show(ui, |ui| {
-                    if let Some(caption) = caption {
-                        lesson.stage_mut().timeline.ui(ui, &caption);
-                    }
-                });
-                egui::Panel::right("inspector").show(ui, |ui| lesson.inspector_ui(ui));
-                egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
-            },
-            lesson,
-        )
-}
-
-fn app_harness() -> Harness<'static, AccelvizApp> {
-    Harness::builder()
-        .with_size(egui::vec2(1400.0, 860.0))
-        .wgpu()
-        .build_ui_state(
-            |ui, app: &mut AccelvizApp| app.contents_ui(ui),
-            AccelvizApp::new(),
-        )
-}
 
 fn shown(app: &AccelvizApp) -> usize {
     app.lesson()

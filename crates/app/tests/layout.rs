@@ -2,20 +2,15 @@
 //! their panel in any edge case at any step, and a scene of huge (but finite) coordinates
 //! keeps every panel at its size, numbers written short.
 
+mod common;
+
+use common::lesson_text;
+
 use accelviz_app::AccelvizApp;
 use accelviz_app::canvas::any_overlap;
-use accelviz_app::lesson::{Lesson, LessonText};
+use accelviz_app::lesson::Lesson;
 use accelviz_app::lessons::slab::{GALLERY, SlabLesson};
-use accelviz_app::registry::LESSONS;
 use egui_kittest::Harness;
-
-fn lesson_text(file: &str) -> LessonText {
-    let entry = LESSONS
-        .iter()
-        .find(|entry| entry.path.ends_with(file))
-        .expect("lesson file is registered");
-    LessonText::parse(entry.embedded, entry.path).expect("lesson file parses")
-}
 
 #[test]
 fn slab_labels_never_overlap_in_any_edge_case() {

@@ -3,22 +3,15 @@
 //! lesson files parsed, and lesson files on disk: an edit shows, a broken one falls back to the
 //! built-in copy and says why.
 
+mod common;
+
+use common::{app_harness, lesson_text};
+
 use accelviz_app::AccelvizApp;
 use accelviz_app::lesson::LessonText;
 use accelviz_app::registry::{LESSONS, registry_from};
 use accelviz_scene::document::{GeneratorEntry, LayoutEntry};
 use egui_kittest::Harness;
-
-/// The app at a projector-like size.
-fn harness() -> Harness<'static, AccelvizApp> {
-    Harness::builder()
-        .with_size(egui::vec2(1400.0, 860.0))
-        .wgpu()
-        .build_ui_state(
-            |ui, app: &mut AccelvizApp| app.contents_ui(ui),
-            AccelvizApp::new(),
-        )
-}
 
 #[test]
 fn every_lesson_file_parses() {
@@ -31,7 +24,7 @@ fn every_lesson_file_parses() {
 
 #[test]
 fn every_lesson_matches_its_snapshot() {
-    let mut harness = harness();
+    let mut harness = app_harness();
     let count = harness.state().lesson_count();
     assert_eq!(count, LESSONS.len());
     let mut failures = Vec::new();
@@ -57,7 +50,7 @@ fn every_lesson_matches_its_snapshot() {
 /// batched mesh each.
 #[test]
 fn a_ten_thousand_shape_scene_matches_its_snapshot() {
-    let mut harness = harness();
+    let mut harness = app_harness();
     let titles = harness.state().titles();
     harness.state_mut().selected = titles
         .iter()
@@ -148,11 +141,7 @@ fn lesson_files_on_disk_override_the_embedded_ones_and_a_broken_one_falls_back()
 fn the_recap_presets_show_when_each_structure_wins() {
     use accelviz_app::lesson::Lesson;
     use accelviz_app::lessons::recap::RecapLesson;
-    let entry = LESSONS
-        .iter()
-        .find(|entry| entry.path.ends_with("10-recap.ron"))
-        .expect("the recap");
-    let text = LessonText::parse(entry.embedded, entry.path).expect("parses");
+    let text = lesson_text("10-recap.ron");
     let names: Vec<String> = text
         .file
         .presets

@@ -4,49 +4,23 @@
 //! screen say the same, and in the kD lesson the canvas, the code line and the status line
 //! describe the same step.
 
-use accelviz_app::lesson::{Lesson, LessonText};
+mod common;
+
+use common::{lesson_harness, lesson_text};
+
+use accelviz_app::lesson::Lesson;
 use accelviz_app::lessons::build_steps::{BuildStepsLesson, Way};
 use accelviz_app::lessons::bvh::BvhLesson;
 use accelviz_app::lessons::kd::{KdLesson, Part};
 use accelviz_app::lessons::near_first::{FAMILIES, NearFirstLesson, ORDERS};
 use accelviz_app::lessons::trivial::TrivialLoop;
-use accelviz_app::registry::LESSONS;
 use accelviz_app::stage::{build_params, with_settings};
 use accelviz_core::{
     BuildRecorder, Built, NoBuildObserver, Recorder, SplitRule, Step, Structure, TraceOptions,
     TraversalStacks, brute_force, counters_of,
 };
 use accelviz_scene::document::{GeneratorEntry, LayoutEntry};
-use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-
-fn lesson_text(file: &str) -> LessonText {
-    let entry = LESSONS
-        .iter()
-        .find(|entry| entry.path.ends_with(file))
-        .expect("lesson file is registered");
-    LessonText::parse(entry.embedded, entry.path).expect("lesson file parses")
-}
-
-/// A lesson with the app's panels around it, updated first as the app does.
-fn harness<L: Lesson + 'static>(lesson: L) -> Harness<'static, L> {
-    Harness::builder()
-        .with_size(egui::vec2(1300.0, 800.0))
-        .build_ui_state(
-            |ui, lesson: &mut L| {
-                lesson.update();
-                let caption = lesson.caption();
-                egui::Panel::bottom("timeline").show(ui, |ui| {
-                    if let Some(caption) = caption {
-                        lesson.stage_mut().timeline.ui(ui, &caption);
-                    }
-                });
-                egui::Panel::right("inspector").show(ui, |ui| lesson.inspector_ui(ui));
-                egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
-            },
-            lesson,
-        )
-}
 
 /// The core's recording of `structure` traced over the lesson's scene and ray.
 fn core_steps(lesson: &dyn Lesson, structure: Structure, options: &TraceOptions) -> Vec<Step<f64>> {
@@ -72,7 +46,7 @@ fn core_steps(lesson: &dyn Lesson, structure: Structure, options: &TraceOptions)
 
 #[test]
 fn the_trivial_loop_shows_the_cores_state_at_every_step() {
-    let mut harness = harness(TrivialLoop::new(lesson_text("01-trivial.ron")));
+    let mut harness = lesson_harness(TrivialLoop::new(lesson_text("01-trivial.ron")));
     harness.run();
     let lesson = harness.state();
     let scene = lesson.stage().scene.scene.clone();
@@ -130,7 +104,7 @@ fn the_trivial_loop_shows_the_cores_state_at_every_step() {
 
 #[test]
 fn the_bvh_lesson_shows_the_cores_traversal_at_every_step() {
-    let mut harness = harness(BvhLesson::new(lesson_text("04-bvh.ron")));
+    let mut harness = lesson_harness(BvhLesson::new(lesson_text("04-bvh.ron")));
     harness.run();
     let core = core_steps(
         harness.state(),
@@ -167,7 +141,7 @@ fn the_bvh_lesson_shows_the_cores_traversal_at_every_step() {
 
 #[test]
 fn the_kd_lesson_describes_one_step_in_every_panel() {
-    let mut harness = harness(KdLesson::new(lesson_text("05-kd-tree.ron")));
+    let mut harness = lesson_harness(KdLesson::new(lesson_text("05-kd-tree.ron")));
     harness.run();
     let core = core_steps(
         harness.state(),
@@ -248,7 +222,7 @@ fn the_kd_lesson_describes_one_step_in_every_panel() {
 /// second test is skipped and said to be.
 #[test]
 fn the_kd_lesson_names_a_straddler_tested_twice_and_the_mailbox() {
-    let mut harness = harness(KdLesson::new(lesson_text("05-kd-tree.ron")));
+    let mut harness = lesson_harness(KdLesson::new(lesson_text("05-kd-tree.ron")));
     harness.run();
     let frames = harness.state().stage().timeline.len;
     let mut said = Vec::new();
@@ -283,7 +257,7 @@ fn the_kd_lesson_names_a_straddler_tested_twice_and_the_mailbox() {
 
 #[test]
 fn near_first_panes_show_the_cores_counters_and_no_answer_ahead_of_time() {
-    let mut harness = harness(NearFirstLesson::new(lesson_text("06-near-first.ron")));
+    let mut harness = lesson_harness(NearFirstLesson::new(lesson_text("06-near-first.ron")));
     harness.run();
     // At the start nothing is known yet: no closest hit, answers hidden.
     assert_eq!(harness.query_all_by_label("not yet").count(), 4);
@@ -347,7 +321,7 @@ fn near_first_panes_show_the_cores_counters_and_no_answer_ahead_of_time() {
 /// A generated scene's ray makes the lesson's point: near first does less than file order.
 #[test]
 fn near_first_generated_scenes_make_the_point() {
-    let mut harness = harness(NearFirstLesson::new(lesson_text("06-near-first.ron")));
+    let mut harness = lesson_harness(NearFirstLesson::new(lesson_text("06-near-first.ron")));
     for seed in 1..=4 {
         let lesson = harness.state_mut();
         let scene = &mut lesson.stage_mut().scene;
@@ -385,7 +359,7 @@ fn near_first_generated_scenes_make_the_point() {
 /// recorder gives the same steps, both ways, and the two ways build the same tree.
 #[test]
 fn build_steps_are_the_builders_own() {
-    let mut harness = harness(BuildStepsLesson::new(lesson_text(
+    let mut harness = lesson_harness(BuildStepsLesson::new(lesson_text(
         "09-building-is-optimisation.ron",
     )));
     harness.run();

@@ -15,7 +15,7 @@ use crate::canvas::{faded, palette};
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
-use crate::views::scene_view::draw_shapes;
+use crate::views::scene_view::{building_note, draw_shapes};
 
 /// Which bounding volume the rays are tested against.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -125,13 +125,7 @@ fn fan(
 }
 
 impl Lesson for BoundingVolumesLesson {
-    fn stage(&self) -> &Stage {
-        &self.stage
-    }
-
-    fn stage_mut(&mut self) -> &mut Stage {
-        &mut self.stage
-    }
+    crate::staged!(measured);
 
     fn update(&mut self) {
         let scene = &self.stage.scene;
@@ -297,6 +291,12 @@ impl Lesson for BoundingVolumesLesson {
                 palette::RAY,
             ),
         ]);
+        building_note(
+            ui,
+            &canvas,
+            self.measured.working_for(),
+            "the volumes and the fan",
+        );
         self.stage.scene.draw_footer(&canvas);
         canvas.finish();
     }

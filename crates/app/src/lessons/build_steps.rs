@@ -5,8 +5,6 @@
 //! which sorts once at the root), sweep each axis, then split or make a leaf for the reason
 //! the builder gives. Each sweep is the core's cost curve of that node: the same sweep.
 
-use std::sync::Arc;
-
 use accelviz_core::curve::{CostCurve, kd_curve};
 use accelviz_core::format::{count, number};
 use accelviz_core::{BuildRecorder, BuildStep, PrimitiveSet, Structure};
@@ -18,8 +16,8 @@ use crate::background::{Cached, Derived};
 use crate::canvas::{Labels, depth_color, faded, palette};
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
-use crate::stage::{SceneTree, Stage};
-use crate::views::scene_view::draw_shapes;
+use crate::stage::{SceneTree, Stage, request_over_shapes};
+use crate::views::scene_view::{building_note, draw_shapes};
 
 /// The lecture's two ways.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -234,34 +232,19 @@ impl BuildStepsLesson {
 }
 
 impl Lesson for BuildStepsLesson {
-    fn stage(&self) -> &Stage {
-        &self.stage
-    }
-
-    fn stage_mut(&mut self) -> &mut Stage {
-        &mut self.stage
-    }
+    crate::staged!(build);
 
     fn update(&mut self) {
         let scene = &self.stage.scene;
         let way = self.way;
-        self.build.request(
-            &(scene.shapes_revision, way),
-            scene.scene.shapes.shapes.len(),
-            || {
-                let shapes = Arc::new(scene.scene.shapes.clone());
-                let settings = scene.scene.settings;
-                move || {
-                    let mut recorder = BuildRecorder::default();
-                    let tree =
-                        SceneTree::build_observed(way.structure(), shapes, settings, &mut recorder);
-                    RecordedBuild {
-                        tree,
-                        steps: recorder.steps,
-                    }
-                }
-            },
-        );
+        request_over_shapes(&mut self.build, scene, way, move |shapes, settings| {
+            let mut recorder = BuildRecorder::default();
+            let tree = SceneTree::build_observed(way.structure(), shapes, settings, &mut recorder);
+            RecordedBuild {
+                tree,
+                steps: recorder.steps,
+            }
+        });
         let steps = self.steps().len();
         self.stage.timeline.set_len(steps);
         self.caption = match self.current() {
@@ -471,6 +454,10 @@ impl Lesson for BuildStepsLesson {
             ),
             Color32::WHITE,
         )]);
+        building_note(ui, &canvas, self.build.working_for(), "the tree");
+        if let Some(note) = tree.limits_note() {
+            canvas.note(&note);
+        }
         self.stage.scene.draw_footer(&canvas);
         canvas.finish();
     }

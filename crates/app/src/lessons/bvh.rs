@@ -4,8 +4,6 @@
 //! a tree diagram linked to the canvas both ways, and a node inspector (bounds, primitives,
 //! SAH cost, why it is a leaf: the core's facts and the builder's own reasons).
 
-use std::sync::Arc;
-
 use accelviz_core::curve::{CostCurve, node_curve};
 use accelviz_core::format::{count, number, point};
 use accelviz_core::{CATALOGUE, Family, PrimitiveSet, Ray, Structure};
@@ -17,13 +15,13 @@ use crate::background::{Cached, Derived};
 use crate::canvas::palette;
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
-use crate::stage::{SceneTree, Stage};
+use crate::stage::{SceneTree, Stage, request_tree};
 use crate::trace::{Trace, TraceState, describe_step, options_in};
 use crate::views::scene_view::{
-    draw_ray_colored, draw_tested_shapes, label_shapes, primitive_name,
+    building_note, draw_ray_colored, draw_tested_shapes, label_shapes, primitive_name, t_hint_ui,
 };
-use crate::views::tree_diagram::{DiagramLook, diagram_ui};
-use crate::views::tree_view::{TreeLook, draw_tree, node_under, traversal_emphasis};
+use crate::views::tree_diagram::diagram_ui;
+use crate::views::tree_view::{TreeLook, draw_tree, node_under};
 
 /// The second ray's colour when both are shown.
 const SECOND_RAY: Color32 = Color32::from_rgb(90, 220, 230);
@@ -161,22 +159,15 @@ impl BvhLesson {
             .get()
             .and_then(|traces| traces.first())
             .map_or(&[][..], |traced| traced.trace.shown(frame));
-        let emphasis = traversal_emphasis(shown, tree.built.facts.node_count());
         let label = |node: u32| node_name(tree, node);
-        let emphasis = |node: u32| emphasis[node as usize];
-        let hovered = diagram_ui(
+        diagram_ui(
             ui,
             &tree.built.facts,
-            &DiagramLook {
-                label: &label,
-                emphasis: &emphasis,
-                hovered: self.hovered,
-            },
+            &label,
+            shown,
+            &mut self.hovered,
             &mut self.selected,
         );
-        if hovered.is_some() {
-            self.hovered = hovered;
-        }
         ui.label(
             egui::RichText::new("Colour: depth; green entered, red missed or skipped. Hover a node to light its box; click to inspect it.")
                 .small()
@@ -241,24 +232,11 @@ impl BvhLesson {
 }
 
 impl Lesson for BvhLesson {
-    fn stage(&self) -> &Stage {
-        &self.stage
-    }
-
-    fn stage_mut(&mut self) -> &mut Stage {
-        &mut self.stage
-    }
+    crate::staged!(tree);
 
     fn update(&mut self) {
         let scene = &self.stage.scene;
-        let key = (scene.shapes_revision, self.structure);
-        let structure = self.structure;
-        self.tree
-            .request(&key, scene.scene.shapes.shapes.len(), || {
-                let shapes = Arc::new(scene.scene.shapes.clone());
-                let settings = scene.scene.settings;
-                move || SceneTree::build(structure, shapes, settings)
-            });
+        request_tree(&mut self.tree, scene, self.structure);
         let Some(tree) = self.tree.get().cloned() else {
             return;
         };
@@ -393,6 +371,7 @@ impl Lesson for BvhLesson {
         self.inspector_tree_ui(ui, &tree);
         ui.separator();
         self.node_ui(ui, &tree, self.tree.generation());
+        t_hint_ui(ui);
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
@@ -493,6 +472,7 @@ impl Lesson for BvhLesson {
             ),
         );
         canvas.caption(&lines);
+        building_note(ui, &canvas, self.tree.working_for(), "the BVH");
         self.stage.scene.draw_footer(&canvas);
         canvas.finish();
     }

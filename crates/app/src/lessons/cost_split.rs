@@ -3,8 +3,6 @@
 //! through the cluster, the SAH isolates the cluster and cuts the empty space off in big chunks.
 //! The empty leaves and their share of the scene are the core's `TreeStats`.
 
-use std::sync::Arc;
-
 use accelviz_core::format::number;
 use accelviz_core::{Family, Structure};
 use egui::{Color32, RichText};
@@ -14,7 +12,7 @@ use crate::canvas::faded;
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
-use crate::views::compare::{Comparison, LECTURE_RULES as RULES, rule_color};
+use crate::views::compare::{Comparison, LECTURE_RULES as RULES, request_comparison, rule_color};
 
 /// The colour of empty leaves: space cut off, where rays pass without a test.
 const EMPTY_COLOR: Color32 = Color32::from_rgb(90, 200, 140);
@@ -38,27 +36,13 @@ impl CostSplitLesson {
 }
 
 impl Lesson for CostSplitLesson {
-    fn stage(&self) -> &Stage {
-        &self.stage
-    }
-
-    fn stage_mut(&mut self) -> &mut Stage {
-        &mut self.stage
-    }
+    crate::staged!(comparison);
 
     fn update(&mut self) {
         let scene = &self.stage.scene;
         let family = self.family;
-        self.comparison.request(
-            &(scene.shapes_revision, family),
-            scene.scene.shapes.shapes.len(),
-            || {
-                let shapes = Arc::new(scene.scene.shapes.clone());
-                let settings = scene.scene.settings;
-                let structures = RULES.map(|rule| Structure::lecture(family, rule));
-                move || Comparison::build(&structures, shapes, settings)
-            },
-        );
+        let structures = RULES.map(|rule| Structure::lecture(family, rule));
+        request_comparison(&mut self.comparison, scene, family, structures);
     }
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui) {
@@ -131,16 +115,12 @@ impl Lesson for CostSplitLesson {
             ui.label("Building…");
             return;
         };
-        let titles: Vec<(String, Color32)> = RULES
-            .iter()
-            .zip(&comparison.trees)
-            .map(|(rule, tree)| (tree.built.structure.name(), rule_color(*rule)))
-            .collect();
-        let canvases = comparison.panes_ui(
+        comparison.panes_ui(
             ui,
             &mut self.stage.scene,
+            self.comparison.working_for(),
             height,
-            &titles,
+            |pane| rule_color(RULES[pane]),
             |pane, canvas| {
                 let tree = &comparison.trees[pane];
                 let facts = &tree.built.facts;
@@ -159,20 +139,5 @@ impl Lesson for CostSplitLesson {
                 canvas.draw_batch(batch);
             },
         );
-        if let Some(working) = self.comparison.working_for() {
-            if let Some(canvas) = canvases.first() {
-                canvas.note(&format!(
-                    "Building the three trees… {:.1} s",
-                    working.as_secs_f64()
-                ));
-            }
-            ui.ctx().request_repaint();
-        }
-        for canvas in &canvases {
-            self.stage.scene.interact(ui, canvas);
-        }
-        if let Some(canvas) = canvases.last() {
-            self.stage.scene.draw_footer(canvas);
-        }
     }
 }

@@ -17,11 +17,11 @@ use crate::background::{Cached, Derived};
 use crate::canvas::{Canvas, faded, palette};
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
-use crate::stage::{SceneTree, Stage};
+use crate::stage::{SceneTree, Stage, request_tree};
 use crate::trace::Trace;
-use crate::views::scene_view::{draw_ray, draw_tested_shapes};
-use crate::views::tree_diagram::{DiagramLook, diagram_ui};
-use crate::views::tree_view::{TreeLook, draw_tree, node_outline, node_under, traversal_emphasis};
+use crate::views::scene_view::{building_note, draw_ray, draw_tested_shapes, t_hint_ui};
+use crate::views::tree_diagram::diagram_ui;
+use crate::views::tree_view::{TreeLook, draw_tree, node_outline, node_under};
 
 /// The lecture's pseudo-code, line by line.
 pub const PSEUDO_CODE: [&str; 9] = [
@@ -358,26 +358,11 @@ impl KdLesson {
 }
 
 impl Lesson for KdLesson {
-    fn stage(&self) -> &Stage {
-        &self.stage
-    }
-
-    fn stage_mut(&mut self) -> &mut Stage {
-        &mut self.stage
-    }
+    crate::staged!(tree);
 
     fn update(&mut self) {
         let scene = &self.stage.scene;
-        let structure = self.structure;
-        self.tree.request(
-            &(scene.shapes_revision, structure),
-            scene.scene.shapes.shapes.len(),
-            || {
-                let shapes = Arc::new(scene.scene.shapes.clone());
-                let settings = scene.scene.settings;
-                move || SceneTree::build(structure, shapes, settings)
-            },
-        );
+        request_tree(&mut self.tree, scene, self.structure);
         let Some(tree) = self.tree.get().cloned() else {
             return;
         };
@@ -476,28 +461,22 @@ impl Lesson for KdLesson {
         }
         let frame = self.stage.timeline.shown;
         let shown = self.trace.get().map_or(&[][..], |trace| trace.shown(frame));
-        let emphasis = traversal_emphasis(shown, tree.built.facts.node_count());
         let label = |node: u32| Self::node_label(&tree, node);
-        let emphasis = |node: u32| emphasis[node as usize];
-        let hovered = diagram_ui(
+        diagram_ui(
             ui,
             &tree.built.facts,
-            &DiagramLook {
-                label: &label,
-                emphasis: &emphasis,
-                hovered: self.hovered,
-            },
+            &label,
+            shown,
+            &mut self.hovered,
             &mut self.selected,
         );
-        if hovered.is_some() {
-            self.hovered = hovered;
-        }
         if let Some(reason) = self
             .selected
             .and_then(|node| tree.built.facts.leaf_reason(node))
         {
             ui.label(format!("Selected leaf: {reason}."));
         }
+        t_hint_ui(ui);
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
@@ -583,6 +562,10 @@ impl Lesson for KdLesson {
             ),
             ("rayFar: the part on the far side".to_owned(), FAR_COLOR),
         ]);
+        building_note(ui, &canvas, self.tree.working_for(), "the kD-tree");
+        if let Some(note) = tree.limits_note() {
+            canvas.note(&note);
+        }
         self.stage.scene.draw_footer(&canvas);
         canvas.finish();
     }

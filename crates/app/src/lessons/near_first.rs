@@ -6,8 +6,6 @@
 //! the core's, replayed; the closest hit is the closest so far. The answers stay hidden until
 //! asked for.
 
-use std::sync::Arc;
-
 use accelviz_core::format::{count, number};
 use accelviz_core::{Counters, Family, Order, SplitRule, Structure};
 use accelviz_scene::document::Scene2d;
@@ -18,9 +16,9 @@ use crate::background::{Cached, Derived};
 use crate::canvas::{Canvas, View2d};
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
-use crate::stage::{SceneTree, Stage};
+use crate::stage::{SceneTree, Stage, request_over_shapes};
 use crate::trace::{Trace, TraceState, describe_step, options_in};
-use crate::views::scene_view::{draw_ray, draw_tested_shapes};
+use crate::views::scene_view::{building_note, draw_ray, draw_tested_shapes, t_hint_ui};
 use crate::views::tree_view::{TreeLook, draw_tree};
 
 /// The two orders, in column order.
@@ -59,7 +57,7 @@ const COUNTER_ROWS: [(&str, CounterOf); 4] = [
 pub struct NearFirstLesson {
     stage: Stage,
     /// The kD-tree and the BVH, in [`FAMILIES`] order.
-    trees: Derived<u64, [SceneTree; 2]>,
+    trees: Derived<(u64, ()), [SceneTree; 2]>,
     /// By structure, then by order.
     traces: Cached<(u64, u64), [[Trace; 2]; 2]>,
     /// Which answers have been asked for.
@@ -135,6 +133,9 @@ impl NearFirstLesson {
             draw_ray(&canvas, &ray, state.closest.map(|(_, t)| t));
         }
         self.stage.scene.draw_handles(&canvas);
+        if let Some(note) = tree.limits_note() {
+            canvas.note(&note);
+        }
         let counters = state.counters;
         let progress = if state.done {
             ": done".to_owned()
@@ -169,33 +170,19 @@ impl NearFirstLesson {
 }
 
 impl Lesson for NearFirstLesson {
-    fn stage(&self) -> &Stage {
-        &self.stage
-    }
-
-    fn stage_mut(&mut self) -> &mut Stage {
-        &mut self.stage
-    }
+    crate::staged!(trees);
 
     fn update(&mut self) {
         let scene = &self.stage.scene;
-        self.trees.request(
-            &scene.shapes_revision,
-            scene.scene.shapes.shapes.len(),
-            || {
-                let shapes = Arc::new(scene.scene.shapes.clone());
-                let settings = scene.scene.settings;
-                move || {
-                    FAMILIES.map(|family| {
-                        SceneTree::build(
-                            Structure::lecture(family, SplitRule::Sah),
-                            shapes.clone(),
-                            settings,
-                        )
-                    })
-                }
-            },
-        );
+        request_over_shapes(&mut self.trees, scene, (), |shapes, settings| {
+            FAMILIES.map(|family| {
+                SceneTree::build(
+                    Structure::lecture(family, SplitRule::Sah),
+                    shapes.clone(),
+                    settings,
+                )
+            })
+        });
         let Some(trees) = self.trees.get().cloned() else {
             return;
         };
@@ -334,6 +321,7 @@ impl Lesson for NearFirstLesson {
             .small()
             .weak(),
         );
+        t_hint_ui(ui);
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
@@ -354,6 +342,14 @@ impl Lesson for NearFirstLesson {
         self.stage.scene.view = view;
         for canvas in &canvases {
             self.stage.scene.interact(ui, canvas);
+        }
+        if let Some(canvas) = canvases.first() {
+            building_note(
+                ui,
+                canvas,
+                self.trees.working_for(),
+                "the kD-tree and the BVH",
+            );
         }
         if let Some(canvas) = canvases.last() {
             self.stage.scene.draw_footer(canvas);

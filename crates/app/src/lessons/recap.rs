@@ -4,8 +4,6 @@
 //! cell they reach, cost more than they save? Presets show each case; any scene can be
 //! measured, and the verdict is written from the numbers.
 
-use std::sync::Arc;
-
 use accelviz_core::format::{count, number};
 use accelviz_core::{Family, SplitRule, Structure};
 use accelviz_scene::document::Scene2d;
@@ -16,7 +14,7 @@ use crate::canvas::palette;
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
-use crate::views::compare::Comparison;
+use crate::views::compare::{Comparison, request_comparison};
 
 /// The two structures, in pane order.
 pub const FAMILIES: [Family; 2] = [Family::Bvh, Family::Kd];
@@ -134,7 +132,7 @@ type FigureOf = fn(&Measured) -> String;
 /// The lesson.
 pub struct RecapLesson {
     stage: Stage,
-    comparison: Derived<u64, Comparison>,
+    comparison: Derived<(u64, ()), Comparison>,
 }
 
 impl RecapLesson {
@@ -162,26 +160,12 @@ impl RecapLesson {
 }
 
 impl Lesson for RecapLesson {
-    fn stage(&self) -> &Stage {
-        &self.stage
-    }
-
-    fn stage_mut(&mut self) -> &mut Stage {
-        &mut self.stage
-    }
+    crate::staged!(comparison);
 
     fn update(&mut self) {
         let scene = &self.stage.scene;
-        self.comparison.request(
-            &scene.shapes_revision,
-            scene.scene.shapes.shapes.len(),
-            || {
-                let shapes = Arc::new(scene.scene.shapes.clone());
-                let settings = scene.scene.settings;
-                let structures = FAMILIES.map(|family| Structure::lecture(family, SplitRule::Sah));
-                move || Comparison::build(&structures, shapes, settings)
-            },
-        );
+        let structures = FAMILIES.map(|family| Structure::lecture(family, SplitRule::Sah));
+        request_comparison(&mut self.comparison, scene, (), structures);
     }
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui) {
@@ -262,26 +246,13 @@ impl Lesson for RecapLesson {
             ui.label("Building…");
             return;
         };
-        let titles: Vec<(String, Color32)> = comparison
-            .trees
-            .iter()
-            .map(|tree| (tree.built.structure.name(), Color32::WHITE))
-            .collect();
-        let canvases = comparison.panes_ui(ui, &mut self.stage.scene, height, &titles, |_, _| {});
-        if let Some(working) = self.comparison.working_for() {
-            if let Some(canvas) = canvases.first() {
-                canvas.note(&format!(
-                    "Building both trees… {:.1} s",
-                    working.as_secs_f64()
-                ));
-            }
-            ui.ctx().request_repaint();
-        }
-        for canvas in &canvases {
-            self.stage.scene.interact(ui, canvas);
-        }
-        if let Some(canvas) = canvases.last() {
-            self.stage.scene.draw_footer(canvas);
-        }
+        comparison.panes_ui(
+            ui,
+            &mut self.stage.scene,
+            self.comparison.working_for(),
+            height,
+            |_| Color32::WHITE,
+            |_, _| {},
+        );
     }
 }

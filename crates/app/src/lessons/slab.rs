@@ -15,7 +15,7 @@ use crate::canvas::{Canvas, Labels, faded, palette};
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
-use crate::views::scene_view::{draw_ray, draw_shapes};
+use crate::views::scene_view::{draw_ray, draw_shapes, t_hint_ui};
 
 /// The two slabs in the slide's table order: name, the axis whose interval it gives, and its
 /// colour. The horizontal slab lies between two horizontal lines, so it bounds y.
@@ -188,13 +188,7 @@ impl SlabLesson {
 }
 
 impl Lesson for SlabLesson {
-    fn stage(&self) -> &Stage {
-        &self.stage
-    }
-
-    fn stage_mut(&mut self) -> &mut Stage {
-        &mut self.stage
-    }
+    crate::staged!();
 
     fn caption(&self) -> Option<String> {
         let step = self.stage.timeline.shown.min(STEP_CAPTIONS.len() - 1);
@@ -268,13 +262,7 @@ impl Lesson for SlabLesson {
                 point(&[bounds.max.x, bounds.max.y]),
             ));
         }
-        ui.label(
-            egui::RichText::new(
-                "t depends on the arrow's length: t = 1 at the arrow's head. Drag the head to halve d and every t doubles; hit or miss stays.",
-            )
-            .small()
-            .weak(),
-        );
+        t_hint_ui(ui);
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
@@ -299,7 +287,6 @@ impl Lesson for SlabLesson {
         let record = self.record();
         let shown = self.stage.timeline.shown;
         let ray = self.stage.scene.ray();
-        let mut labels = Labels::new(canvas.rect.shrink(4.0));
         if let (Some((bounds, record)), Ok(ray)) = (record, &ray) {
             // The slab lines across the canvas, in the order the steps reveal them.
             let visible = canvas.rect;
@@ -352,7 +339,6 @@ impl Lesson for SlabLesson {
                 let short = if *axis == 1 { "horizontal" } else { "vertical" };
                 let _ = name;
                 canvas.ray_mark_labeled(
-                    &mut labels,
                     ray.origin,
                     ray.direction,
                     t_near,
@@ -361,7 +347,6 @@ impl Lesson for SlabLesson {
                     1.0,
                 );
                 canvas.ray_mark_labeled(
-                    &mut labels,
                     ray.origin,
                     ray.direction,
                     t_far,
@@ -372,7 +357,6 @@ impl Lesson for SlabLesson {
             }
             if shown >= 3 {
                 canvas.ray_mark_labeled(
-                    &mut labels,
                     ray.origin,
                     ray.direction,
                     record.t_enter,
@@ -383,7 +367,6 @@ impl Lesson for SlabLesson {
             }
             if shown >= 4 {
                 canvas.ray_mark_labeled(
-                    &mut labels,
                     ray.origin,
                     ray.direction,
                     record.t_exit,
@@ -403,7 +386,7 @@ impl Lesson for SlabLesson {
         }
         self.stage.scene.draw_handles(&canvas);
         canvas.finish();
-        let mut rects = vec![labels.placed().to_vec()];
+        let mut rects = vec![canvas.placed_labels()];
         if let Some((_, record)) = record {
             rects.push(number_lines_ui(ui, &record, shown, number_lines_height));
         }

@@ -5,8 +5,6 @@
 //! candidate selects it and ghosts its split in the SAH pane. Where a rule cuts on the other
 //! axis than the one plotted, its cost still shows, as a dashed level.
 
-use std::sync::Arc;
-
 use accelviz_core::curve::{Candidate, CostCurve, Mark, node_curve};
 use accelviz_core::format::number;
 use accelviz_core::{Aabb, Family, PrimitiveSet, SplitRule, Structure};
@@ -21,7 +19,7 @@ use crate::canvas::{Canvas, faded, palette};
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::{SceneTree, Stage};
-use crate::views::compare::{Comparison, LECTURE_RULES as RULES, rule_color};
+use crate::views::compare::{Comparison, LECTURE_RULES as RULES, request_comparison, rule_color};
 
 /// The SAH pane: where the selected node lives.
 const SAH_PANE: usize = 2;
@@ -308,27 +306,13 @@ pub fn formula_text(candidate: &Candidate, curve: &CostCurve, family: Family) ->
 }
 
 impl Lesson for SplitsLesson {
-    fn stage(&self) -> &Stage {
-        &self.stage
-    }
-
-    fn stage_mut(&mut self) -> &mut Stage {
-        &mut self.stage
-    }
+    crate::staged!(comparison);
 
     fn update(&mut self) {
         let scene = &self.stage.scene;
         let family = self.family;
-        self.comparison.request(
-            &(scene.shapes_revision, family),
-            scene.scene.shapes.shapes.len(),
-            || {
-                let shapes = Arc::new(scene.scene.shapes.clone());
-                let settings = scene.scene.settings;
-                let structures = RULES.map(|rule| Structure::lecture(family, rule));
-                move || Comparison::build(&structures, shapes, settings)
-            },
-        );
+        let structures = RULES.map(|rule| Structure::lecture(family, rule));
+        request_comparison(&mut self.comparison, scene, family, structures);
         let generation = self.comparison.generation();
         let Some(comparison) = self.comparison.get().cloned() else {
             return;
@@ -502,19 +486,15 @@ impl Lesson for SplitsLesson {
             ui.label("Building…");
             return;
         };
-        let titles: Vec<(String, Color32)> = RULES
-            .iter()
-            .zip(&comparison.trees)
-            .map(|(rule, tree)| (tree.built.structure.name(), rule_color(*rule)))
-            .collect();
         let node = self.node;
         let selected = self.selected;
         let family = self.family;
-        let canvases = comparison.panes_ui(
+        comparison.panes_ui(
             ui,
             &mut self.stage.scene,
+            self.comparison.working_for(),
             pane_height,
-            &titles,
+            |pane| rule_color(RULES[pane]),
             |pane, canvas| {
                 // The selected node, and the ghost of the selected candidate, in the SAH pane.
                 if pane == SAH_PANE
@@ -528,21 +508,6 @@ impl Lesson for SplitsLesson {
                 }
             },
         );
-        if let Some(working) = self.comparison.working_for() {
-            if let Some(canvas) = canvases.first() {
-                canvas.note(&format!(
-                    "Building the three trees… {:.1} s",
-                    working.as_secs_f64()
-                ));
-            }
-            ui.ctx().request_repaint();
-        }
-        for canvas in &canvases {
-            self.stage.scene.interact(ui, canvas);
-        }
-        if let Some(canvas) = canvases.last() {
-            self.stage.scene.draw_footer(canvas);
-        }
         ui.add_space(4.0);
         let plot_height = (ui.available_height() - 8.0).max(80.0);
         ui.allocate_ui(Vec2::new(ui.available_width(), plot_height), |ui| {

@@ -18,10 +18,10 @@ use crate::background::{Cached, Derived};
 use crate::canvas::palette;
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
-use crate::stage::{SceneTree, Stage};
+use crate::stage::{SceneTree, Stage, request_over_shapes};
 use crate::trace::{Trace, describe_step};
 use crate::views::compare::measured_rays;
-use crate::views::scene_view::{draw_ray, draw_tested_shapes};
+use crate::views::scene_view::{building_note, draw_ray, draw_tested_shapes, t_hint_ui};
 
 /// The scene sizes of the growth curve.
 const GROWTH_SIZES: [usize; 6] = [16, 64, 256, 1_024, 4_096, 16_384];
@@ -92,7 +92,7 @@ pub struct TrivialLoop {
     stage: Stage,
     trace: Cached<u64, Trace>,
     growth: Cached<(), Vec<GrowthPoint>>,
-    current: Derived<u64, CurrentScene>,
+    current: Derived<(u64, ()), CurrentScene>,
 }
 
 impl TrivialLoop {
@@ -214,13 +214,7 @@ impl TrivialLoop {
 }
 
 impl Lesson for TrivialLoop {
-    fn stage(&self) -> &Stage {
-        &self.stage
-    }
-
-    fn stage_mut(&mut self) -> &mut Stage {
-        &mut self.stage
-    }
+    crate::staged!(current);
 
     fn update(&mut self) {
         let scene = &self.stage.scene;
@@ -231,13 +225,7 @@ impl Lesson for TrivialLoop {
                 Err(_) => Trace::default(),
             });
         self.stage.timeline.set_len(trace.frames());
-        let shapes = &scene.scene.shapes;
-        let settings = scene.scene.settings;
-        self.current
-            .request(&scene.shapes_revision, shapes.len(), || {
-                let shapes = Arc::new(shapes.clone());
-                move || growth_point(shapes, settings)
-            });
+        request_over_shapes(&mut self.current, scene, (), growth_point);
     }
 
     fn caption(&self) -> Option<String> {
@@ -270,11 +258,7 @@ impl Lesson for TrivialLoop {
             });
         }
         ui.label("Every ray tests every primitive, hit or not: n tests per ray, n·m for m rays.");
-        ui.label(
-            egui::RichText::new("t is measured in arrow lengths: t = 1 at the arrow's head.")
-                .small()
-                .weak(),
-        );
+        t_hint_ui(ui);
         ui.separator();
         ui.heading("Tests per ray as n grows");
         self.plot_ui(ui);
@@ -324,6 +308,12 @@ impl Lesson for TrivialLoop {
             ),
             Color32::WHITE,
         )]);
+        building_note(
+            ui,
+            &canvas,
+            self.current.working_for(),
+            "the BVH of this scene",
+        );
         self.stage.scene.draw_footer(&canvas);
         canvas.finish();
     }

@@ -9,10 +9,11 @@ use accelviz_scene::rng::SplitMix64;
 use egui::{Color32, Vec2};
 use glam::DVec2;
 
+use crate::background::Derived;
 use crate::canvas::{Canvas, View2d, palette};
 use crate::editor::EditableScene;
-use crate::stage::SceneTree;
-use crate::views::scene_view::draw_shapes;
+use crate::stage::{SceneTree, request_over_shapes};
+use crate::views::scene_view::{building_note, draw_shapes};
 use crate::views::tree_view::{TreeLook, draw_tree};
 
 /// The lecture's three rules, in pane order.
@@ -101,16 +102,18 @@ impl Comparison {
         lines
     }
 
-    /// The panes side by side, sharing one view, each titled by `titles` and drawn by
-    /// `overlay` after its tree; returns their canvases for editing.
+    /// The panes side by side, sharing one view, each titled with its structure's name in
+    /// `title_color(pane)` and drawn by `overlay` after its tree; the user's edits on any pane
+    /// go to `scene`. While a newer comparison is `working`, the first pane says so.
     pub fn panes_ui(
         &self,
         ui: &mut egui::Ui,
         scene: &mut EditableScene,
+        working: Option<std::time::Duration>,
         height: f32,
-        titles: &[(String, Color32)],
+        title_color: impl Fn(usize) -> Color32,
         overlay: impl Fn(usize, &Canvas),
-    ) -> Vec<Canvas> {
+    ) {
         let panes = self.trees.len().max(1);
         let gap = 6.0;
         let width = (ui.available_width() - gap * (panes - 1) as f32) / panes as f32;
@@ -139,8 +142,7 @@ impl Comparison {
                             },
                         );
                         overlay(pane, &canvas);
-                        let mut lines: Vec<(String, Color32)> =
-                            titles.get(pane).cloned().into_iter().collect();
+                        let mut lines = vec![(tree.built.structure.name(), title_color(pane))];
                         lines.extend(
                             self.summary(pane)
                                 .into_iter()
@@ -154,8 +156,29 @@ impl Comparison {
             })
             .inner;
         scene.view = view;
-        canvases
+        if let Some(canvas) = canvases.first() {
+            building_note(ui, canvas, working, "the trees");
+        }
+        for canvas in &canvases {
+            scene.interact(ui, canvas);
+        }
+        if let Some(canvas) = canvases.last() {
+            scene.draw_footer(canvas);
+        }
     }
+}
+
+/// Asks `derived` for the comparison of `structures` over the scene, for the lesson's
+/// `choice` (see [`request_over_shapes`]).
+pub fn request_comparison<C: Clone + PartialEq + Send + 'static, const N: usize>(
+    derived: &mut Derived<(u64, C), Comparison>,
+    scene: &EditableScene,
+    choice: C,
+    structures: [Structure; N],
+) {
+    request_over_shapes(derived, scene, choice, move |shapes, settings| {
+        Comparison::build(&structures, shapes, settings)
+    });
 }
 
 /// Seeded rays from a circle around the shapes to random points in their box.

@@ -4,7 +4,7 @@ use accelviz_core::{Ray, ShapeSet, Step};
 use egui::{Color32, Stroke};
 use glam::DVec2;
 
-use crate::canvas::{BATCH_ABOVE, Canvas, Labels, faded, palette};
+use crate::canvas::{BATCH_ABOVE, Canvas, faded, palette};
 
 /// The fill of a shape nobody is looking at, readable on either theme.
 pub fn shape_fill(ui: &egui::Ui) -> Color32 {
@@ -117,23 +117,40 @@ pub fn label_shapes(ui: &egui::Ui, canvas: &Canvas, shapes: &ShapeSet<DVec2>) {
     if count > 26 {
         return;
     }
-    let mut labels = Labels::new(canvas.rect.shrink(2.0));
     for (index, shape) in shapes.shapes.iter().enumerate() {
         let bounds = shape.bounds();
-        let corner = canvas.to_screen(DVec2::new(bounds.max.x, bounds.max.y));
-        labels.place(
-            &canvas.painter,
+        canvas.label(
+            DVec2::new(bounds.max.x, bounds.max.y),
             &primitive_name(index as u32, count),
-            egui::FontId::proportional(14.0),
             ui.visuals().strong_text_color(),
-            corner,
-            &[
-                egui::vec2(8.0, -8.0),
-                egui::vec2(-8.0, -8.0),
-                egui::vec2(8.0, 8.0),
-                egui::vec2(-8.0, 8.0),
-            ],
-            None,
         );
+    }
+}
+
+/// The hint every lesson that shows `t` gives once, under its numbers.
+pub fn t_hint_ui(ui: &mut egui::Ui) {
+    ui.label(
+        egui::RichText::new(
+            "t is measured in arrow lengths: the ray is r(t) = p + t·d, with t = 1 at the arrow's head. Drag the head to change d, and every t changes with it.",
+        )
+        .small()
+        .weak(),
+    );
+}
+
+/// Says on the canvas that a newer build is being made (what is drawn is the last one) and
+/// keeps the frames coming until it is done.
+pub fn building_note(
+    ui: &egui::Ui,
+    canvas: &Canvas,
+    working_for: Option<std::time::Duration>,
+    what: &str,
+) {
+    if let Some(working) = working_for {
+        canvas.note(&format!(
+            "Building {what}… {:.1} s (the last build is shown until then)",
+            working.as_secs_f64()
+        ));
+        ui.ctx().request_repaint();
     }
 }

@@ -4,11 +4,11 @@
 //! both ways. Levels too crowded to tell nodes apart are left out and the diagram says so;
 //! labels sit on plates, never on each other, and only where they fit.
 
-use accelviz_core::TreeFacts;
+use accelviz_core::{Step, TreeFacts};
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, Vec2};
 use glam::DVec2;
 
-use crate::canvas::{Labels, depth_color, palette};
+use crate::canvas::{Labels, depth_color, faded, palette};
 
 /// Each shown node's column (in leaf widths) when the tree is cut at `bottom`: nodes at that
 /// depth count as leaves. Depth first, left to right: leaves take the next column, parents
@@ -39,27 +39,22 @@ fn columns(facts: &TreeFacts<DVec2>, bottom: usize) -> (Vec<f32>, usize) {
     (column, leaves)
 }
 
-/// What the diagram shows of each node.
-pub struct DiagramLook<'a> {
-    /// A node's label.
-    pub label: &'a dyn Fn(u32) -> String,
-    /// A node's highlight colour (visited, skipped), if any.
-    pub emphasis: &'a dyn Fn(u32) -> Option<Color32>,
-    /// The node lit from the canvas.
-    pub hovered: Option<u32>,
-}
-
-/// Draws the diagram at the available width. Returns the node under the pointer; a click on a
-/// node selects it.
+/// Draws the diagram at the available width, each node named by `label` and coloured by what
+/// the traversal's `steps` did to it (green entered, red missed or skipped). Linked to the
+/// canvas both ways: `hovered` (lit from the canvas) is lit here and set to the node under the
+/// pointer; a click selects a node.
 pub fn diagram_ui(
     ui: &mut egui::Ui,
     facts: &TreeFacts<DVec2>,
-    look: &DiagramLook,
+    label: &dyn Fn(u32) -> String,
+    steps: &[Step<f64>],
+    hovered: &mut Option<u32>,
     selected: &mut Option<u32>,
-) -> Option<u32> {
+) {
     if facts.node_count() == 0 {
-        return None;
+        return;
     }
+    let emphasis = traversal_emphasis(steps, facts.node_count());
     let row_height = 36.0;
     let width = ui.available_width().max(120.0);
     // Levels too crowded to tell nodes apart (a few points each) are left out.
@@ -111,10 +106,10 @@ pub fn diagram_ui(
     for node in (0..facts.node_count() as u32).filter(|&node| visible(node)) {
         let center = position(node);
         let base = depth_color(facts.depth[node as usize] as usize);
-        let fill = (look.emphasis)(node).unwrap_or(base);
+        let fill = emphasis[node as usize].unwrap_or(base);
         painter.circle_filled(center, radius, fill);
         labels.reserve(Rect::from_center_size(center, Vec2::splat(radius * 2.0)));
-        let lit = look.hovered == Some(node) || *selected == Some(node);
+        let lit = *hovered == Some(node) || *selected == Some(node);
         if lit {
             let color = if *selected == Some(node) {
                 palette::CURRENT
@@ -135,7 +130,7 @@ pub fn diagram_ui(
         for node in (0..facts.node_count() as u32).filter(|&node| visible(node)) {
             labels.place(
                 &painter,
-                &(look.label)(node),
+                &label(node),
                 FontId::proportional(11.0),
                 ui.visuals().text_color(),
                 position(node),
@@ -165,9 +160,34 @@ pub fn diagram_ui(
         *selected = under_pointer.or(*selected);
     }
     if let Some(node) = under_pointer {
-        response.on_hover_text((look.label)(node));
+        *hovered = Some(node);
+        response.on_hover_text(label(node));
     }
-    under_pointer
+}
+
+/// A tree node's colour after the steps shown: green if it was entered, red if its box was
+/// missed, the ray does not reach its cell, or it was skipped.
+pub fn traversal_emphasis(steps: &[Step<f64>], node_count: usize) -> Vec<Option<Color32>> {
+    let missed = faded(palette::MISS, 200);
+    let mut emphasis = vec![None; node_count];
+    for step in steps {
+        let (node, color) = match *step {
+            Step::NodeEntered { node } | Step::CellEntered { node, .. } => (node, palette::HIT),
+            Step::BoxTested {
+                node, hit: false, ..
+            }
+            | Step::NodeCulled { node, .. }
+            | Step::CellMissed { node } => (node, missed),
+            _ => continue,
+        };
+        if let Some(entry) = emphasis.get_mut(node as usize) {
+            // A miss or a skip is final; an entry does not hide it.
+            if *entry != Some(missed) {
+                *entry = Some(color);
+            }
+        }
+    }
+    emphasis
 }
 
 #[cfg(test)]

@@ -218,31 +218,6 @@ pub fn node_under(
     }
 }
 
-/// A tree node's colour in a diagram after the steps shown: green if entered, red if its box
-/// was missed or it was skipped.
-pub fn traversal_emphasis(steps: &[Step<f64>], node_count: usize) -> Vec<Option<Color32>> {
-    let missed = faded(palette::MISS, 200);
-    let mut emphasis = vec![None; node_count];
-    for step in steps {
-        let (node, color) = match *step {
-            Step::NodeEntered { node } | Step::CellEntered { node, .. } => (node, palette::HIT),
-            Step::BoxTested {
-                node, hit: false, ..
-            }
-            | Step::NodeCulled { node, .. }
-            | Step::CellMissed { node } => (node, missed),
-            _ => continue,
-        };
-        if let Some(entry) = emphasis.get_mut(node as usize) {
-            // A miss or a skip is final; an entry does not hide it.
-            if *entry != Some(missed) {
-                *entry = Some(color);
-            }
-        }
-    }
-    emphasis
-}
-
 /// The world box a canvas should fit to show `tree` and the scene around it.
 pub fn tree_bounds(tree: &SceneTree) -> Aabb<DVec2> {
     tree.built.root_bounds()

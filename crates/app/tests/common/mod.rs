@@ -1,0 +1,49 @@
+//! What the app's integration tests share: a lesson's parsed file, and harnesses that draw a
+//! lesson or the whole app as the app does.
+
+#![allow(dead_code)] // Each test binary uses some of these.
+
+use accelviz_app::AccelvizApp;
+use accelviz_app::lesson::{Lesson, LessonText};
+use accelviz_app::registry::LESSONS;
+use egui_kittest::Harness;
+
+/// The parsed file of the lesson whose file name ends in `file`.
+pub fn lesson_text(file: &str) -> LessonText {
+    let entry = LESSONS
+        .iter()
+        .find(|entry| entry.path.ends_with(file))
+        .expect("lesson file is registered");
+    LessonText::parse(entry.embedded, entry.path).expect("lesson file parses")
+}
+
+/// One lesson with the app's panels around it, updated first as the app does (no renderer).
+pub fn lesson_harness<L: Lesson + 'static>(lesson: L) -> Harness<'static, L> {
+    Harness::builder()
+        .with_size(egui::vec2(1300.0, 800.0))
+        .build_ui_state(
+            |ui, lesson: &mut L| {
+                lesson.update();
+                let caption = lesson.caption();
+                egui::Panel::bottom("timeline").show(ui, |ui| {
+                    if let Some(caption) = caption {
+                        lesson.stage_mut().timeline.ui(ui, &caption);
+                    }
+                });
+                egui::Panel::right("inspector").show(ui, |ui| lesson.inspector_ui(ui));
+                egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
+            },
+            lesson,
+        )
+}
+
+/// The whole app at a projector-like size, rendered on the software adapter.
+pub fn app_harness() -> Harness<'static, AccelvizApp> {
+    Harness::builder()
+        .with_size(egui::vec2(1400.0, 860.0))
+        .wgpu()
+        .build_ui_state(
+            |ui, app: &mut AccelvizApp| app.contents_ui(ui),
+            AccelvizApp::new(),
+        )
+}
