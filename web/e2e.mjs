@@ -172,7 +172,10 @@ try {
   const stepped = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-step.png') }));
   check(differingShare(lesson, stepped) > 0.0005, `the step changed the picture (${(100 * differingShare(lesson, stepped)).toFixed(2)} % of pixels)`);
 
-  // Download the scene: "Save scene…" in the top bar (its place with lesson 4's title).
+  // Download the scene: "Save scene…" in the top bar (its place with lesson 4's title). The
+  // pointer rests on a button a moment before it clicks, as a person's does.
+  await page.mouse.move(564, 12);
+  await page.waitForTimeout(200);
   const [download] = await Promise.all([
     page.waitForEvent('download', { timeout: 10_000 }),
     page.mouse.click(564, 12),
@@ -185,6 +188,8 @@ try {
   const upload = '(shapes: [Disc(center: (20, 20), radius: 5), Box(min: (40, 40), max: (60, 50))],' +
     ' ray: (origin: (0, 0), toward: (1, 1)))';
   const file = { name: 'upload.ron', mimeType: 'text/plain', buffer: Buffer.from(upload) };
+  await page.mouse.move(370, 12);
+  await page.waitForTimeout(200);
   const [chooser] = await Promise.all([
     page.waitForEvent('filechooser', { timeout: 10_000 }),
     page.mouse.click(370, 12),

@@ -121,7 +121,6 @@ impl AccelvizApp {
         }
         egui::Panel::top("top bar").show(ui, |ui| self.top_bar_ui(ui));
         let selected = self.selected;
-        let mut position = (0, 0);
         let caption = self.lesson().and_then(|lesson| lesson.caption());
         if let (Some(caption), Some(lesson)) = (caption, self.lesson_mut()) {
             let timeline = &mut lesson.stage_mut().timeline;
@@ -130,7 +129,6 @@ impl AccelvizApp {
                 timeline.ui(ui, &caption);
                 ui.add_space(2.0);
             });
-            position = (timeline.shown, timeline.len);
         }
         egui::Panel::left("lessons")
             .resizable(false)
@@ -168,7 +166,7 @@ impl AccelvizApp {
             .response
             .rect;
         self.file_panel_ui(ui.ctx());
-        self.report_position(ui, position);
+        self.report_position(ui);
     }
 
     fn top_bar_ui(&mut self, ui: &mut Ui) {
@@ -336,7 +334,15 @@ impl AccelvizApp {
 
     /// Logs each change of lesson or step once (the browser test reads these lines) and puts
     /// them in the page title on the web.
-    fn report_position(&mut self, ui: &Ui, (shown, len): (usize, usize)) {
+    fn report_position(&mut self, ui: &Ui) {
+        // Read at the end of the frame: a click in the lesson list may have changed the lesson.
+        let (shown, len) = self
+            .lesson()
+            .filter(|lesson| lesson.caption().is_some())
+            .map_or((0, 0), |lesson| {
+                let timeline = &lesson.stage().timeline;
+                (timeline.shown, timeline.len)
+            });
         let selected = self.selected;
         if self.reported == Some((selected, shown, len)) {
             return;

@@ -1,7 +1,8 @@
 //! Work that can take a while (building three kD-trees over 100,000 shapes) runs on a worker
 //! thread on the desktop, so the UI keeps drawing the last result and says it is building.
-//! In the browser (no threads) and in tests the work is done at once, so a test sees the
-//! result in the frame that asked for it.
+//! The browser has no threads: there large work waits one frame, so the frame that asks can
+//! say "building…" before the page is busy. In tests the work is done at once, so a test
+//! sees the result in the frame that asked for it.
 //!
 //! A [`Derived`] value is remade when its key changes (the scene's revision, the lesson's
 //! choices). At most one job runs per value; a key that changes while it runs waits for it,
@@ -31,6 +32,11 @@ fn in_background(size: usize) -> bool {
     size >= AT_ONCE_BELOW && BACKGROUND.load(Ordering::Relaxed)
 }
 
+/// Whether work of `size` primitives waits a frame (the browser, which cannot run it aside).
+fn deferred(size: usize) -> bool {
+    size >= AT_ONCE_BELOW && cfg!(target_arch = "wasm32")
+}
+
 /// Work that makes a `T`.
 type Work<T> = Box<dyn FnOnce() -> T + Send>;
 
@@ -48,6 +54,8 @@ pub struct Derived<K, T> {
     generation: u64,
     running: Option<Job<K, T>>,
     waiting: Option<(K, Work<T>)>,
+    /// Work put off to the next frame (the browser), with when it was asked for.
+    put_off: Option<(K, Work<T>, Instant)>,
 }
 
 impl<K, T> Default for Derived<K, T> {
@@ -57,6 +65,7 @@ impl<K, T> Default for Derived<K, T> {
             generation: 0,
             running: None,
             waiting: None,
+            put_off: None,
         }
     }
 }
@@ -77,11 +86,19 @@ impl<K: Clone + PartialEq + Send + 'static, T: Send + Sync + 'static> Derived<K,
             || self
                 .waiting
                 .as_ref()
-                .is_some_and(|(waiting, _)| waiting == key);
+                .is_some_and(|(waiting, _)| waiting == key)
+            || self
+                .put_off
+                .as_ref()
+                .is_some_and(|(put_off, _, _)| put_off == key);
         if known {
             return;
         }
         let work: Work<T> = Box::new(work());
+        if deferred(size) {
+            self.put_off = Some((key.clone(), work, Instant::now()));
+            return;
+        }
         if !in_background(size) {
             // At once: anything running or waiting is for an older key.
             self.waiting = None;
@@ -96,8 +113,12 @@ impl<K: Clone + PartialEq + Send + 'static, T: Send + Sync + 'static> Derived<K,
         }
     }
 
-    /// Takes a finished job's result, and starts the waiting one.
+    /// Takes a finished job's result, and starts the waiting one; does work put off by the
+    /// frame before.
     pub fn poll(&mut self) {
+        if let Some((key, work, _)) = self.put_off.take() {
+            self.set(key, work());
+        }
         let Some(job) = &self.running else { return };
         match job.result.try_recv() {
             Ok(value) => {
@@ -156,9 +177,12 @@ impl<K: Clone + PartialEq + Send + 'static, T: Send + Sync + 'static> Derived<K,
         self.generation
     }
 
-    /// How long the running job has been working, if one is.
+    /// How long the running (or put off) job has been waited for, if one is.
     pub fn working_for(&self) -> Option<Duration> {
-        self.running.as_ref().map(|job| job.started.elapsed())
+        self.running
+            .as_ref()
+            .map(|job| job.started.elapsed())
+            .or_else(|| self.put_off.as_ref().map(|(_, _, asked)| asked.elapsed()))
     }
 }
 

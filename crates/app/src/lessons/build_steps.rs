@@ -17,7 +17,7 @@ use crate::canvas::{Labels, depth_color, faded, palette};
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::{SceneTree, Stage, request_over_shapes};
-use crate::views::scene_view::{building_note, draw_shapes};
+use crate::views::scene_view::{building_note, draw_shapes, narrow_x_axis};
 
 /// The lecture's two ways.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -333,7 +333,10 @@ impl Lesson for BuildStepsLesson {
             let [low, high] = curve.bounds[axis.min(2)];
             Plot::new("build sweep")
                 .height(190.0)
-                .x_axis_label(format!("split on {}", AXES[axis.min(1)]))
+                .custom_x_axes(vec![narrow_x_axis(&format!(
+                    "split on {}",
+                    AXES[axis.min(1)]
+                ))])
                 .y_axis_label("cost")
                 // The whole cell along the axis, so the numbers under the axis always show.
                 .include_x(low)
@@ -448,8 +451,11 @@ impl Lesson for BuildStepsLesson {
             .count();
         canvas.caption(&[(
             format!(
-                "{} nodes started, {} split so far",
-                count(built_nodes),
+                "{} started, {} split so far",
+                match built_nodes {
+                    1 => "1 node".to_owned(),
+                    nodes => format!("{} nodes", count(nodes)),
+                },
                 count(split.len())
             ),
             Color32::WHITE,

@@ -354,6 +354,7 @@ impl Lesson for BvhLesson {
                 {
                     self.use_ray(first);
                 }
+                self.stage.scene.view.placed = false;
             }
         });
         let mut leaf_size = self.stage.scene.scene.settings.max_leaf_size;
@@ -375,7 +376,18 @@ impl Lesson for BvhLesson {
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
-        let canvas = self.stage.scene.canvas_ui(ui, None);
+        // With both rays shown, the view fits the second one too.
+        let second_ray = self.both_rays.then(|| {
+            self.named_rays().iter().skip(1).fold(
+                accelviz_core::Aabb::empty(),
+                |bounds, (_, ray)| {
+                    bounds
+                        .grown(DVec2::new(ray.origin.0, ray.origin.1))
+                        .grown(DVec2::new(ray.toward.0, ray.toward.1))
+                },
+            )
+        });
+        let canvas = self.stage.scene.canvas_ui(ui, second_ray);
         let Some(tree) = self.tree.get().cloned() else {
             return;
         };

@@ -21,7 +21,9 @@ use crate::lesson::{Lesson, LessonText};
 use crate::stage::{SceneTree, Stage, request_over_shapes};
 use crate::trace::{Trace, describe_step};
 use crate::views::compare::measured_rays;
-use crate::views::scene_view::{building_note, draw_ray, draw_tested_shapes, t_hint_ui};
+use crate::views::scene_view::{
+    building_note, draw_ray, draw_tested_shapes, narrow_x_axis, t_hint_ui,
+};
 
 /// The scene sizes of the growth curve.
 const GROWTH_SIZES: [usize; 6] = [16, 64, 256, 1_024, 4_096, 16_384];
@@ -87,6 +89,17 @@ pub fn measure_growth() -> Vec<GrowthPoint> {
         .collect()
 }
 
+/// Grid lines at every power of ten of a log10 axis (and none between), so each is labelled.
+fn powers_of_ten(input: egui_plot::GridInput) -> Vec<GridMark> {
+    let (low, high) = input.bounds;
+    (low.ceil() as i32..=high.floor() as i32)
+        .map(|power| GridMark {
+            value: power as f64,
+            step_size: 1.0,
+        })
+        .collect()
+}
+
 /// The trivial loop, stepped.
 pub struct TrivialLoop {
     stage: Stage,
@@ -144,12 +157,13 @@ impl TrivialLoop {
             .height(220.0)
             .legend(Legend::default().position(egui_plot::Corner::LeftTop))
             // Room above the curves for the legend.
-            .x_axis_label("primitives n (log scale)")
+            .custom_x_axes(vec![
+                narrow_x_axis("primitives n (log scale)").formatter(power_of_ten),
+            ])
             .y_axis_label("tests per ray (log)")
-            .x_axis_formatter(power_of_ten)
             .y_axis_formatter(power_of_ten)
-            .x_grid_spacer(egui_plot::log_grid_spacer(10))
-            .y_grid_spacer(egui_plot::log_grid_spacer(10))
+            .x_grid_spacer(powers_of_ten)
+            .y_grid_spacer(powers_of_ten)
             .include_y(0.0)
             .include_y(6.6)
             .include_x(1.0)

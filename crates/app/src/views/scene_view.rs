@@ -154,3 +154,11 @@ pub fn building_note(
         ui.ctx().request_repaint();
     }
 }
+
+/// A plot's x axis labelled `label`, whose tick numbers show even in a narrow panel (egui_plot
+/// hides x numbers closer than 60 points apart, which in the inspector can hide them all).
+pub fn narrow_x_axis<'a>(label: &str) -> egui_plot::AxisHints<'a> {
+    egui_plot::AxisHints::new_x()
+        .label(label.to_owned())
+        .label_spacing(28.0..=40.0)
+}
