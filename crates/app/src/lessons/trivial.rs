@@ -75,7 +75,7 @@ fn growth_point(shapes: Arc<ShapeSet<DVec2>>, settings: SceneSettings) -> Curren
     CurrentScene { tree, point }
 }
 
-/// The growth curve over uniform scenes of [`GROWTH_SIZES`] shapes.
+/// The growth curve over uniform scenes of every size in `GROWTH_SIZES`.
 pub fn measure_growth() -> Vec<GrowthPoint> {
     GROWTH_SIZES
         .into_iter()
