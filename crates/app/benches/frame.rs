@@ -8,6 +8,10 @@ use accelviz_app::AccelvizApp;
 use accelviz_scene::document::{GeneratorEntry, LayoutEntry};
 use criterion::{Criterion, criterion_group, criterion_main};
 
+// The allocator the desktop app runs with, and why: `src/main.rs`.
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 fn frame(ctx: &egui::Context, app: &mut AccelvizApp) -> usize {
     app.tessellated_frame(ctx, egui::vec2(1400.0, 860.0)).len()
 }

@@ -1,5 +1,14 @@
 //! The `accelviz` binary: the desktop app, or the browser app when built for wasm32.
 
+// A frame of a large scene allocates and frees megabytes of meshes. glibc's allocator returns
+// them to the system or keeps them depending on what the process freed before (its dynamic
+// mmap and trim thresholds), so the same frame cost 4 ms in one build and 9 ms, with 1,900 page
+// faults a frame, in another (`benches/frame.rs`, 10k shapes). mimalloc keeps the cost
+// steady, as rerun's viewer does.
+#[cfg(not(target_arch = "wasm32"))]
+#[global_allocator]
+static ALLOCATOR: mimalloc::MiMalloc = mimalloc::MiMalloc;
+
 #[cfg(not(target_arch = "wasm32"))]
 fn main() -> std::process::ExitCode {
     let logger =
