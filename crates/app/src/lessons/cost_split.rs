@@ -12,7 +12,9 @@ use crate::canvas::faded;
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
-use crate::views::compare::{Comparison, LECTURE_RULES as RULES, request_comparison, rule_color};
+use crate::views::compare::{
+    Comparison, LECTURE_RULES as RULES, comparison_ui, request_comparison, rule_color,
+};
 
 /// The colour of empty leaves: space cut off, where rays pass without a test.
 const EMPTY_COLOR: Color32 = Color32::from_rgb(90, 200, 140);
@@ -111,18 +113,13 @@ impl Lesson for CostSplitLesson {
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
         self.stage.scene.toolbar_ui(ui);
         let height = ui.available_height();
-        let Some(comparison) = self.comparison.get().cloned() else {
-            ui.label("Building…");
-            return;
-        };
-        comparison.panes_ui(
+        comparison_ui(
             ui,
+            &self.comparison,
             &mut self.stage.scene,
-            self.comparison.working_for(),
             height,
             |pane| rule_color(RULES[pane]),
-            |pane, canvas| {
-                let tree = &comparison.trees[pane];
+            |_, tree, canvas| {
                 let facts = &tree.built.facts;
                 if tree.built.tree.family() != Family::Kd {
                     return;

@@ -14,7 +14,7 @@ use crate::canvas::palette;
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
-use crate::views::compare::{Comparison, request_comparison};
+use crate::views::compare::{Comparison, comparison_ui, request_comparison};
 
 /// The two structures, in pane order.
 pub const FAMILIES: [Family; 2] = [Family::Bvh, Family::Kd];
@@ -242,17 +242,13 @@ impl Lesson for RecapLesson {
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
         self.stage.scene.toolbar_ui(ui);
         let height = ui.available_height();
-        let Some(comparison) = self.comparison.get().cloned() else {
-            ui.label("Building…");
-            return;
-        };
-        comparison.panes_ui(
+        comparison_ui(
             ui,
+            &self.comparison,
             &mut self.stage.scene,
-            self.comparison.working_for(),
             height,
             |_| Color32::WHITE,
-            |_, _| {},
+            |_, _, _| {},
         );
     }
 }

@@ -19,7 +19,9 @@ use crate::canvas::{Canvas, faded, palette};
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::{SceneTree, Stage};
-use crate::views::compare::{Comparison, LECTURE_RULES as RULES, request_comparison, rule_color};
+use crate::views::compare::{
+    Comparison, LECTURE_RULES as RULES, comparison_ui, request_comparison, rule_color,
+};
 
 /// The SAH pane: where the selected node lives.
 const SAH_PANE: usize = 2;
@@ -482,23 +484,18 @@ impl Lesson for SplitsLesson {
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
         self.stage.scene.toolbar_ui(ui);
         let pane_height = (ui.available_height() * 0.55).max(120.0);
-        let Some(comparison) = self.comparison.get().cloned() else {
-            ui.label("Building…");
-            return;
-        };
         let node = self.node;
         let selected = self.selected;
         let family = self.family;
-        comparison.panes_ui(
+        comparison_ui(
             ui,
+            &self.comparison,
             &mut self.stage.scene,
-            self.comparison.working_for(),
             pane_height,
             |pane| rule_color(RULES[pane]),
-            |pane, canvas| {
+            |pane, tree, canvas| {
                 // The selected node, and the ghost of the selected candidate, in the SAH pane.
                 if pane == SAH_PANE
-                    && let Some(tree) = comparison.trees.get(SAH_PANE)
                     && let Some(node_box) = tree.built.facts.bounds.get(node as usize)
                 {
                     canvas.box_outline(node_box, Stroke::new(3.0, Color32::WHITE), None);

@@ -105,14 +105,14 @@ impl Comparison {
     /// The panes side by side, sharing one view, each titled with its structure's name in
     /// `title_color(pane)` and drawn by `overlay` after its tree; the user's edits on any pane
     /// go to `scene`. While a newer comparison is `working`, the first pane says so.
-    pub fn panes_ui(
+    fn panes_ui(
         &self,
         ui: &mut egui::Ui,
         scene: &mut EditableScene,
         working: Option<std::time::Duration>,
         height: f32,
         title_color: impl Fn(usize) -> Color32,
-        overlay: impl Fn(usize, &Canvas),
+        overlay: impl Fn(usize, &SceneTree, &Canvas),
     ) {
         let panes = self.trees.len().max(1);
         let gap = 6.0;
@@ -141,7 +141,7 @@ impl Comparison {
                                 ..TreeLook::default()
                             },
                         );
-                        overlay(pane, &canvas);
+                        overlay(pane, tree, &canvas);
                         let mut lines = vec![(tree.built.structure.name(), title_color(pane))];
                         lines.extend(
                             self.summary(pane)
@@ -164,6 +164,31 @@ impl Comparison {
         }
         if let Some(canvas) = canvases.last() {
             scene.draw_footer(canvas);
+        }
+    }
+}
+
+/// The panes of the comparison `derived` holds, `height` points high (as
+/// `Comparison::panes_ui` draws them), or a line saying it is building until the first build is done.
+pub fn comparison_ui<K: Clone + PartialEq + Send + 'static>(
+    ui: &mut egui::Ui,
+    derived: &Derived<K, Comparison>,
+    scene: &mut EditableScene,
+    height: f32,
+    title_color: impl Fn(usize) -> Color32,
+    overlay: impl Fn(usize, &SceneTree, &Canvas),
+) {
+    match derived.get() {
+        Some(comparison) => comparison.panes_ui(
+            ui,
+            scene,
+            derived.working_for(),
+            height,
+            title_color,
+            overlay,
+        ),
+        None => {
+            ui.label("Building…");
         }
     }
 }
