@@ -183,7 +183,7 @@ impl AccelvizApp {
                 .on_hover_text("Open a scene file (.ron) into this lesson")
                 .clicked()
             {
-                self.open_scene();
+                self.open_scene(ui.ctx());
             }
             if ui
                 .add_enabled(has_scene, egui::Button::new("Reset scene"))
@@ -241,8 +241,9 @@ impl AccelvizApp {
     }
 
     /// Opens a scene: the system's dialog, or the in-app panel when there is none.
-    pub fn open_scene(&mut self) {
-        match self.files.open() {
+    pub fn open_scene(&mut self, ctx: &egui::Context) {
+        log::info!("accelviz: asking for a scene file");
+        match self.files.open(ctx) {
             DialogOutcome::Done | DialogOutcome::Cancelled => {}
             DialogOutcome::Unavailable(reason) => {
                 log::warn!("accelviz: no file dialog: {reason}");

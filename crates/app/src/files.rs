@@ -308,15 +308,18 @@ impl FileChannel {
             .unwrap_or_default()
     }
 
-    fn push(&self, event: FileEvent) {
+    /// Leaves `event` for the next frame, and asks `ctx` for that frame: egui draws only
+    /// when something happens, and a file read in the background is not an input event.
+    fn push(&self, ctx: &egui::Context, event: FileEvent) {
         if let Ok(mut events) = self.events.lock() {
             events.push(event);
         }
+        ctx.request_repaint();
     }
 
     /// Asks the system's dialog for a scene file to open.
     #[cfg(not(target_arch = "wasm32"))]
-    pub fn open(&self) -> DialogOutcome {
+    pub fn open(&self, ctx: &egui::Context) -> DialogOutcome {
         let picked = run_dialog(|| {
             rfd::FileDialog::new()
                 .add_filter("accelviz scene", &["ron"])
@@ -324,7 +327,7 @@ impl FileChannel {
         });
         match picked {
             Ok(Some(path)) => {
-                self.push(read_scene_file(&path));
+                self.push(ctx, read_scene_file(&path));
                 DialogOutcome::Done
             }
             Ok(None) => DialogOutcome::Cancelled,
@@ -334,14 +337,16 @@ impl FileChannel {
 
     /// Asks the browser for a scene file to upload.
     #[cfg(target_arch = "wasm32")]
-    pub fn open(&self) -> DialogOutcome {
+    pub fn open(&self, ctx: &egui::Context) -> DialogOutcome {
         let channel = self.clone();
+        let ctx = ctx.clone();
         wasm_bindgen_futures::spawn_local(async move {
             let Some(file) = rfd::AsyncFileDialog::new()
                 .add_filter("accelviz scene", &["ron"])
                 .pick_file()
                 .await
             else {
+                log::info!("accelviz: no file chosen");
                 return;
             };
             let name = file.file_name();
@@ -358,7 +363,7 @@ impl FileChannel {
                     Err(_) => FileEvent::Failed(format!("{name}: the file is not UTF-8 text")),
                 }
             };
-            channel.push(event);
+            channel.push(&ctx, event);
         });
         DialogOutcome::Done
     }
