@@ -5,6 +5,7 @@
 //! status 2 and nothing on stdout: output is assembled whole and printed only on success.
 
 mod bench;
+mod heatmap;
 mod json;
 mod plot;
 mod sah;
@@ -45,6 +46,9 @@ enum Command {
     /// Every structure and every speed/accuracy switch on the same rays, against f64 brute
     /// force: a table (Markdown, CSV) and two SVG plots.
     Tradeoff(tradeoff::TradeoffArgs),
+    /// The cost of every pixel of the benchmark's camera (nodes visited, box tests or
+    /// primitive tests) as a PNG, with every pixel's counts as CSV if asked.
+    Heatmap(heatmap::HeatmapArgs),
 }
 
 /// Traversal order.
@@ -177,7 +181,7 @@ pub fn load_mesh(mesh: &str) -> Result<Mesh> {
         return accelviz_scene::builtin::by_name(name).with_context(|| {
             format!(
                 "unknown built-in mesh '{name}'; built-in meshes are: {}",
-                accelviz_scene::builtin::BUILTIN_NAMES.join(", ")
+                accelviz_scene::builtin::names().join(", ")
             )
         });
     }
@@ -242,6 +246,7 @@ fn run(cli: Cli) -> Result<String> {
         Some(Command::Bench(args)) => bench::run(&args),
         Some(Command::Sah(args)) => sah::run(&args),
         Some(Command::Tradeoff(args)) => tradeoff::run(&args),
+        Some(Command::Heatmap(args)) => heatmap::run(&args),
         None => bench::run(&bench::BenchArgs::default_run()),
     }
 }

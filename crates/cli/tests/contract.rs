@@ -600,3 +600,123 @@ fn tradeoff_writes_the_table_and_the_plots() {
     assert_fails(&["tradeoff", "--rays", "0"], "--rays must be at least 1");
     assert_fails(&["tradeoff", "--mesh", "/no/such.obj"], "/no/such.obj");
 }
+
+#[test]
+fn heatmap_totals_are_the_benchmarks_counts() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("contract-heatmap");
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("map.png").to_string_lossy().into_owned();
+    let csv = dir.join("map.csv").to_string_lossy().into_owned();
+    for (accel, order) in [("bvh:sah-binned", "near-first"), ("kd:sah", "file-order")] {
+        let bench = cli(&[
+            "bench", "--accel", accel, "--camera", "24x16", "--order", order, "--json",
+        ]);
+        assert!(bench.status.success(), "{}", stderr(&bench));
+        let bench: serde_json::Value = serde_json::from_str(stdout(&bench).trim()).unwrap();
+        let rays = bench["rays"].as_f64().unwrap();
+        for (counter, average) in [
+            ("nodes", "avg_nodes_visited"),
+            ("boxes", "avg_box_tests"),
+            ("prims", "avg_prims_tested"),
+        ] {
+            let output = cli(&[
+                "heatmap",
+                "--accel",
+                accel,
+                "--camera",
+                "24x16",
+                "--order",
+                order,
+                "--counter",
+                counter,
+                "--threads",
+                "2",
+                "--out",
+                &png,
+                "--csv",
+                &csv,
+                "--json",
+            ]);
+            assert!(output.status.success(), "{}", stderr(&output));
+            let value: serde_json::Value = serde_json::from_str(stdout(&output).trim()).unwrap();
+            let total = value["total"].as_u64().unwrap();
+            let expected = bench[average].as_f64().unwrap() * rays;
+            assert!(
+                (total as f64 - expected).abs() < 1e-6 * expected.max(1.0),
+                "{accel} {order} {counter}: heatmap {total}, bench {expected}"
+            );
+            for field in [
+                "accel", "width", "height", "counter", "order", "max", "mean", "ms",
+            ] {
+                assert!(value.get(field).is_some(), "{field} missing");
+            }
+            assert_eq!(
+                (value["width"].as_u64(), value["height"].as_u64()),
+                (Some(24), Some(16))
+            );
+            assert_eq!(value["counter"].as_str(), Some(counter));
+            assert_eq!(value["order"].as_str(), Some(order));
+            // The CSV has every pixel, and its column sums to the total.
+            let text = std::fs::read_to_string(&csv).unwrap();
+            let mut lines = text.lines();
+            assert_eq!(lines.next(), Some("x,y,nodes,boxes,prims"));
+            let column = ["nodes", "boxes", "prims"]
+                .iter()
+                .position(|c| *c == counter)
+                .unwrap();
+            let rows: Vec<Vec<u64>> = lines
+                .map(|line| line.split(',').map(|v| v.parse().unwrap()).collect())
+                .collect();
+            assert_eq!(rows.len(), 24 * 16);
+            assert_eq!(rows.iter().map(|row| row[2 + column]).sum::<u64>(), total);
+            assert_eq!(&rows[25][..2], &[1, 1]);
+            let image = std::fs::read(&png).unwrap();
+            assert_eq!(&image[1..4], b"PNG");
+        }
+    }
+}
+
+#[test]
+fn heatmap_bad_input_leaves_no_file() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("contract-heatmap-bad");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("map.png").to_string_lossy().into_owned();
+    let bad_mesh = file(
+        "truncated-normal.obj",
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 1\nf 1 2 3\n",
+    );
+    let missing_dir = dir
+        .join("missing")
+        .join("map.csv")
+        .to_string_lossy()
+        .into_owned();
+    let small = ["--camera", "8x8"];
+    let median = ["--accel", "bvh:median"];
+    let cases: [(Vec<&str>, &str); 5] = [
+        (
+            [&median[..], &small, &["--mesh", &bad_mesh]].concat(),
+            "truncated-normal.obj:4: a normal needs 3 numbers",
+        ),
+        (
+            [&median[..], &["--camera", "12"]].concat(),
+            "'12' is not WIDTHxHEIGHT",
+        ),
+        (
+            [&median[..], &small, &["--threads", "0"]].concat(),
+            "--threads must be at least 1",
+        ),
+        ([&small[..], &["--accel", "bvh:nope"]].concat(), "bvh:nope"),
+        (
+            [&median[..], &small, &["--csv", &missing_dir]].concat(),
+            "map.csv: cannot write the file",
+        ),
+    ];
+    for (extra, expected) in cases {
+        let mut args = vec!["heatmap", "--out", &png];
+        args.extend_from_slice(&extra);
+        assert_fails(&args, expected);
+        let left: Vec<_> = std::fs::read_dir(&dir).unwrap().collect();
+        assert!(left.is_empty(), "{extra:?} left {left:?}");
+    }
+}

@@ -21,6 +21,9 @@
 //! - [`structure`]: the catalogue of every structure (`bvh:middle` … `kd:sah-perfect`), built
 //!   into a [`Tree`]; [`build_observer`]: how a builder reports each node and why it made each
 //!   leaf; [`facts`]: what views show about a tree (boxes, cells, paths, depths), computed once.
+//! - [`camera`]: which ray goes through which pixel (the benchmark's camera rays, the app's
+//!   3D view and clicks); [`heatmap`]: every pixel's traversal cost, counted by the one
+//!   traversal.
 //!
 //! No file IO, no UI: this crate builds for `wasm32-unknown-unknown`.
 
@@ -29,9 +32,11 @@ pub mod bounding;
 pub mod brute;
 pub mod build_observer;
 pub mod bvh;
+pub mod camera;
 pub mod curve;
 pub mod facts;
 pub mod format;
+pub mod heatmap;
 pub mod kd;
 pub mod math;
 pub mod observer;

@@ -2,12 +2,14 @@
 //!
 //! Everything that turns the outside world into what `accelviz-core` takes: OBJ meshes read with
 //! tobj ([`obj`]), ray files and seeded ray generators ([`rays`]), built-in procedural meshes
-//! ([`builtin`]), 2D scenes ([`scene2d`]) and 2D scene documents in RON ([`document`]). Errors name the file, the line and the problem.
+//! ([`builtin`]), 2D scenes ([`scene2d`]) and 2D scene documents in RON ([`document`]); PNG images and files
+//! written whole or not at all ([`output`]). Errors name the file, the line and the problem.
 
 pub mod builtin;
 pub mod document;
 pub mod error;
 pub mod obj;
+pub mod output;
 pub mod rays;
 pub mod rng;
 pub mod scene2d;

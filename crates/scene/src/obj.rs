@@ -6,7 +6,7 @@
 //! silently or report without a place: malformed or non-finite coordinates and face indices
 //! out of range, each reported with its line.
 
-use std::io::BufReader;
+use std::io::BufRead;
 
 use crate::Mesh;
 use crate::error::{LoadError, read_text};
@@ -26,12 +26,20 @@ pub fn parse_obj(text: &str, path: &str) -> Result<Mesh, LoadError> {
         ignore_points: true,
         ignore_lines: true,
     };
-    // Materials are irrelevant here; `mtllib` lines are answered with "no such file".
-    let (models, _materials) =
-        tobj::load_obj_buf(&mut BufReader::new(text.as_bytes()), &options, |_| {
-            Err(tobj::LoadError::OpenFileFailed)
-        })
-        .map_err(|error| LoadError::in_file(path, format!("not a valid OBJ file: {error}")))?;
+    // Materials are irrelevant here; `mtllib` lines are answered with "no such file". tobj
+    // names no line in its errors, but it stops at the line it cannot read: the reader
+    // counts the lines tobj took.
+    let mut reader = LineCounter::new(text.as_bytes());
+    let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| {
+        Err(tobj::LoadError::OpenFileFailed)
+    })
+    .map_err(|error| {
+        LoadError::at_line(
+            path,
+            reader.current_line(),
+            format!("not a valid OBJ line: {error}"),
+        )
+    })?;
     let mut triangles = Vec::new();
     for model in &models {
         let positions = &model.mesh.positions;
@@ -89,8 +97,25 @@ fn check_lines(text: &str, path: &str) -> Result<usize, LoadError> {
                     )));
                 }
             }
-            "vt" | "vn" => {
-                counts[if keyword == "vt" { 1 } else { 2 }] += 1;
+            "vt" => {
+                counts[1] += 1;
+                // tobj reads u and v; w is optional.
+                if !matches!(values.len(), 2 | 3) {
+                    return Err(fail(format!(
+                        "a texture coordinate needs 2 numbers (u v, optionally w), found {}",
+                        values.len()
+                    )));
+                }
+                parse_numbers(&values, &fail)?;
+            }
+            "vn" => {
+                counts[2] += 1;
+                if values.len() != 3 {
+                    return Err(fail(format!(
+                        "a normal needs 3 numbers, found {}",
+                        values.len()
+                    )));
+                }
                 parse_numbers(&values, &fail)?;
             }
             "f" => {
@@ -109,6 +134,53 @@ fn check_lines(text: &str, path: &str) -> Result<usize, LoadError> {
         }
     }
     Ok(faces)
+}
+
+/// A reader that counts the lines its user has consumed, to name the line a parser that
+/// reports no place stopped at.
+struct LineCounter<'a> {
+    rest: &'a [u8],
+    complete_lines: usize,
+    inside_line: bool,
+}
+
+impl<'a> LineCounter<'a> {
+    fn new(text: &'a [u8]) -> Self {
+        Self {
+            rest: text,
+            complete_lines: 0,
+            inside_line: false,
+        }
+    }
+
+    /// The number (from 1) of the line the last byte consumed belongs to.
+    fn current_line(&self) -> usize {
+        self.complete_lines + usize::from(self.inside_line || self.complete_lines == 0)
+    }
+}
+
+impl std::io::Read for LineCounter<'_> {
+    fn read(&mut self, out: &mut [u8]) -> std::io::Result<usize> {
+        let count = out.len().min(self.rest.len());
+        out[..count].copy_from_slice(&self.rest[..count]);
+        self.consume(count);
+        Ok(count)
+    }
+}
+
+impl BufRead for LineCounter<'_> {
+    fn fill_buf(&mut self) -> std::io::Result<&[u8]> {
+        Ok(self.rest)
+    }
+
+    fn consume(&mut self, amount: usize) {
+        let (taken, rest) = self.rest.split_at(amount.min(self.rest.len()));
+        self.complete_lines += taken.iter().filter(|&&byte| byte == b'\n').count();
+        if let Some(&last) = taken.last() {
+            self.inside_line = last != b'\n';
+        }
+        self.rest = rest;
+    }
 }
 
 fn parse_numbers(
@@ -213,6 +285,21 @@ mod tests {
                 "x.obj:4: texture coordinate index 1",
             ),
             ("v 0 0 0\n", "x.obj: the file has no faces"),
+            (
+                "v 0 0 0\nvn 0 1\nv 1 0 0\n",
+                "x.obj:2: a normal needs 3 numbers, found 2",
+            ),
+            ("v 0 0 0\nvt 0.5\n", "x.obj:2: a texture coordinate needs 2"),
+            ("v 0 0 0\nvn 0 1 x\n", "x.obj:2: 'x' is not a number"),
+            // What only tobj rejects still names its line.
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\n# ok\nusemtl\nf 1 2 3\n",
+                "x.obj:5: not a valid OBJ line",
+            ),
+            (
+                "v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl",
+                "x.obj:4: not a valid OBJ line",
+            ),
         ];
         for (text, expected) in cases {
             let message = parse_obj(text, "x.obj").unwrap_err().to_string();

@@ -4,6 +4,7 @@
 //! is a comment, a blank line is skipped. The interval defaults to `[0, +inf)`; `tmax` may be
 //! `inf`.
 
+use accelviz_core::camera::bounding_sphere_of_box;
 use accelviz_core::{Aabb, Ray, RayError, Vector};
 use glam::{DVec3, Vec3};
 
@@ -119,15 +120,6 @@ pub fn parse_rays(text: &str, path: &str) -> Result<Vec<RaySpec>, LoadError> {
     Ok(rays)
 }
 
-/// The centre of `bounds` and half its diagonal (never zero, so a point-sized mesh still gets
-/// rays from outside).
-fn bounding_sphere_of_box(bounds: &Aabb<DVec3>) -> (DVec3, f64) {
-    (
-        bounds.center(),
-        (bounds.extent().length() * 0.5).max(f64::MIN_POSITIVE),
-    )
-}
-
 /// `count` random rays around `bounds`, the same for the same seed on every machine.
 ///
 /// Each ray starts on the sphere of radius `2r` around the box's centre (`r` half the box's
@@ -237,26 +229,19 @@ pub fn parse_resolution(text: &str) -> Result<(usize, usize), String> {
     }
 }
 
-/// Primary rays of a pinhole camera with a 45° vertical field of view, one through the centre
-/// of each of `width × height` pixels (row by row from the top left). The camera looks at the
-/// box's centre from the +z side, slightly raised, from far enough that the box fills the
-/// frame: coherent rays, as a renderer traces them.
+/// Primary rays of the benchmark's camera ([`accelviz_core::camera::Camera::framing`]: a 45°
+/// pinhole looking at the box's centre from the +z side, slightly raised, from far enough
+/// that the box fills the frame), one through the centre of each of `width × height` pixels
+/// (row by row from the top left): coherent rays, as a renderer traces them. The heat maps
+/// trace the same rays.
 pub fn camera_rays(bounds: &Aabb<DVec3>, width: usize, height: usize) -> Vec<RaySpec> {
-    let (center, radius) = bounding_sphere_of_box(bounds);
-    let half_fov = 22.5f64.to_radians();
-    let distance = radius / half_fov.sin();
-    let eye = center + DVec3::new(0.25, 0.35, 1.0).normalize() * distance;
-    let forward = (center - eye).normalize();
-    let right = forward.cross(DVec3::Y).normalize();
-    let up = right.cross(forward);
-    let half_height = half_fov.tan();
-    let half_width = half_height * width as f64 / height.max(1) as f64;
+    let camera = accelviz_core::camera::Camera::framing(bounds);
     let mut rays = Vec::with_capacity(width * height);
     for row in 0..height {
         for column in 0..width {
-            let x = ((column as f64 + 0.5) / width as f64 * 2.0 - 1.0) * half_width;
-            let y = (1.0 - (row as f64 + 0.5) / height as f64 * 2.0) * half_height;
-            rays.push(RaySpec::generated(eye, forward + right * x + up * y));
+            let (origin, direction) =
+                camera.ray_through(column as f64 + 0.5, row as f64 + 0.5, width, height);
+            rays.push(RaySpec::generated(origin, direction));
         }
     }
     rays

@@ -1,0 +1,174 @@
+//! `accelviz-cli heatmap`: the cost of every pixel of the benchmark's camera, as a PNG (and
+//! a CSV of every counter), for slides and for checking the app's heat maps.
+
+use std::path::Path;
+use std::time::Instant;
+
+use accelviz_core::camera::Camera;
+use accelviz_core::heatmap::{Counter, HeatMap};
+use accelviz_core::{TraversalStacks, TriangleSet, Vector3};
+use accelviz_scene::output::{encode_png, write_all_or_nothing};
+use anyhow::{Result, anyhow, bail};
+use clap::{Args, ValueEnum};
+
+use crate::json::JsonObject;
+use crate::spec::AccelSpec;
+use crate::{BuildArgs, Precision, TraceArgs, load_mesh};
+
+/// A counter as the command line spells it.
+#[derive(Clone, Copy, Debug, Default, ValueEnum, PartialEq, Eq)]
+pub enum CounterArg {
+    /// Nodes entered.
+    #[default]
+    Nodes,
+    /// Ray/box slab tests.
+    Boxes,
+    /// Ray/primitive tests.
+    Prims,
+}
+
+impl CounterArg {
+    fn counter(self) -> Counter {
+        match self {
+            CounterArg::Nodes => Counter::Nodes,
+            CounterArg::Boxes => Counter::Boxes,
+            CounterArg::Prims => Counter::Prims,
+        }
+    }
+}
+
+#[derive(Args, Debug)]
+pub struct HeatmapArgs {
+    /// The mesh: an OBJ file, or builtin:NAME (default: the built-in lumpy sphere).
+    #[arg(long, default_value = "builtin:lumpy-sphere")]
+    mesh: String,
+    /// The structure, e.g. bvh:sah-binned or kd:sah.
+    #[arg(long)]
+    accel: String,
+    /// The image size WIDTHxHEIGHT; the camera is `bench --camera`'s.
+    #[arg(long, default_value = "512x512")]
+    camera: String,
+    /// What each pixel shows.
+    #[arg(long, value_enum, default_value_t)]
+    counter: CounterArg,
+    /// Threads tracing rows of pixels.
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
+    /// The PNG to write (0 darkest, the image's maximum lightest).
+    #[arg(long)]
+    out: String,
+    /// Also write every pixel's counts: `x,y,nodes,boxes,prims`, one row per pixel.
+    #[arg(long)]
+    csv: Option<String>,
+    #[command(flatten)]
+    trace: TraceArgs,
+    #[command(flatten)]
+    build: BuildArgs,
+    /// One JSON object instead of a line of text.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(args: &HeatmapArgs) -> Result<String> {
+    let spec = AccelSpec::parse(&args.accel)?;
+    let params = args.build.params()?;
+    if args.threads == 0 {
+        bail!("--threads must be at least 1");
+    }
+    let (width, height) =
+        accelviz_scene::rays::parse_resolution(&args.camera).map_err(anyhow::Error::msg)?;
+    let mesh = load_mesh(&args.mesh)?;
+    let camera = Camera::framing(&mesh.bounds());
+    let started = Instant::now();
+    let map = match args.trace.precision {
+        Precision::F32 => trace::<glam::Vec3>(&spec, &params, &mesh, &camera, width, height, args),
+        Precision::F64 => trace::<glam::DVec3>(&spec, &params, &mesh, &camera, width, height, args),
+    };
+    let ms = started.elapsed().as_secs_f64() * 1e3;
+    let counter = args.counter.counter();
+    let summary = map.summary(counter);
+
+    let png = encode_png(width, height, &map.colors(counter, summary.max))
+        .map_err(|problem| anyhow!("{}: cannot make the image: {problem}", args.out))?;
+    let csv = args.csv.as_ref().map(|_| csv_of(&map));
+    let mut files: Vec<(&Path, &[u8])> = vec![(Path::new(&args.out), &png)];
+    if let (Some(path), Some(text)) = (&args.csv, &csv) {
+        files.push((Path::new(path), text.as_bytes()));
+    }
+    write_all_or_nothing(&files)?;
+
+    let order = match args.trace.options().order {
+        accelviz_core::Order::NearFirst => "near-first",
+        accelviz_core::Order::FileOrder => "file-order",
+    };
+    Ok(if args.json {
+        let object = JsonObject::new()
+            .string("accel", &spec.name())
+            .integer("width", width as u64)
+            .integer("height", height as u64)
+            .string("counter", counter.name())
+            .string("order", order)
+            .integer("total", summary.total)
+            .integer("max", u64::from(summary.max))
+            .number("mean", summary.mean)
+            .number("ms", ms)
+            .finish();
+        format!("{object}\n")
+    } else {
+        let also = args
+            .csv
+            .as_ref()
+            .map(|path| format!(" and {path}"))
+            .unwrap_or_default();
+        format!(
+            "{} on {} ({} triangles), {width}x{height} camera, {order}: {} per pixel: \
+             total {}, max {}, mean {:.2} ({ms:.1} ms); wrote {}{also}\n",
+            spec.name(),
+            mesh.name,
+            mesh.triangles.len(),
+            counter.label(),
+            summary.total,
+            summary.max,
+            summary.mean,
+            args.out
+        )
+    })
+}
+
+/// Builds the structure and traces every pixel with the benchmark's traversal.
+fn trace<V: Vector3>(
+    spec: &AccelSpec,
+    params: &accelviz_core::bvh::BuildParams,
+    mesh: &accelviz_scene::Mesh,
+    camera: &Camera,
+    width: usize,
+    height: usize,
+    args: &HeatmapArgs,
+) -> HeatMap {
+    let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
+    let (accel, _) = spec.build(&triangles, params);
+    let options = args.trace.options();
+    HeatMap::compute(
+        camera,
+        width,
+        height,
+        args.threads,
+        &|ray, stacks: &mut TraversalStacks<V::Scalar>, counters| {
+            accel.trace(ray, &options, stacks, counters);
+        },
+    )
+}
+
+/// `x,y,nodes,boxes,prims`, a header and one row per pixel.
+fn csv_of(map: &HeatMap) -> String {
+    let mut text = String::with_capacity(map.pixels.len() * 16 + 32);
+    text.push_str("x,y,nodes,boxes,prims\n");
+    for (index, cost) in map.pixels.iter().enumerate() {
+        let (x, y) = (index % map.width.max(1), index / map.width.max(1));
+        text.push_str(&format!(
+            "{x},{y},{},{},{}\n",
+            cost.nodes, cost.boxes, cost.prims
+        ));
+    }
+    text
+}
