@@ -26,7 +26,13 @@ fn app_on(lesson: &str, layout: LayoutEntry, count: usize) -> (egui::Context, Ac
         .iter()
         .position(|title| title.contains(lesson))
         .expect("the lesson");
-    let scene = &mut app.lesson_mut().expect("the lesson").stage_mut().scene;
+    let scene = &mut app
+        .lesson_mut()
+        .expect("the lesson")
+        .stage_mut()
+        .scene
+        .as_flat()
+        .expect("a 2D scene");
     scene.scene.settings.max_leaf_size = 2;
     scene.generator = GeneratorEntry {
         layout,

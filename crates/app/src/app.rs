@@ -1,10 +1,8 @@
 //! The app's frame: lessons on the left, the canvas in the middle, the inspector on the right,
 //! the timeline at the bottom, and a top bar to open and save scenes.
 
-use accelviz_scene::document::Scene2d;
 use egui::{RichText, Ui};
 
-use crate::editor::SceneOrigin;
 use crate::files::{DialogOutcome, FileChannel, FileEvent, FilePanel, PanelAction, PanelMode};
 use crate::lesson::Lesson;
 use crate::registry::{self, BrokenLesson};
@@ -107,11 +105,15 @@ impl AccelvizApp {
         self.apply_file_events();
         if let Some(lesson) = self.lesson_mut() {
             // A freshly generated scene gets the ray the lesson wants for it.
-            if lesson.stage_mut().scene.take_generated()
-                && let Some((origin, toward)) =
-                    lesson.place_generated_ray(&lesson.stage().scene.scene)
+            let generated = lesson
+                .stage_mut()
+                .scene
+                .as_flat()
+                .and_then(|scene| scene.take_generated().then(|| scene.scene.clone()));
+            if let Some(generated) = generated
+                && let Some((origin, toward)) = lesson.place_generated_ray(&generated)
+                && let Some(scene) = lesson.stage_mut().scene.as_flat()
             {
-                let scene = &mut lesson.stage_mut().scene;
                 scene.scene.ray_origin = origin;
                 scene.scene.ray_toward = toward;
                 scene.touch_ray();
@@ -177,27 +179,33 @@ impl AccelvizApp {
                 ui.label(RichText::new(lesson.text().title()).size(16.0));
             }
             ui.separator();
-            let has_scene = self.lesson().is_some();
+            let scene = self.lesson().map(|lesson| {
+                let scene = &lesson.stage().scene;
+                (scene.noun(), scene.save().is_some())
+            });
+            let has_scene = scene.is_some();
+            let (noun, can_save) = scene.unwrap_or(("scene", false));
             if ui
-                .add_enabled(has_scene, egui::Button::new("Open scene…"))
-                .on_hover_text("Open a scene file (.ron) into this lesson")
+                .add_enabled(has_scene, egui::Button::new(format!("Open {noun}…")))
+                .on_hover_text(format!("Open a {noun} file into this lesson"))
                 .clicked()
             {
                 self.open_scene(ui.ctx());
             }
             if ui
-                .add_enabled(has_scene, egui::Button::new("Reset scene"))
-                .on_hover_text("Back to the lesson's own scene")
+                .add_enabled(has_scene, egui::Button::new(format!("Reset {noun}")))
+                .on_hover_text(format!("Back to the lesson's own {noun}"))
                 .clicked()
                 && let Some(lesson) = self.lesson_mut()
             {
                 lesson.stage_mut().reset_scene();
                 self.status = None;
             }
-            if ui
-                .add_enabled(has_scene, egui::Button::new("Save scene…"))
-                .on_hover_text("Save this lesson's scene, ray and settings (.ron)")
-                .clicked()
+            if can_save
+                && ui
+                    .button(format!("Save {noun}…"))
+                    .on_hover_text(format!("Save this lesson's {noun}, ray and settings"))
+                    .clicked()
             {
                 self.save_scene();
             }
@@ -242,12 +250,15 @@ impl AccelvizApp {
 
     /// Opens a scene: the system's dialog, or the in-app panel when there is none.
     pub fn open_scene(&mut self, ctx: &egui::Context) {
-        log::info!("accelviz: asking for a scene file");
-        match self.files.open(ctx) {
+        let Some(filter) = self.lesson().map(|lesson| lesson.stage().scene.filter()) else {
+            return;
+        };
+        log::info!("accelviz: asking for a file to open");
+        match self.files.open(ctx, filter) {
             DialogOutcome::Done | DialogOutcome::Cancelled => {}
             DialogOutcome::Unavailable(reason) => {
                 log::warn!("accelviz: no file dialog: {reason}");
-                self.file_panel = Some(FilePanel::new(PanelMode::Open, Some(reason)));
+                self.file_panel = Some(FilePanel::new(PanelMode::Open, filter, Some(reason)));
             }
         }
     }
@@ -255,15 +266,20 @@ impl AccelvizApp {
     /// Saves the scene: the system's dialog (a download in the browser), or the in-app panel
     /// when there is none.
     pub fn save_scene(&mut self) {
-        let Some(lesson) = self.lesson() else { return };
-        let text = lesson.stage().scene.scene.to_ron();
-        self.status = match self.files.save("scene.ron", &text) {
+        let Some((name, text)) = self.lesson().and_then(|lesson| lesson.stage().scene.save())
+        else {
+            return;
+        };
+        self.status = match self.files.save(&name, &text) {
             Ok(Some(Ok(message))) => Some((message, false)),
             Ok(Some(Err(message))) => Some((message, true)),
             Ok(None) => return,
             Err(reason) => {
                 log::warn!("accelviz: no file dialog: {reason}");
-                self.file_panel = Some(FilePanel::new(PanelMode::Save, Some(reason)));
+                let Some(filter) = self.lesson().map(|lesson| lesson.stage().scene.filter()) else {
+                    return;
+                };
+                self.file_panel = Some(FilePanel::new(PanelMode::Save, filter, Some(reason)));
                 return;
             }
         };
@@ -285,8 +301,10 @@ impl AccelvizApp {
                 FileEvent::Failed(message) => self.status = Some((message, true)),
             },
             PanelAction::Save(path) => {
-                let Some(lesson) = self.lesson() else { return };
-                let text = lesson.stage().scene.scene.to_ron();
+                let Some((_, text)) = self.lesson().and_then(|lesson| lesson.stage().scene.save())
+                else {
+                    return;
+                };
                 match crate::files::write_scene_file(&path, &text) {
                     Ok(message) => {
                         self.status = Some((message, false));
@@ -313,21 +331,20 @@ impl AccelvizApp {
     /// scene as it was and says why (file, line, problem) in the status line. Returns whether
     /// it opened.
     pub fn open_scene_text(&mut self, name: &str, text: &str) -> bool {
-        match Scene2d::parse(text, name) {
-            Ok(scene) => {
-                if let Some(lesson) = self.lesson_mut() {
-                    let stage = lesson.stage_mut();
-                    stage.scene.replace(scene);
-                    stage.scene.origin = SceneOrigin::File;
-                    stage.timeline.rewind();
-                    log::info!("accelviz: opened {name}");
-                    self.status = Some((format!("opened {name}"), false));
-                }
+        let Some(lesson) = self.lesson_mut() else {
+            return false;
+        };
+        let stage = lesson.stage_mut();
+        match stage.scene.open(name, text) {
+            Ok(()) => {
+                stage.timeline.rewind();
+                log::info!("accelviz: opened {name}");
+                self.status = Some((format!("opened {name}"), false));
                 true
             }
-            Err(error) => {
-                log::warn!("accelviz: {error}");
-                self.status = Some((error.to_string(), true));
+            Err(message) => {
+                log::warn!("accelviz: {message}");
+                self.status = Some((message, true));
                 false
             }
         }

@@ -144,6 +144,8 @@ pub struct FilePanel {
     pub path: String,
     /// Why the panel is shown instead of the system dialog, if it failed.
     pub reason: Option<String>,
+    /// Which files it lists.
+    pub filter: FileFilter,
 }
 
 /// What the panel asks the app to do.
@@ -160,13 +162,18 @@ pub enum PanelAction {
 
 impl FilePanel {
     /// A panel for `mode`, starting in the current folder (and with `file_name` to save).
-    pub fn new(mode: PanelMode, reason: Option<String>) -> Self {
+    pub fn new(mode: PanelMode, filter: FileFilter, reason: Option<String>) -> Self {
         let folder = std::env::current_dir().unwrap_or_default();
         let path = match mode {
             PanelMode::Open => folder.display().to_string(),
             PanelMode::Save => folder.join("scene.ron").display().to_string(),
         };
-        Self { mode, path, reason }
+        Self {
+            mode,
+            path,
+            reason,
+            filter,
+        }
     }
 
     /// The folder the path is in (or is).
@@ -179,7 +186,7 @@ impl FilePanel {
         }
     }
 
-    /// The scene files (`.ron`) and folders in the path's folder, folders first.
+    /// The files the filter accepts and the folders in the path's folder, folders first.
     fn listing(&self) -> Vec<(PathBuf, bool)> {
         let Ok(entries) = std::fs::read_dir(self.folder()) else {
             return Vec::new();
@@ -192,7 +199,12 @@ impl FilePanel {
                 let hidden = path
                     .file_name()
                     .is_some_and(|name| name.to_string_lossy().starts_with('.'));
-                let scene = path.extension().is_some_and(|extension| extension == "ron");
+                let scene = path.extension().is_some_and(|extension| {
+                    self.filter
+                        .extensions
+                        .iter()
+                        .any(|wanted| extension.eq_ignore_ascii_case(wanted))
+                });
                 (!hidden && (is_dir || scene)).then_some((path, is_dir))
             })
             .collect();
@@ -205,8 +217,8 @@ impl FilePanel {
     pub fn ui(&mut self, ctx: &egui::Context) -> PanelAction {
         let mut action = PanelAction::None;
         let title = match self.mode {
-            PanelMode::Open => "Open a scene file",
-            PanelMode::Save => "Save the scene",
+            PanelMode::Open => format!("Open a file ({})", self.filter.name),
+            PanelMode::Save => format!("Save ({})", self.filter.name),
         };
         let mut open = true;
         egui::Window::new(title)
@@ -289,6 +301,15 @@ pub struct FileChannel {
     events: Arc<Mutex<Vec<FileEvent>>>,
 }
 
+/// Which files a dialog offers: a name for the kind and its extensions.
+#[derive(Clone, Copy, Debug)]
+pub struct FileFilter {
+    /// What the files are ("accelviz scene", "OBJ mesh").
+    pub name: &'static str,
+    /// Their extensions, without the dot.
+    pub extensions: &'static [&'static str],
+}
+
 /// What asking for a file led to.
 pub enum DialogOutcome {
     /// The answer will come as an event (a file read) or came already.
@@ -319,10 +340,10 @@ impl FileChannel {
 
     /// Asks the system's dialog for a scene file to open.
     #[cfg(not(target_arch = "wasm32"))]
-    pub fn open(&self, ctx: &egui::Context) -> DialogOutcome {
+    pub fn open(&self, ctx: &egui::Context, filter: FileFilter) -> DialogOutcome {
         let picked = run_dialog(|| {
             rfd::FileDialog::new()
-                .add_filter("accelviz scene", &["ron"])
+                .add_filter(filter.name, filter.extensions)
                 .pick_file()
         });
         match picked {
@@ -337,12 +358,12 @@ impl FileChannel {
 
     /// Asks the browser for a scene file to upload.
     #[cfg(target_arch = "wasm32")]
-    pub fn open(&self, ctx: &egui::Context) -> DialogOutcome {
+    pub fn open(&self, ctx: &egui::Context, filter: FileFilter) -> DialogOutcome {
         let channel = self.clone();
         let ctx = ctx.clone();
         wasm_bindgen_futures::spawn_local(async move {
             let Some(file) = rfd::AsyncFileDialog::new()
-                .add_filter("accelviz scene", &["ron"])
+                .add_filter(filter.name, filter.extensions)
                 .pick_file()
                 .await
             else {

@@ -5,7 +5,7 @@ use accelviz_scene::LoadError;
 use accelviz_scene::document::{RayEntry, Scene2d, SceneDocument};
 use serde::Deserialize;
 
-use crate::stage::Stage;
+use crate::stage::{SceneFile, Stage};
 
 /// A lesson's text and scene, as written in `assets/lessons/NAME.ron`.
 #[derive(Clone, Debug, Deserialize)]
@@ -26,8 +26,22 @@ pub struct LessonFile {
     /// Scenes the lesson offers by name, besides its own.
     #[serde(default)]
     pub presets: Vec<Preset>,
-    /// The scene the lesson opens with.
-    pub scene: SceneDocument,
+    /// The 2D scene the lesson opens with (2D lessons).
+    #[serde(default)]
+    pub scene: Option<SceneDocument>,
+    /// What a 3D lesson opens with: its mesh and structure (3D lessons).
+    #[serde(default)]
+    pub view3d: Option<View3dFile>,
+}
+
+/// What a 3D lesson opens with.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct View3dFile {
+    /// The mesh: `builtin:NAME`.
+    pub mesh: String,
+    /// The structure, by its catalogue name (`bvh:sah-binned`).
+    pub structure: String,
 }
 
 /// A scene a lesson offers by name.
@@ -57,21 +71,46 @@ pub struct NamedRay {
 pub struct LessonText {
     /// Title, slide, explanation and things to try.
     pub file: LessonFile,
-    /// The lesson's starting scene.
+    /// A 2D lesson's starting scene (a 3D lesson's is empty: its mesh is in `file.view3d`).
     pub scene: Scene2d,
 }
 
 impl LessonText {
     /// Parses a lesson file; errors name `path`, the line and the problem.
     pub fn parse(text: &str, path: &str) -> Result<Self, LoadError> {
-        let file: LessonFile = ron::from_str(text).map_err(|error| {
+        // `scene: (…)` and `view3d: (…)` are written without `Some(…)`.
+        let options = ron::Options::default()
+            .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME);
+        let file: LessonFile = options.from_str(text).map_err(|error| {
             LoadError::at_line(
                 path,
                 error.span.start.line,
                 format!("column {}: {}", error.span.start.col, error.code),
             )
         })?;
-        let scene = Scene2d::from_document(file.scene.clone(), path)?;
+        let scene = match (&file.scene, &file.view3d) {
+            (Some(document), None) => Scene2d::from_document(document.clone(), path)?,
+            (None, Some(view)) => {
+                crate::view3d::mesh_scene::MeshScene::builtin(&view.mesh)
+                    .map_err(|problem| LoadError::in_file(path, problem))?;
+                accelviz_core::Structure::parse(&view.structure)
+                    .map_err(|problem| LoadError::in_file(path, problem.to_string()))?;
+                // Never shown: a 3D lesson's scene is its mesh.
+                Scene2d {
+                    shapes: Default::default(),
+                    ray_origin: glam::DVec2::ZERO,
+                    ray_toward: glam::DVec2::X,
+                    settings: Default::default(),
+                    generator: None,
+                }
+            }
+            _ => {
+                return Err(LoadError::in_file(
+                    path,
+                    "a lesson has either a 2D `scene` or a 3D `view3d`, not both or neither",
+                ));
+            }
+        };
         for preset in &file.presets {
             Scene2d::from_document(preset.scene.clone(), path)?;
         }
@@ -88,10 +127,10 @@ impl LessonText {
 /// scene, timeline) is the lesson's [`Stage`]; what it derives from the scene it keeps itself.
 pub trait Lesson {
     /// The shared state.
-    fn stage(&self) -> &Stage;
+    fn stage(&self) -> &Stage<dyn SceneFile>;
 
     /// The shared state, to change.
-    fn stage_mut(&mut self) -> &mut Stage;
+    fn stage_mut(&mut self) -> &mut Stage<dyn SceneFile>;
 
     /// Brings what the lesson derives from its scene up to date. Called once a frame, before
     /// anything is drawn, so every panel shows the same state.
@@ -135,11 +174,11 @@ pub trait Lesson {
 #[macro_export]
 macro_rules! staged {
     () => {
-        fn stage(&self) -> &$crate::stage::Stage {
+        fn stage(&self) -> &$crate::stage::Stage<dyn $crate::stage::SceneFile> {
             &self.stage
         }
 
-        fn stage_mut(&mut self) -> &mut $crate::stage::Stage {
+        fn stage_mut(&mut self) -> &mut $crate::stage::Stage<dyn $crate::stage::SceneFile> {
             &mut self.stage
         }
     };

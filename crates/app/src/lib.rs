@@ -5,7 +5,7 @@
 //! timeline in a [`stage`]; it builds structures with the core's catalogue
 //! ([`stage::SceneTree`], in the [`background`] on the desktop when large), records the one
 //! traversal with a `Recorder` ([`trace`]), and draws with the shared [`views`] on a
-//! [`canvas`]. The same code runs on the desktop (eframe on wgpu) and in the browser (WASM;
+//! [`canvas`]; the 3D lessons draw on the [`view3d`]. The same code runs on the desktop (eframe on wgpu) and in the browser (WASM;
 //! WebGPU or WebGL2).
 
 pub mod app;
@@ -19,6 +19,7 @@ pub mod registry;
 pub mod stage;
 pub mod timeline;
 pub mod trace;
+pub mod view3d;
 pub mod views;
 
 pub use app::AccelvizApp;

@@ -41,7 +41,10 @@ fn main() -> std::process::ExitCode {
     let started = eframe::run_native(
         "accelviz",
         options,
-        Box::new(move |_creation| Ok(Box::new(accelviz_app::AccelvizApp::with_assets(&assets)))),
+        Box::new(move |creation| {
+            install_gpu(creation);
+            Ok(Box::new(accelviz_app::AccelvizApp::with_assets(&assets)))
+        }),
     );
     match started {
         Ok(()) => std::process::ExitCode::SUCCESS,
@@ -49,6 +52,13 @@ fn main() -> std::process::ExitCode {
             eprintln!("accelviz: the window could not open: {error}. {ALTERNATIVES}");
             std::process::ExitCode::from(1)
         }
+    }
+}
+
+/// Gives the 3D views eframe's GPU (there is none if eframe fell back to another renderer).
+fn install_gpu(creation: &eframe::CreationContext<'_>) {
+    if let Some(render_state) = &creation.wgpu_render_state {
+        accelviz_app::view3d::Gpu::install(&creation.egui_ctx, render_state.clone());
     }
 }
 
@@ -79,7 +89,10 @@ fn main() {
             .start(
                 canvas,
                 eframe::WebOptions::default(),
-                Box::new(|_creation| Ok(Box::new(accelviz_app::AccelvizApp::new()))),
+                Box::new(|creation| {
+                    install_gpu(creation);
+                    Ok(Box::new(accelviz_app::AccelvizApp::new()))
+                }),
             )
             .await;
         match started {

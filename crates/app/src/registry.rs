@@ -5,7 +5,8 @@ use std::path::Path;
 
 use crate::lesson::{Lesson, LessonText};
 use crate::lessons::{
-    bounding_volumes, build_steps, bvh, cost_split, kd, near_first, recap, slab, splits, trivial,
+    bounding_volumes, build_steps, bvh, cost_split, kd, mesh_tree, near_first, recap, slab, splits,
+    trivial,
 };
 
 /// One lesson: where its file lives, the file as embedded, and what shows it.
@@ -29,7 +30,7 @@ macro_rules! lesson {
 }
 
 /// The lessons, in the lecture's order.
-pub const LESSONS: [LessonEntry; 10] = [
+pub const LESSONS: [LessonEntry; 11] = [
     lesson!("01-trivial.ron", |text| Box::new(
         trivial::TrivialLoop::new(text)
     )),
@@ -56,6 +57,9 @@ pub const LESSONS: [LessonEntry; 10] = [
     lesson!("10-recap.ron", |text| Box::new(recap::RecapLesson::new(
         text
     ))),
+    lesson!("12-mesh-bvh.ron", |text| Box::new(
+        mesh_tree::MeshTreeLesson::new(text)
+    )),
 ];
 
 /// A lesson whose built-in file is broken too (a build of the app that its tests would have

@@ -5,12 +5,13 @@ use std::sync::Arc;
 
 use accelviz_core::bvh::{BuildParams, KdBudget};
 use accelviz_core::{BuildObserver, Built, NoBuildObserver, ShapeSet, Structure, TreeStats};
-use accelviz_scene::document::SceneSettings;
+use accelviz_scene::document::{Scene2d, SceneSettings};
 use glam::DVec2;
 use web_time::Instant;
 
 use crate::background::Derived;
-use crate::editor::{EditableScene, Editing};
+use crate::editor::{EditableScene, Editing, SceneOrigin};
+use crate::files::FileFilter;
 use crate::lesson::LessonText;
 use crate::timeline::Timeline;
 
@@ -22,39 +23,117 @@ pub const KD_BUDGET: KdBudget = KdBudget {
     max_references: Some(1_000_000),
 };
 
-/// The shared state of a lesson.
-pub struct Stage {
+/// The shared state of a lesson: its text, its timeline, and the scene it shows (`S`: a 2D
+/// [`EditableScene`], or a 3D mesh view). The app sees every lesson's scene as a
+/// [`SceneFile`] (`Stage<dyn SceneFile>`: the scene is the last field, so a lesson's own
+/// `&Stage<EditableScene>` turns into one).
+pub struct Stage<S: ?Sized = EditableScene> {
     /// The lesson's text and starting scene.
     pub text: LessonText,
-    /// The scene being looked at and edited.
-    pub scene: EditableScene,
     /// The animation's position.
     pub timeline: Timeline,
     /// Why the lesson file on disk was not used (the built-in copy is shown instead).
     pub notice: Option<String>,
+    /// The scene being looked at and edited.
+    pub scene: S,
+}
+
+/// What the app's top bar does with a lesson's scene: open a file into it, save it, put the
+/// lesson's own back.
+pub trait SceneFile {
+    /// What the scene is called in the top bar's buttons and messages ("scene", "mesh").
+    fn noun(&self) -> &'static str;
+
+    /// The files it opens, for the open dialog's filter.
+    fn filter(&self) -> FileFilter;
+
+    /// Replaces the scene with the file `name` holding `text`; on a bad file the scene stays
+    /// and the error names the file, the line and the problem.
+    fn open(&mut self, name: &str, text: &str) -> Result<(), String>;
+
+    /// The scene as a file to save (suggested name, content); `None` if it cannot be saved.
+    fn save(&self) -> Option<(String, String)>;
+
+    /// Puts back the scene the lesson's file starts with.
+    fn reset(&mut self, text: &LessonText);
+
+    /// The 2D scene, for what the app does with 2D scenes only (placing a generated ray).
+    fn as_flat(&mut self) -> Option<&mut EditableScene> {
+        None
+    }
+
+    /// The 2D scene, to read.
+    fn flat(&self) -> Option<&EditableScene> {
+        None
+    }
+}
+
+impl SceneFile for EditableScene {
+    fn noun(&self) -> &'static str {
+        "scene"
+    }
+
+    fn filter(&self) -> FileFilter {
+        FileFilter {
+            name: "accelviz scene",
+            extensions: &["ron"],
+        }
+    }
+
+    fn open(&mut self, name: &str, text: &str) -> Result<(), String> {
+        let scene = Scene2d::parse(text, name).map_err(|error| error.to_string())?;
+        self.replace(scene);
+        self.origin = SceneOrigin::File;
+        Ok(())
+    }
+
+    fn save(&self) -> Option<(String, String)> {
+        Some(("scene.ron".to_owned(), self.scene.to_ron()))
+    }
+
+    fn reset(&mut self, text: &LessonText) {
+        self.replace(text.scene.clone());
+    }
+
+    fn as_flat(&mut self) -> Option<&mut EditableScene> {
+        Some(self)
+    }
+
+    fn flat(&self) -> Option<&EditableScene> {
+        Some(self)
+    }
 }
 
 impl Stage {
     /// A lesson's stage with its file's scene and these editing rights.
     pub fn new(text: LessonText, editing: Editing) -> Self {
         let scene = EditableScene::new(text.scene.clone(), editing);
-        Self {
-            text,
-            scene,
-            timeline: Timeline::default(),
-            notice: None,
-        }
-    }
-
-    /// Puts back the scene the lesson file starts with.
-    pub fn reset_scene(&mut self) {
-        self.scene.replace(self.text.scene.clone());
-        self.timeline.rewind();
+        Self::with_scene(text, scene)
     }
 
     /// The scene's settings.
     pub fn settings(&self) -> &SceneSettings {
         &self.scene.scene.settings
+    }
+}
+
+impl<S> Stage<S> {
+    /// A stage showing `scene`.
+    pub fn with_scene(text: LessonText, scene: S) -> Self {
+        Self {
+            text,
+            timeline: Timeline::default(),
+            notice: None,
+            scene,
+        }
+    }
+}
+
+impl<S: SceneFile + ?Sized> Stage<S> {
+    /// Puts back the scene the lesson file starts with, and rewinds.
+    pub fn reset_scene(&mut self) {
+        self.scene.reset(&self.text);
+        self.timeline.rewind();
     }
 }
 

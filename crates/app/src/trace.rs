@@ -8,8 +8,8 @@
 
 use accelviz_core::format::number;
 use accelviz_core::{
-    Counters, Hit, Order, Ray, Recorder, ShapeSet, Step, TraceOptions, TraversalStacks,
-    brute_force, counters_of,
+    Counters, Hit, LeafPrimitives, Order, Ray, Recorder, ShapeSet, Step, TraceOptions,
+    TraversalStacks, Tree, Vector, brute_force, counters_of,
 };
 use glam::DVec2;
 
@@ -66,9 +66,19 @@ impl Trace {
 
     /// Records the one traversal of `tree`'s kind on `ray`.
     pub fn of_tree(tree: &SceneTree, ray: &Ray<DVec2>, options: &TraceOptions) -> Self {
+        Self::of(&tree.built.tree, tree.shapes.as_ref(), ray, options)
+    }
+
+    /// Records the one traversal of `tree`'s kind over `primitives` on `ray`, in 2D or 3D.
+    pub fn of<V: Vector<Scalar = f64>>(
+        tree: &Tree<V>,
+        primitives: &impl LeafPrimitives<V>,
+        ray: &Ray<V>,
+        options: &TraceOptions,
+    ) -> Self {
         Self::record(|recorder| {
-            tree.built.tree.trace(
-                tree.shapes.as_ref(),
+            tree.trace(
+                primitives,
                 ray,
                 options,
                 &mut TraversalStacks::default(),

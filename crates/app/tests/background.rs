@@ -38,7 +38,9 @@ fn a_long_build_runs_while_the_app_keeps_drawing() {
             .lesson_mut()
             .expect("lesson 7")
             .stage_mut()
-            .scene;
+            .scene
+            .as_flat()
+            .expect("a 2D scene");
         scene.generator = GeneratorEntry {
             layout: LayoutEntry::Uniform,
             count: 100_000,

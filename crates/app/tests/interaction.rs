@@ -73,11 +73,20 @@ fn dragging_the_ray_changes_the_slab_intervals() {
     let mut harness = lesson_harness(lesson);
     harness.run();
     let (_, before) = harness.state().record().expect("box and ray");
-    let origin = harness.state().stage().scene.scene.ray_origin;
+    let origin = harness
+        .state()
+        .stage()
+        .scene
+        .flat()
+        .expect("a 2D scene")
+        .scene
+        .ray_origin;
     let start = harness
         .state()
         .stage()
         .scene
+        .flat()
+        .expect("a 2D scene")
         .screen_position(origin)
         .expect("drawn");
     let end = start + egui::vec2(60.0, -80.0);
@@ -91,7 +100,14 @@ fn dragging_the_ray_changes_the_slab_intervals() {
     }
     harness.drop_at(end);
     harness.run();
-    let moved = harness.state().stage().scene.scene.ray_origin;
+    let moved = harness
+        .state()
+        .stage()
+        .scene
+        .flat()
+        .expect("a 2D scene")
+        .scene
+        .ray_origin;
     assert!(
         moved.x > origin.x && moved.y > origin.y,
         "the origin followed the drag: {origin} to {moved}"
@@ -146,10 +162,26 @@ fn hovering_a_sah_candidate_selects_it() {
 #[test]
 fn a_saved_scene_opens_in_another_lesson_and_a_broken_one_is_refused() {
     let mut app = AccelvizApp::new();
-    let saved = app.lesson().expect("lesson 1").stage().scene.scene.to_ron();
+    let saved = app
+        .lesson()
+        .expect("lesson 1")
+        .stage()
+        .scene
+        .flat()
+        .expect("a 2D scene")
+        .scene
+        .to_ron();
     app.selected = 3;
     assert!(app.open_scene_text("saved.ron", &saved));
-    let opened = app.lesson().expect("lesson 4").stage().scene.scene.clone();
+    let opened = app
+        .lesson()
+        .expect("lesson 4")
+        .stage()
+        .scene
+        .flat()
+        .expect("a 2D scene")
+        .scene
+        .clone();
     assert_eq!(
         opened.shapes.shapes.len(),
         16,
@@ -165,14 +197,30 @@ fn a_saved_scene_opens_in_another_lesson_and_a_broken_one_is_refused() {
         message.starts_with("broken.ron:") && message.contains("Dics"),
         "{message}"
     );
-    let after = app.lesson().expect("lesson 4").stage().scene.scene.clone();
+    let after = app
+        .lesson()
+        .expect("lesson 4")
+        .stage()
+        .scene
+        .flat()
+        .expect("a 2D scene")
+        .scene
+        .clone();
     assert_eq!(after, opened, "a broken file changes nothing");
 
     app.lesson_mut()
         .expect("lesson 4")
         .stage_mut()
         .reset_scene();
-    let reset = app.lesson().expect("lesson 4").stage().scene.scene.clone();
+    let reset = app
+        .lesson()
+        .expect("lesson 4")
+        .stage()
+        .scene
+        .flat()
+        .expect("a 2D scene")
+        .scene
+        .clone();
     assert_eq!(
         reset.shapes.shapes.len(),
         5,
@@ -240,6 +288,8 @@ fn without_a_file_dialog_the_in_app_panel_opens_and_saves_scenes() {
         .expect("lesson 1")
         .stage()
         .scene
+        .flat()
+        .expect("a 2D scene")
         .scene
         .clone();
     assert_eq!(

@@ -38,7 +38,11 @@ fn every_lesson_matches_its_snapshot() {
         }
         harness.run();
         let title = harness.state().titles()[index].clone();
-        let name = format!("lesson_{:02}", index + 1);
+        let is_3d = harness
+            .state()
+            .lesson()
+            .is_some_and(|lesson| lesson.stage().scene.flat().is_none());
+        let name = format!("lesson_{:02}{}", index + 1, if is_3d { "_3d" } else { "" });
         if let Err(error) = harness.try_snapshot(&name) {
             failures.push(format!("{title}: {error}"));
         }
@@ -61,7 +65,9 @@ fn a_ten_thousand_shape_scene_matches_its_snapshot() {
         .lesson_mut()
         .expect("the BVH lesson")
         .stage_mut()
-        .scene;
+        .scene
+        .as_flat()
+        .expect("a 2D scene");
     scene.scene.settings.max_leaf_size = 2;
     scene.generator = GeneratorEntry {
         layout: LayoutEntry::Clustered,

@@ -24,7 +24,7 @@ use egui_kittest::kittest::Queryable;
 
 /// The core's recording of `structure` traced over the lesson's scene and ray.
 fn core_steps(lesson: &dyn Lesson, structure: Structure, options: &TraceOptions) -> Vec<Step<f64>> {
-    let scene = &lesson.stage().scene.scene;
+    let scene = &lesson.stage().scene.flat().expect("a 2D scene").scene;
     let structure = with_settings(structure, &scene.settings);
     let built = Built::new(
         structure,
@@ -32,7 +32,13 @@ fn core_steps(lesson: &dyn Lesson, structure: Structure, options: &TraceOptions)
         &build_params(&scene.settings),
         &mut NoBuildObserver,
     );
-    let ray = lesson.stage().scene.ray().expect("the lesson's ray");
+    let ray = lesson
+        .stage()
+        .scene
+        .flat()
+        .expect("a 2D scene")
+        .ray()
+        .expect("the lesson's ray");
     let mut recorder = Recorder::default();
     built.tree.trace(
         &scene.shapes,
@@ -49,8 +55,20 @@ fn the_trivial_loop_shows_the_cores_state_at_every_step() {
     let mut harness = lesson_harness(TrivialLoop::new(lesson_text("01-trivial.ron")));
     harness.run();
     let lesson = harness.state();
-    let scene = lesson.stage().scene.scene.clone();
-    let ray = lesson.stage().scene.ray().expect("ray");
+    let scene = lesson
+        .stage()
+        .scene
+        .flat()
+        .expect("a 2D scene")
+        .scene
+        .clone();
+    let ray = lesson
+        .stage()
+        .scene
+        .flat()
+        .expect("a 2D scene")
+        .ray()
+        .expect("ray");
     let mut recorder = Recorder::default();
     brute_force(&scene.shapes, &ray, &TraceOptions::default(), &mut recorder);
     let total = scene.shapes.shapes.len();
@@ -324,18 +342,25 @@ fn near_first_generated_scenes_make_the_point() {
     let mut harness = lesson_harness(NearFirstLesson::new(lesson_text("06-near-first.ron")));
     for seed in 1..=4 {
         let lesson = harness.state_mut();
-        let scene = &mut lesson.stage_mut().scene;
+        let scene = &mut lesson.stage_mut().scene.as_flat().expect("a 2D scene");
         scene.generator = GeneratorEntry {
             layout: LayoutEntry::Uniform,
             count: 500,
             seed,
         };
         scene.generate();
-        assert!(lesson.stage_mut().scene.take_generated());
+        assert!(
+            lesson
+                .stage_mut()
+                .scene
+                .as_flat()
+                .expect("a 2D scene")
+                .take_generated()
+        );
         let (origin, toward) = lesson
-            .place_generated_ray(&lesson.stage().scene.scene)
+            .place_generated_ray(&lesson.stage().scene.flat().expect("a 2D scene").scene)
             .expect("the lesson places the ray");
-        let scene = &mut lesson.stage_mut().scene;
+        let scene = &mut lesson.stage_mut().scene.as_flat().expect("a 2D scene");
         scene.scene.ray_origin = origin;
         scene.scene.ray_toward = toward;
         scene.touch_ray();
@@ -370,7 +395,14 @@ fn build_steps_are_the_builders_own() {
     ] {
         harness.get_by_label(label).click();
         harness.run();
-        let scene = harness.state().stage().scene.scene.clone();
+        let scene = harness
+            .state()
+            .stage()
+            .scene
+            .flat()
+            .expect("a 2D scene")
+            .scene
+            .clone();
         let mut recorder = BuildRecorder::default();
         let built = Built::new(
             way.structure(),

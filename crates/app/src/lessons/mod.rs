@@ -7,6 +7,7 @@ pub mod build_steps;
 pub mod bvh;
 pub mod cost_split;
 pub mod kd;
+pub mod mesh_tree;
 pub mod near_first;
 pub mod recap;
 pub mod slab;

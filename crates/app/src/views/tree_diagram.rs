@@ -4,16 +4,15 @@
 //! both ways. Levels too crowded to tell nodes apart are left out and the diagram says so;
 //! labels sit on plates, never on each other, and only where they fit.
 
-use accelviz_core::{Step, TreeFacts};
+use accelviz_core::{Step, TreeFacts, Vector};
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, Vec2};
-use glam::DVec2;
 
 use crate::canvas::{Labels, depth_color, faded, palette};
 
 /// Each shown node's column (in leaf widths) when the tree is cut at `bottom`: nodes at that
 /// depth count as leaves. Depth first, left to right: leaves take the next column, parents
 /// sit between their children.
-fn columns(facts: &TreeFacts<DVec2>, bottom: usize) -> (Vec<f32>, usize) {
+fn columns<V: Vector>(facts: &TreeFacts<V>, bottom: usize) -> (Vec<f32>, usize) {
     let mut column = vec![f32::NAN; facts.node_count()];
     let mut leaves = 0usize;
     // An explicit stack: (node, whether its children are placed).
@@ -43,9 +42,9 @@ fn columns(facts: &TreeFacts<DVec2>, bottom: usize) -> (Vec<f32>, usize) {
 /// the traversal's `steps` did to it (green entered, red missed or skipped). Linked to the
 /// canvas both ways: `hovered` (lit from the canvas) is lit here and set to the node under the
 /// pointer; a click selects a node.
-pub fn diagram_ui(
+pub fn diagram_ui<V: Vector>(
     ui: &mut egui::Ui,
-    facts: &TreeFacts<DVec2>,
+    facts: &TreeFacts<V>,
     label: &dyn Fn(u32) -> String,
     steps: &[Step<f64>],
     hovered: &mut Option<u32>,
@@ -204,7 +203,7 @@ mod tests {
             shapes: (0..4)
                 .map(|index| {
                     Shape::Sphere(Sphere {
-                        center: DVec2::new(index as f64 * 4.0, 0.0),
+                        center: glam::DVec2::new(index as f64 * 4.0, 0.0),
                         radius: 1.0,
                     })
                 })

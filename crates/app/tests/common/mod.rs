@@ -6,7 +6,10 @@
 use accelviz_app::AccelvizApp;
 use accelviz_app::lesson::{Lesson, LessonText};
 use accelviz_app::registry::LESSONS;
+use accelviz_app::view3d::Gpu;
+use eframe::egui_wgpu::RenderState;
 use egui_kittest::Harness;
+use egui_kittest::wgpu::WgpuTestRenderer;
 
 /// The parsed file of the lesson whose file name ends in `file`.
 pub fn lesson_text(file: &str) -> LessonText {
@@ -37,13 +40,51 @@ pub fn lesson_harness<L: Lesson + 'static>(lesson: L) -> Harness<'static, L> {
         )
 }
 
-/// The whole app at a projector-like size, rendered on the software adapter.
+/// The whole app at a projector-like size, rendered on the software adapter, with the GPU
+/// given to the 3D views as eframe gives it.
 pub fn app_harness() -> Harness<'static, AccelvizApp> {
-    Harness::builder()
+    let (render_state, renderer) = software_gpu();
+    let harness = Harness::builder()
         .with_size(egui::vec2(1400.0, 860.0))
-        .wgpu()
+        .renderer(renderer)
         .build_ui_state(
             |ui, app: &mut AccelvizApp| app.contents_ui(ui),
             AccelvizApp::new(),
-        )
+        );
+    Gpu::install(&harness.ctx, render_state);
+    harness
+}
+
+/// The software adapter's render state (for the 3D views) and the snapshot renderer on it.
+pub fn software_gpu() -> (RenderState, WgpuTestRenderer) {
+    let render_state = egui_kittest::wgpu::create_render_state(
+        egui_kittest::wgpu::default_wgpu_setup(),
+        eframe::egui_wgpu::RendererOptions::PREDICTABLE,
+    );
+    let renderer = WgpuTestRenderer::from_render_state(render_state.clone());
+    (render_state, renderer)
+}
+
+/// One 3D lesson with the app's panels around it, rendered on the software adapter.
+pub fn lesson_harness_3d<L: Lesson + 'static>(lesson: L) -> Harness<'static, L> {
+    let (render_state, renderer) = software_gpu();
+    let harness = Harness::builder()
+        .with_size(egui::vec2(1300.0, 800.0))
+        .renderer(renderer)
+        .build_ui_state(
+            |ui, lesson: &mut L| {
+                lesson.update();
+                let caption = lesson.caption();
+                egui::Panel::bottom("timeline").show(ui, |ui| {
+                    if let Some(caption) = caption {
+                        lesson.stage_mut().timeline.ui(ui, &caption);
+                    }
+                });
+                egui::Panel::right("inspector").show(ui, |ui| lesson.inspector_ui(ui));
+                egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
+            },
+            lesson,
+        );
+    Gpu::install(&harness.ctx, render_state);
+    harness
 }

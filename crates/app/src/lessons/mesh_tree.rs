@@ -1,0 +1,611 @@
+//! Lesson 12, "A real mesh and its BVH": a shaded mesh in the boxes (or cells) of any
+//! structure of the catalogue, coloured by depth, a depth range, inner nodes and leaves
+//! toggled, hidden edges faint or gone; the tree diagram and a node inspector linked to the
+//! view both ways; a clicked pixel's ray traced by the one traversal with a `Recorder` and
+//! stepped on the timeline (each box test with its slab interval, culls, triangle tests, the
+//! closest hit so far), near-first or in file order.
+
+use std::hash::{Hash, Hasher};
+use std::sync::Arc;
+
+use accelviz_core::bvh::BuildParams;
+use accelviz_core::camera::bounding_sphere_of_box;
+use accelviz_core::format::{count, number, point};
+use accelviz_core::{
+    Aabb, Built, CATALOGUE, Family, NoBuildObserver, Order, Ray, Step, Structure, TreeStats,
+    TriangleSet, slab_record,
+};
+use accelviz_scene::Mesh;
+use accelviz_scene::builtin::BUILTINS;
+use egui::Color32;
+use glam::DVec3;
+use web_time::Instant;
+
+use crate::background::{Cached, Derived};
+use crate::canvas::{depth_color, palette};
+use crate::lesson::{Lesson, LessonText};
+use crate::stage::{KD_BUDGET, Stage};
+use crate::trace::{Trace, TraceState, closest_so_far, describe_step, options_in, step_node};
+use crate::view3d::mesh_scene::MeshScene;
+use crate::view3d::{Content, DrawTriangle, HiddenEdges, Instance, View3d, relative};
+use crate::views::tree_diagram::{diagram_ui, traversal_emphasis};
+
+/// The mesh's colour (sRGB).
+const MESH_COLOR: [u8; 4] = [178, 188, 204, 255];
+
+/// A structure built over a mesh, with what the view draws of the mesh.
+pub struct MeshTree {
+    /// The mesh.
+    pub mesh: Arc<Mesh>,
+    /// Its triangles as the core traces them.
+    pub triangles: TriangleSet<DVec3>,
+    /// The tree and its facts.
+    pub built: Built<DVec3>,
+    /// Its statistics.
+    pub stats: TreeStats,
+    /// How long the build took.
+    pub build_millis: f64,
+    /// The mesh's bounding sphere: the view's centre and size.
+    pub sphere: (DVec3, f64),
+    /// The mesh as drawn (relative to the sphere's centre).
+    pub drawn: Vec<DrawTriangle>,
+}
+
+impl MeshTree {
+    /// Builds `structure` over `mesh`.
+    pub fn build(mesh: Arc<Mesh>, structure: Structure) -> Self {
+        let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
+        let params = BuildParams {
+            kd_budget: KD_BUDGET,
+            ..BuildParams::default()
+        };
+        let started = Instant::now();
+        let built = Built::new(structure, &triangles, &params, &mut NoBuildObserver);
+        let build_millis = started.elapsed().as_secs_f64() * 1e3;
+        let stats = built.stats(0, &params.cost);
+        let sphere = bounding_sphere_of_box(&mesh.bounds());
+        let drawn = mesh
+            .triangles
+            .iter()
+            .map(|triangle| DrawTriangle {
+                corners: triangle.map(|corner| relative(DVec3::from_array(corner), sphere)),
+                color: MESH_COLOR,
+            })
+            .collect();
+        Self {
+            mesh,
+            triangles,
+            built,
+            stats,
+            build_millis,
+            sphere,
+            drawn,
+        }
+    }
+
+    /// A node's name: its path from the root (`root`, `LRL`).
+    pub fn node_name(&self, node: u32) -> String {
+        match self.built.facts.path_to(node) {
+            path if path.is_empty() => "the root".to_owned(),
+            path => format!("node {path}"),
+        }
+    }
+}
+
+/// The ray of a clicked pixel.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct PickedRay {
+    ray: Ray<DVec3>,
+    revision: u64,
+}
+
+/// The lesson.
+pub struct MeshTreeLesson {
+    stage: Stage<MeshScene>,
+    /// The view and its camera.
+    pub view: View3d,
+    /// The structure built.
+    pub structure: Structure,
+    tree: Derived<(u64, Structure), MeshTree>,
+    /// The clicked ray's traversal order.
+    pub order: Order,
+    picked: Option<PickedRay>,
+    trace: Cached<(u64, u64, Order), Trace>,
+    /// The depths whose boxes are drawn (the deepest may be `usize::MAX`: all the way down).
+    pub depth_range: (usize, usize),
+    /// Whether inner nodes' boxes are drawn.
+    pub show_inner: bool,
+    /// Whether leaves' boxes are drawn.
+    pub show_leaves: bool,
+    /// How box edges behind the surface are drawn.
+    pub hidden_edges: HiddenEdges,
+    hovered: Option<u32>,
+    /// The node the inspector shows.
+    pub selected: Option<u32>,
+}
+
+/// A layer's revision: a hash of what it was made from.
+fn revision_of(key: impl Hash) -> u64 {
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    key.hash(&mut hasher);
+    hasher.finish()
+}
+
+impl MeshTreeLesson {
+    /// The lesson with its file's mesh and structure.
+    pub fn new(text: LessonText) -> Self {
+        let view = text.file.view3d.clone();
+        let scene = view
+            .as_ref()
+            .and_then(|view| MeshScene::named(&view.mesh).ok())
+            .unwrap_or_else(|| MeshScene::new(accelviz_scene::builtin::teapot()));
+        let structure = view
+            .and_then(|view| Structure::parse(&view.structure).ok())
+            .unwrap_or(Structure::parse("bvh:sah-binned").unwrap_or(CATALOGUE[0].structure));
+        Self {
+            stage: Stage::with_scene(text, scene),
+            view: View3d::default(),
+            structure,
+            tree: Derived::default(),
+            order: Order::NearFirst,
+            picked: None,
+            trace: Cached::default(),
+            depth_range: (0, usize::MAX),
+            show_inner: true,
+            show_leaves: true,
+            hidden_edges: HiddenEdges::Dimmed,
+            hovered: None,
+            selected: Some(0),
+        }
+    }
+
+    /// The recorded traversal of the clicked pixel's ray, if one was clicked.
+    pub fn trace(&self) -> Option<&Trace> {
+        self.trace.get()
+    }
+
+    /// The built tree shown.
+    pub fn tree(&self) -> Option<&Arc<MeshTree>> {
+        self.tree.get()
+    }
+
+    /// Traces the ray from `origin` along `direction`, as a click on its pixel does.
+    pub fn pick(&mut self, origin: DVec3, direction: DVec3) {
+        if let Ok(ray) = Ray::try_new(origin, direction) {
+            let revision = self.picked.map_or(1, |picked| picked.revision + 1);
+            self.picked = Some(PickedRay { ray, revision });
+            self.stage.timeline.rewind();
+        }
+    }
+
+    /// What the trace shows at the timeline's frame.
+    pub fn shown_state(&self) -> Option<TraceState> {
+        Some(self.trace.get()?.state(self.stage.timeline.shown))
+    }
+
+    fn depths(&self) -> std::ops::RangeInclusive<usize> {
+        self.depth_range.0..=self.depth_range.1
+    }
+
+    /// Whether `node`'s box is drawn.
+    fn shows(&self, tree: &MeshTree, node: u32) -> bool {
+        let facts = &tree.built.facts;
+        let leaf = facts.is_leaf(node);
+        self.depths()
+            .contains(&(facts.depth[node as usize] as usize))
+            && if leaf {
+                self.show_leaves
+            } else {
+                self.show_inner
+            }
+    }
+
+    /// The deepest shown box the ray enters (nearest first among equals): what a click on
+    /// a box selects.
+    fn box_under(&self, tree: &MeshTree, origin: DVec3, direction: DVec3) -> Option<u32> {
+        let ray = Ray::try_new(origin, direction).ok()?;
+        let facts = &tree.built.facts;
+        (0..facts.node_count() as u32)
+            .filter(|&node| self.shows(tree, node))
+            .filter_map(|node| {
+                let bounds = facts.bounds[node as usize];
+                let record = slab_record(&bounds, &ray, false);
+                record
+                    .hit
+                    .then_some((facts.depth[node as usize], record.t_enter, node))
+            })
+            .max_by(|a, b| a.0.cmp(&b.0).then(b.1.total_cmp(&a.1)))
+            .map(|(_, _, node)| node)
+    }
+
+    /// The box outlines: each shown node in its depth's colour; along a trace, entered nodes
+    /// green, missed and skipped ones red, the current step's node bright, the rest faint;
+    /// hovered and selected nodes lit.
+    fn boxes(&self, tree: &MeshTree, steps: &[Step<f64>], current: Option<u32>) -> Vec<Instance> {
+        let facts = &tree.built.facts;
+        let emphasis = (!steps.is_empty()).then(|| traversal_emphasis(steps, facts.node_count()));
+        let mut instances = Vec::new();
+        for &node in &facts.by_depth {
+            let lit = Some(node) == self.hovered || Some(node) == self.selected;
+            // Along a trace, only the boxes the traversal met are drawn.
+            let met = emphasis
+                .as_ref()
+                .is_none_or(|emphasis| emphasis[node as usize].is_some());
+            let drawn = (self.shows(tree, node) && met) || lit || Some(node) == current;
+            if !drawn {
+                continue;
+            }
+            let color = if Some(node) == current {
+                palette::CURRENT
+            } else if lit {
+                Color32::from_rgb(255, 120, 0)
+            } else {
+                match &emphasis {
+                    Some(emphasis) => emphasis[node as usize].unwrap_or(Color32::GRAY),
+                    None => depth_color(facts.depth[node as usize] as usize),
+                }
+            };
+            let bounds = facts.bounds[node as usize];
+            instances.push(Instance {
+                a: relative(bounds.min, tree.sphere),
+                b: relative(bounds.max, tree.sphere),
+                color: [color.r(), color.g(), color.b(), color.a()],
+            });
+        }
+        instances
+    }
+
+    fn controls_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            let current = self.stage.scene.name.clone();
+            egui::ComboBox::from_label("mesh")
+                .selected_text(current.trim_start_matches("builtin:").to_owned())
+                .show_ui(ui, |ui| {
+                    for builtin in BUILTINS {
+                        let name = format!("builtin:{}", builtin.name);
+                        if ui
+                            .selectable_label(current == name, builtin.name)
+                            .on_hover_text(builtin.about)
+                            .clicked()
+                        {
+                            self.stage.scene.replace((builtin.make)());
+                            self.picked = None;
+                            self.stage.timeline.rewind();
+                        }
+                    }
+                });
+            ui.separator();
+            egui::ComboBox::from_label("structure")
+                .selected_text(self.structure.name())
+                .show_ui(ui, |ui| {
+                    for entry in CATALOGUE {
+                        ui.selectable_value(
+                            &mut self.structure,
+                            entry.structure,
+                            format!("{} {}", entry.label, entry.family.label()),
+                        )
+                        .on_hover_text(entry.about);
+                    }
+                });
+            ui.separator();
+            for (order, name) in [
+                (Order::NearFirst, "near first"),
+                (Order::FileOrder, "file order"),
+            ] {
+                if ui.selectable_label(self.order == order, name).clicked() {
+                    self.order = order;
+                    self.stage.timeline.rewind();
+                }
+            }
+            ui.separator();
+            ui.checkbox(&mut self.show_inner, "inner nodes");
+            ui.checkbox(&mut self.show_leaves, "leaves");
+            ui.selectable_value(&mut self.hidden_edges, HiddenEdges::Dimmed, "x-ray")
+                .on_hover_text("Box edges behind the surface drawn faint");
+            ui.selectable_value(&mut self.hidden_edges, HiddenEdges::Hidden, "hide hidden")
+                .on_hover_text("Box edges behind the surface not drawn");
+            ui.separator();
+            ui.checkbox(&mut self.view.orbit.orthographic, "orthographic");
+            if ui
+                .button("focus")
+                .on_hover_text("Look at the selected node's box")
+                .clicked()
+                && let (Some(tree), Some(node)) = (self.tree.get(), self.selected)
+            {
+                let bounds = tree.built.facts.bounds[node as usize];
+                let (center, radius) = tree.sphere;
+                let (box_center, box_radius) = bounding_sphere_of_box(&bounds);
+                self.view.orbit.pan = (box_center - center) / radius;
+                self.view.orbit.distance = (2.8 * box_radius / radius).max(0.05);
+            }
+            if ui.button("reset view").clicked() {
+                self.view.reset();
+            }
+        });
+    }
+
+    fn node_ui(&self, ui: &mut egui::Ui, tree: &MeshTree) {
+        let Some(node) = self
+            .selected
+            .filter(|&node| (node as usize) < tree.built.facts.node_count())
+        else {
+            return;
+        };
+        let facts = &tree.built.facts;
+        let bounds = facts.bounds[node as usize];
+        ui.heading(format!("Selected: {}", tree.node_name(node)));
+        let kind = if facts.is_leaf(node) {
+            "leaf"
+        } else {
+            "inner node"
+        };
+        ui.label(format!(
+            "{kind} at depth {}; {} from {} to {}, surface area {}",
+            facts.depth[node as usize],
+            match tree.built.structure.family() {
+                Family::Bvh => "box",
+                Family::Kd => "cell",
+            },
+            point(&bounds.min.to_array()),
+            point(&bounds.max.to_array()),
+            number(bounds.area())
+        ));
+        let below = tree.built.primitives_below(node);
+        ui.label(format!("{} triangles under it", count(below.len())));
+        ui.label(format!(
+            "SAH cost of its subtree: {}",
+            number(
+                tree.built
+                    .stats(node, &BuildParams::default().cost)
+                    .sah_cost
+            )
+        ));
+        if let Some(reason) = facts.leaf_reason(node) {
+            ui.label(format!("It is a leaf: {reason}."));
+        }
+    }
+
+    /// The current step's box test, axis by axis: the slab intervals the inspector shows.
+    fn slab_ui(&self, ui: &mut egui::Ui, tree: &MeshTree) {
+        let (Some(picked), Some(state)) = (self.picked, self.shown_state()) else {
+            return;
+        };
+        let Some(node) = state.current.and_then(|step| step_node(&step)) else {
+            return;
+        };
+        let bounds: Aabb<DVec3> = tree.built.facts.bounds[node as usize];
+        let record = slab_record(&bounds, &picked.ray, false);
+        ui.separator();
+        ui.label(egui::RichText::new(format!("Slab test of {}", tree.node_name(node))).strong());
+        egui::Grid::new("slabs").striped(true).show(ui, |ui| {
+            ui.label("axis");
+            ui.label("t near");
+            ui.label("t far");
+            ui.end_row();
+            for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
+                ui.label(name);
+                ui.label(number(record.t_near[axis]));
+                ui.label(number(record.t_far[axis]));
+                ui.end_row();
+            }
+        });
+        ui.label(format!(
+            "largest t near {} {} smallest t far {}: {}",
+            number(record.t_enter),
+            if record.hit { "≤" } else { ">" },
+            number(record.t_exit),
+            if record.hit { "hit" } else { "miss" }
+        ));
+    }
+}
+
+impl Lesson for MeshTreeLesson {
+    crate::staged!(tree);
+
+    fn update(&mut self) {
+        let key = (self.stage.scene.revision, self.structure);
+        let mesh = self.stage.scene.mesh.clone();
+        let structure = self.structure;
+        self.tree.request(&key, mesh.triangles.len(), || {
+            move || MeshTree::build(mesh, structure)
+        });
+        let Some(tree) = self.tree.get().cloned() else {
+            return;
+        };
+        let nodes = tree.built.facts.node_count() as u32;
+        if self.selected.is_some_and(|node| node >= nodes) {
+            self.selected = Some(0);
+        }
+        if self.hovered.is_some_and(|node| node >= nodes) {
+            self.hovered = None;
+        }
+        let Some(picked) = self.picked else {
+            self.trace.clear();
+            self.stage.timeline.set_len(0);
+            return;
+        };
+        let order = self.order;
+        let trace =
+            self.trace
+                .get_or_make((self.tree.generation(), picked.revision, order), || {
+                    Trace::of(
+                        &tree.built.tree,
+                        &tree.triangles,
+                        &picked.ray,
+                        &options_in(order),
+                    )
+                });
+        self.stage.timeline.set_len(trace.frames());
+    }
+
+    fn caption(&self) -> Option<String> {
+        let tree = self.tree.get()?;
+        let Some(trace) = self.trace.get() else {
+            return Some("Click a pixel of the mesh: its ray is traced here, step by step.".into());
+        };
+        Some(trace.caption(
+            self.stage.timeline.shown,
+            "Press step: the traversal starts by testing the root's box.",
+            |step| describe_step(step, |node| tree.node_name(node)),
+        ))
+    }
+
+    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+        let Some(tree) = self.tree.get().cloned() else {
+            ui.label("Building…");
+            return;
+        };
+        let stats = &tree.stats;
+        // The build time only on hover: it differs from run to run, the rest does not.
+        ui.label(format!(
+            "{}: {} triangles; {} nodes, {} leaves, depth {}, SAH cost {}",
+            tree.mesh.name.trim_start_matches("builtin:"),
+            count(tree.mesh.triangles.len()),
+            count(stats.node_count),
+            count(stats.leaf_count),
+            stats.max_depth,
+            number(stats.sah_cost),
+        ))
+        .on_hover_text(format!("built in {} ms", number(tree.build_millis)));
+        if let Some(limits) = tree
+            .built
+            .tree
+            .kd_limits()
+            .filter(|limits| limits.reached())
+        {
+            ui.colored_label(palette::MISS, format!("kD budget: {limits}"));
+        }
+        let max_depth = tree.built.facts.max_depth();
+        let (mut low, mut high) = self.depth_range;
+        high = high.min(max_depth);
+        low = low.min(high);
+        ui.add(egui::Slider::new(&mut low, 0..=max_depth).text("shallowest depth shown"));
+        ui.add(egui::Slider::new(&mut high, 0..=max_depth).text("deepest depth shown"));
+        if low > high {
+            if low != self.depth_range.0 {
+                high = low;
+            } else {
+                low = high;
+            }
+        }
+        self.depth_range = (low, if high >= max_depth { usize::MAX } else { high });
+        ui.separator();
+        ui.heading("Tree");
+        let shown = self
+            .trace
+            .get()
+            .map_or(&[][..], |trace| trace.shown(self.stage.timeline.shown));
+        let label = |node: u32| tree.node_name(node);
+        diagram_ui(
+            ui,
+            &tree.built.facts,
+            &label,
+            shown,
+            &mut self.hovered,
+            &mut self.selected,
+        );
+        ui.label(
+            egui::RichText::new(
+                "Colour: depth; green entered, red missed or skipped. Hover a node to light its box; click a node or a box to select it.",
+            )
+            .small()
+            .weak(),
+        );
+        ui.separator();
+        self.node_ui(ui, &tree);
+        self.slab_ui(ui, &tree);
+    }
+
+    fn canvas_ui(&mut self, ui: &mut egui::Ui) {
+        self.controls_ui(ui);
+        let Some(tree) = self.tree.get().cloned() else {
+            ui.label("Building…");
+            return;
+        };
+        let trace = self.trace.get();
+        let frame = self.stage.timeline.shown;
+        let steps = trace.map_or(&[][..], |trace| trace.shown(frame));
+        let state = trace.map(|trace| trace.state(frame));
+        let current = state
+            .and_then(|state| state.current)
+            .and_then(|step| step_node(&step));
+        let boxes = self.boxes(&tree, steps, current);
+        let boxes_revision = revision_of((
+            self.tree.generation(),
+            self.depth_range,
+            self.show_inner,
+            self.show_leaves,
+            self.hovered,
+            self.selected,
+            self.picked.map(|picked| picked.revision),
+            self.order,
+            frame,
+        ));
+        // Triangles tested so far (orange) and the closest hit so far (green).
+        let closest = closest_so_far(steps);
+        let mut highlights = Vec::new();
+        for step in steps {
+            if let Step::PrimitiveTested { primitive, .. } = *step
+                && let Some(triangle) = tree.drawn.get(primitive as usize)
+            {
+                highlights.push(DrawTriangle {
+                    color: [255, 170, 30, 255],
+                    ..*triangle
+                });
+            }
+        }
+        if let Some((primitive, _)) = closest
+            && let Some(triangle) = tree.drawn.get(primitive as usize)
+        {
+            highlights.push(DrawTriangle {
+                color: [60, 220, 90, 255],
+                ..*triangle
+            });
+        }
+        let mut segments = Vec::new();
+        if let Some(picked) = self.picked {
+            let (center, radius) = tree.sphere;
+            let ray = picked.ray;
+            // The ray from its origin to the closest hit so far, or through the scene.
+            let far = (ray.origin - center).length() + radius;
+            let end = closest.map_or(far / ray.direction.length(), |(_, t)| t);
+            let ray_color = palette::RAY;
+            segments.push(Instance {
+                a: relative(ray.origin, tree.sphere),
+                b: relative(ray.at(end), tree.sphere),
+                color: [ray_color.r(), ray_color.g(), ray_color.b(), 255],
+            });
+        }
+        let overlay_revision = revision_of((
+            self.tree.generation(),
+            self.picked.map(|picked| picked.revision),
+            self.order,
+            frame,
+        ));
+        let size = ui.available_size();
+        let response = self.view.ui(
+            ui,
+            size,
+            &Content {
+                sphere: tree.sphere,
+                mesh: (revision_of((self.tree.generation(), "mesh")), &tree.drawn),
+                highlights: (overlay_revision, &highlights),
+                boxes: (boxes_revision, &boxes),
+                segments: (overlay_revision, &segments),
+                quads: (0, &[]),
+                hidden_edges: self.hidden_edges,
+            },
+        );
+        if let Some((origin, direction)) = response.hovered {
+            self.hovered = self.box_under(&tree, origin, direction);
+        } else if response.response.hovered() {
+            self.hovered = None;
+        }
+        if let Some((origin, direction)) = response.clicked {
+            if let Some(node) = self.box_under(&tree, origin, direction) {
+                self.selected = Some(node);
+            }
+            self.pick(origin, direction);
+        }
+    }
+}

@@ -1,0 +1,592 @@
+//! Drawing the 3D view with wgpu: into the view's own colour and depth textures, shown as an
+//! egui image. The same path works on Vulkan, WebGPU, WebGL2 and in the snapshot tests'
+//! renderer, whose pass has no depth buffer (rerun's viewer draws its views the same way).
+//! Only vertex and instance attributes and one uniform buffer are used: WebGL2 has no
+//! storage buffers and no compute.
+
+use std::sync::{Arc, OnceLock};
+
+use eframe::egui_wgpu::RenderState;
+use eframe::wgpu;
+use glam::{DVec3, Mat4};
+
+/// The colour format egui takes from a native texture.
+const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Bytes of one mesh vertex: position (3 × f32), normal (4 × i8), colour (4 × u8).
+const MESH_VERTEX_BYTES: u64 = 20;
+/// Bytes of one instance: a (3 × f32), b (3 × f32), colour (4 × u8).
+const INSTANCE_BYTES: u64 = 28;
+const UNIFORM_BYTES: u64 = 96;
+
+/// The GPU, as eframe made it, and the 3D view's pipelines (made when first needed, so the 2D
+/// lessons never wait for them).
+pub struct Gpu {
+    render_state: RenderState,
+    pipelines: OnceLock<Pipelines>,
+}
+
+impl Gpu {
+    /// Keeps eframe's render state for the 3D views of `ctx`.
+    pub fn install(ctx: &egui::Context, render_state: RenderState) {
+        let gpu = Arc::new(Gpu {
+            render_state,
+            pipelines: OnceLock::new(),
+        });
+        ctx.data_mut(|data| data.insert_temp(egui::Id::NULL.with(GPU_KEY), gpu));
+    }
+
+    /// The GPU installed for `ctx`, if the app runs on wgpu.
+    pub fn of(ctx: &egui::Context) -> Option<Arc<Gpu>> {
+        ctx.data(|data| data.get_temp::<Arc<Gpu>>(egui::Id::NULL.with(GPU_KEY)))
+    }
+
+    fn pipelines(&self) -> &Pipelines {
+        self.pipelines
+            .get_or_init(|| Pipelines::new(&self.render_state.device))
+    }
+}
+
+const GPU_KEY: &str = "accelviz-view3d-gpu";
+
+/// A triangle as drawn: its corners (relative to the scene's origin) and its colour (sRGB).
+#[derive(Clone, Copy, Debug)]
+pub struct DrawTriangle {
+    /// Corners.
+    pub corners: [[f32; 3]; 3],
+    /// sRGB colour with alpha.
+    pub color: [u8; 4],
+}
+
+/// An instance: a box (`a` = min, `b` = max), a segment from `a` to `b`, or a flat box drawn
+/// as a quad; with its sRGB colour and alpha.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Instance {
+    /// Min corner, or the segment's start.
+    pub a: [f32; 3],
+    /// Max corner, or the segment's end.
+    pub b: [f32; 3],
+    /// sRGB colour with alpha.
+    pub color: [u8; 4],
+}
+
+/// How box edges behind a surface are drawn.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum HiddenEdges {
+    /// Faint (x-ray).
+    #[default]
+    Dimmed,
+    /// Not at all.
+    Hidden,
+}
+
+/// What one frame of the view shows. Layers carry a revision: a layer whose revision has not
+/// changed is not uploaded again.
+pub struct Scene3d<'a> {
+    /// World to clip space, for world coordinates minus `origin`.
+    pub view_proj: Mat4,
+    /// Towards the light, in world space.
+    pub light: DVec3,
+    /// The mesh's triangles and their revision.
+    pub mesh: (u64, &'a [DrawTriangle]),
+    /// Triangles drawn again over the mesh (highlights), and their revision.
+    pub highlights: (u64, &'a [DrawTriangle]),
+    /// Boxes outlined, and their revision.
+    pub boxes: (u64, &'a [Instance]),
+    /// Segments (rays, markers), and their revision.
+    pub segments: (u64, &'a [Instance]),
+    /// Translucent quads (planes), back to front, and their revision.
+    pub quads: (u64, &'a [Instance]),
+    /// Line width in pixels.
+    pub line_width: f32,
+    /// How box edges behind surfaces are drawn.
+    pub hidden_edges: HiddenEdges,
+    /// Background colour (sRGB).
+    pub background: [u8; 3],
+}
+
+/// A GPU buffer of one layer and the revision it holds.
+#[derive(Default)]
+struct Layer {
+    buffer: Option<wgpu::Buffer>,
+    count: u32,
+    revision: Option<u64>,
+}
+
+impl Layer {
+    /// Uploads `bytes` (holding `count` items) unless `revision` is already there.
+    fn update(
+        &mut self,
+        gpu: &RenderState,
+        revision: u64,
+        count: usize,
+        bytes: impl FnOnce() -> Vec<u8>,
+    ) {
+        if self.revision == Some(revision) {
+            return;
+        }
+        self.revision = Some(revision);
+        self.count = count as u32;
+        if count == 0 {
+            return;
+        }
+        let bytes = bytes();
+        let size = bytes.len() as u64;
+        let fits = self
+            .buffer
+            .as_ref()
+            .is_some_and(|buffer| buffer.size() >= size);
+        if !fits {
+            self.buffer = Some(gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("accelviz 3d layer"),
+                size: size.next_power_of_two().max(256),
+                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }));
+        }
+        if let Some(buffer) = &self.buffer {
+            gpu.queue.write_buffer(buffer, 0, &bytes);
+        }
+    }
+
+    fn slice(&self, item_bytes: u64) -> Option<wgpu::BufferSlice<'_>> {
+        let buffer = self.buffer.as_ref()?;
+        (self.count > 0).then(|| buffer.slice(..u64::from(self.count) * item_bytes))
+    }
+}
+
+/// The textures a view draws into, and what was last drawn there.
+struct Target {
+    size: [u32; 2],
+    color: wgpu::Texture,
+    depth_view: wgpu::TextureView,
+    texture_id: egui::TextureId,
+}
+
+/// One 3D view's GPU state: its target and its layers.
+#[derive(Default)]
+pub struct ViewGpu {
+    target: Option<Target>,
+    uniforms: Option<(wgpu::Buffer, wgpu::BindGroup)>,
+    mesh: Layer,
+    highlights: Layer,
+    boxes: Layer,
+    segments: Layer,
+    quads: Layer,
+}
+
+impl ViewGpu {
+    /// Draws `scene` into a `size` (pixels) target and returns the egui texture showing it.
+    pub fn draw(&mut self, gpu: &Gpu, size: [u32; 2], scene: &Scene3d<'_>) -> egui::TextureId {
+        let state = &gpu.render_state;
+        let pipelines = gpu.pipelines();
+        let size = [size[0].clamp(1, 8192), size[1].clamp(1, 8192)];
+        make_target(&mut self.target, state, size);
+        let Some(target) = &self.target else {
+            return egui::TextureId::default();
+        };
+        let (color_view, depth_view, texture_id) = (
+            target
+                .color
+                .create_view(&wgpu::TextureViewDescriptor::default()),
+            &target.depth_view,
+            target.texture_id,
+        );
+
+        self.mesh
+            .update(state, scene.mesh.0, scene.mesh.1.len() * 3, || {
+                mesh_bytes(scene.mesh.1)
+            });
+        self.highlights.update(
+            state,
+            scene.highlights.0,
+            scene.highlights.1.len() * 3,
+            || mesh_bytes(scene.highlights.1),
+        );
+        for (layer, (revision, instances)) in [
+            (&mut self.boxes, scene.boxes),
+            (&mut self.segments, scene.segments),
+            (&mut self.quads, scene.quads),
+        ] {
+            layer.update(state, revision, instances.len(), || {
+                instance_bytes(instances)
+            });
+        }
+
+        let (uniform_buffer, bind_group) = self.uniforms.get_or_insert_with(|| {
+            let buffer = state.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("accelviz 3d uniforms"),
+                size: UNIFORM_BYTES,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let bind_group = state.device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("accelviz 3d uniforms"),
+                layout: &pipelines.bind_group_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: buffer.as_entire_binding(),
+                }],
+            });
+            (buffer, bind_group)
+        });
+        let light = scene.light.normalize_or_zero().as_vec3();
+        let mut uniforms = Vec::with_capacity(UNIFORM_BYTES as usize);
+        for value in scene.view_proj.to_cols_array() {
+            uniforms.extend_from_slice(&value.to_le_bytes());
+        }
+        let hidden_alpha = match scene.hidden_edges {
+            HiddenEdges::Dimmed => 0.18f32,
+            HiddenEdges::Hidden => 0.0,
+        };
+        for value in [
+            size[0] as f32,
+            size[1] as f32,
+            scene.line_width,
+            hidden_alpha,
+            light.x,
+            light.y,
+            light.z,
+            0.35,
+        ] {
+            uniforms.extend_from_slice(&value.to_le_bytes());
+        }
+        state.queue.write_buffer(uniform_buffer, 0, &uniforms);
+
+        let mut encoder = state
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("accelviz 3d"),
+            });
+        {
+            let [r, g, b] = scene.background.map(srgb_byte_to_linear);
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("accelviz 3d"),
+                color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                    view: &color_view,
+                    resolve_target: None,
+                    depth_slice: None,
+                    ops: wgpu::Operations {
+                        // The target holds sRGB-encoded bytes: clear with the encoded value.
+                        load: wgpu::LoadOp::Clear(wgpu::Color {
+                            r: linear_to_srgb(r),
+                            g: linear_to_srgb(g),
+                            b: linear_to_srgb(b),
+                            a: 1.0,
+                        }),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: depth_view,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Store,
+                    }),
+                    stencil_ops: None,
+                }),
+                ..Default::default()
+            });
+            pass.set_bind_group(0, &*bind_group, &[]);
+            // Opaque surfaces first, writing depth; then what is seen through or over them.
+            if let Some(slice) = self.mesh.slice(MESH_VERTEX_BYTES) {
+                pass.set_pipeline(&pipelines.mesh);
+                pass.set_vertex_buffer(0, slice);
+                pass.draw(0..self.mesh.count, 0..1);
+            }
+            if let Some(slice) = self.highlights.slice(MESH_VERTEX_BYTES) {
+                pass.set_pipeline(&pipelines.highlight);
+                pass.set_vertex_buffer(0, slice);
+                pass.draw(0..self.highlights.count, 0..1);
+            }
+            if let Some(slice) = self.quads.slice(INSTANCE_BYTES) {
+                pass.set_pipeline(&pipelines.quads);
+                pass.set_vertex_buffer(0, slice);
+                pass.draw(0..6, 0..self.quads.count);
+            }
+            for (layer, vertices, hidden, visible) in [
+                (&self.boxes, 72, &pipelines.boxes_hidden, &pipelines.boxes),
+                (
+                    &self.segments,
+                    6,
+                    &pipelines.segments_hidden,
+                    &pipelines.segments,
+                ),
+            ] {
+                let Some(slice) = layer.slice(INSTANCE_BYTES) else {
+                    continue;
+                };
+                pass.set_vertex_buffer(0, slice);
+                if scene.hidden_edges == HiddenEdges::Dimmed {
+                    pass.set_pipeline(hidden);
+                    pass.draw(0..vertices, 0..layer.count);
+                }
+                pass.set_pipeline(visible);
+                pass.draw(0..vertices, 0..layer.count);
+            }
+        }
+        state.queue.submit(Some(encoder.finish()));
+        texture_id
+    }
+}
+
+/// The target at `size`, made or remade (and registered with egui) when the size changes.
+fn make_target(slot: &mut Option<Target>, state: &RenderState, size: [u32; 2]) {
+    if slot.as_ref().is_some_and(|target| target.size == size) {
+        return;
+    }
+    let extent = wgpu::Extent3d {
+        width: size[0],
+        height: size[1],
+        depth_or_array_layers: 1,
+    };
+    let texture = |label, format, usage| {
+        state.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: extent,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    };
+    let color = texture(
+        "accelviz 3d colour",
+        COLOR_FORMAT,
+        wgpu::TextureUsages::RENDER_ATTACHMENT
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+    );
+    let depth = texture(
+        "accelviz 3d depth",
+        DEPTH_FORMAT,
+        wgpu::TextureUsages::RENDER_ATTACHMENT,
+    );
+    let color_view = color.create_view(&wgpu::TextureViewDescriptor::default());
+    let mut renderer = state.renderer.write();
+    let texture_id = match slot.as_ref() {
+        Some(old) => {
+            renderer.update_egui_texture_from_wgpu_texture(
+                &state.device,
+                &color_view,
+                wgpu::FilterMode::Linear,
+                old.texture_id,
+            );
+            old.texture_id
+        }
+        None => {
+            renderer.register_native_texture(&state.device, &color_view, wgpu::FilterMode::Linear)
+        }
+    };
+    drop(renderer);
+    *slot = Some(Target {
+        size,
+        color,
+        depth_view: depth.create_view(&wgpu::TextureViewDescriptor::default()),
+        texture_id,
+    })
+}
+
+fn srgb_byte_to_linear(byte: u8) -> f64 {
+    let c = f64::from(byte) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// The clear colour's value: wgpu clears an Rgba8Unorm target with the number given, which
+/// must be the sRGB-encoded one egui expects.
+fn linear_to_srgb(c: f64) -> f64 {
+    if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// Triangles as mesh vertices (flat normals: each corner carries its face's normal).
+fn mesh_bytes(triangles: &[DrawTriangle]) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(triangles.len() * 3 * MESH_VERTEX_BYTES as usize);
+    for triangle in triangles {
+        let [a, b, c] = triangle.corners.map(glam::Vec3::from_array);
+        let normal = (b - a).cross(c - a).normalize_or_zero();
+        let normal = [normal.x, normal.y, normal.z, 0.0]
+            .map(|x| ((x * 127.0).round() as i8).to_le_bytes()[0]);
+        for corner in triangle.corners {
+            for value in corner {
+                bytes.extend_from_slice(&value.to_le_bytes());
+            }
+            bytes.extend_from_slice(&normal);
+            bytes.extend_from_slice(&triangle.color);
+        }
+    }
+    bytes
+}
+
+fn instance_bytes(instances: &[Instance]) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(instances.len() * INSTANCE_BYTES as usize);
+    for instance in instances {
+        for value in instance.a.iter().chain(&instance.b) {
+            bytes.extend_from_slice(&value.to_le_bytes());
+        }
+        bytes.extend_from_slice(&instance.color);
+    }
+    bytes
+}
+
+/// The 3D view's pipelines.
+struct Pipelines {
+    bind_group_layout: wgpu::BindGroupLayout,
+    mesh: wgpu::RenderPipeline,
+    highlight: wgpu::RenderPipeline,
+    boxes: wgpu::RenderPipeline,
+    boxes_hidden: wgpu::RenderPipeline,
+    segments: wgpu::RenderPipeline,
+    segments_hidden: wgpu::RenderPipeline,
+    quads: wgpu::RenderPipeline,
+}
+
+impl Pipelines {
+    fn new(device: &wgpu::Device) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("accelviz 3d"),
+            source: wgpu::ShaderSource::Wgsl(include_str!("shader.wgsl").into()),
+        });
+        let bind_group_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("accelviz 3d uniforms"),
+            entries: &[wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::VERTEX_FRAGMENT,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: wgpu::BufferSize::new(UNIFORM_BYTES),
+                },
+                count: None,
+            }],
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("accelviz 3d"),
+            bind_group_layouts: &[Some(&bind_group_layout)],
+            immediate_size: 0,
+        });
+        let mesh_attributes =
+            wgpu::vertex_attr_array![0 => Float32x3, 1 => Snorm8x4, 2 => Unorm8x4];
+        let instance_attributes =
+            wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Unorm8x4];
+        let mesh_layout = wgpu::VertexBufferLayout {
+            array_stride: MESH_VERTEX_BYTES,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &mesh_attributes,
+        };
+        let instance_layout = wgpu::VertexBufferLayout {
+            array_stride: INSTANCE_BYTES,
+            step_mode: wgpu::VertexStepMode::Instance,
+            attributes: &instance_attributes,
+        };
+        let alpha_blend = wgpu::BlendState {
+            color: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::SrcAlpha,
+                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+                operation: wgpu::BlendOperation::Add,
+            },
+            alpha: wgpu::BlendComponent {
+                src_factor: wgpu::BlendFactor::One,
+                dst_factor: wgpu::BlendFactor::OneMinusSrcAlpha,
+                operation: wgpu::BlendOperation::Add,
+            },
+        };
+        let pipeline = |label: &str,
+                        vertex: &str,
+                        fragment: &str,
+                        buffer: &wgpu::VertexBufferLayout<'_>,
+                        depth_write: bool,
+                        compare: wgpu::CompareFunction| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(label),
+                layout: Some(&layout),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some(vertex),
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                    buffers: &[Some(buffer.clone())],
+                },
+                primitive: wgpu::PrimitiveState {
+                    topology: wgpu::PrimitiveTopology::TriangleList,
+                    cull_mode: None,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(depth_write),
+                    depth_compare: Some(compare),
+                    stencil: wgpu::StencilState::default(),
+                    bias: wgpu::DepthBiasState::default(),
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fragment),
+                    compilation_options: wgpu::PipelineCompilationOptions::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format: COLOR_FORMAT,
+                        blend: Some(alpha_blend),
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        use wgpu::CompareFunction::{Greater, Less, LessEqual};
+        Self {
+            mesh: pipeline("mesh", "vs_mesh", "fs_color", &mesh_layout, true, Less),
+            highlight: pipeline(
+                "highlight",
+                "vs_mesh",
+                "fs_color",
+                &mesh_layout,
+                false,
+                LessEqual,
+            ),
+            boxes: pipeline(
+                "boxes",
+                "vs_box",
+                "fs_line",
+                &instance_layout,
+                false,
+                LessEqual,
+            ),
+            boxes_hidden: pipeline(
+                "boxes hidden",
+                "vs_box",
+                "fs_line_hidden",
+                &instance_layout,
+                false,
+                Greater,
+            ),
+            segments: pipeline(
+                "segments",
+                "vs_segment",
+                "fs_line",
+                &instance_layout,
+                false,
+                LessEqual,
+            ),
+            segments_hidden: pipeline(
+                "segments hidden",
+                "vs_segment",
+                "fs_line_hidden",
+                &instance_layout,
+                false,
+                Greater,
+            ),
+            quads: pipeline("quads", "vs_quad", "fs_line", &instance_layout, false, Less),
+            bind_group_layout,
+        }
+    }
+}

@@ -1,0 +1,244 @@
+//! The 3D view: a camera the user orbits, pans and zooms, drawn by [`gpu`] into the view's own
+//! textures; a click gives the ray through that pixel (the core's [`Camera`], the same one
+//! the heat maps and `bench --camera` use), so what is picked is what is traced.
+
+pub mod gpu;
+pub mod mesh_scene;
+
+use accelviz_core::camera::{Camera, Projection};
+use egui::{Color32, Rect, Sense, Vec2};
+use glam::{DVec3, Mat4};
+
+pub use gpu::{DrawTriangle, Gpu, HiddenEdges, Instance, Scene3d, ViewGpu};
+
+/// Where the camera is: angles around the target and a distance in scene radii.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Orbit {
+    /// Degrees around the vertical axis (0: looking along −z).
+    pub yaw: f64,
+    /// Degrees above the horizon.
+    pub pitch: f64,
+    /// Distance from the target in scene radii (at 45°, 2.6 fits the scene's sphere).
+    pub distance: f64,
+    /// The target's offset from the scene's centre, in scene radii.
+    pub pan: DVec3,
+    /// Perspective or orthographic.
+    pub orthographic: bool,
+}
+
+impl Default for Orbit {
+    fn default() -> Self {
+        Self {
+            yaw: 20.0,
+            pitch: 22.0,
+            distance: 2.8,
+            pan: DVec3::ZERO,
+            orthographic: false,
+        }
+    }
+}
+
+/// The vertical field of view of the perspective camera.
+const FIELD_OF_VIEW_DEGREES: f64 = 45.0;
+
+impl Orbit {
+    /// The camera for a scene whose bounding sphere is (`center`, `radius`).
+    pub fn camera(&self, center: DVec3, radius: f64) -> Camera {
+        let (yaw, pitch) = (self.yaw.to_radians(), self.pitch.to_radians());
+        let toward_eye = DVec3::new(
+            yaw.sin() * pitch.cos(),
+            pitch.sin(),
+            yaw.cos() * pitch.cos(),
+        );
+        let target = center + self.pan * radius;
+        let distance = self.distance * radius;
+        let projection = if self.orthographic {
+            // As much of the scene as the perspective camera shows at the target's distance.
+            Projection::Orthographic {
+                half_height: distance * (FIELD_OF_VIEW_DEGREES.to_radians() / 2.0).tan(),
+            }
+        } else {
+            Projection::Perspective {
+                vertical_fov: FIELD_OF_VIEW_DEGREES.to_radians(),
+            }
+        };
+        Camera {
+            eye: target + toward_eye * distance,
+            target,
+            up: DVec3::Y,
+            projection,
+        }
+    }
+
+    /// Orbits by a drag of `delta` points, pans by a drag with the secondary button, zooms
+    /// by scrolling.
+    fn control(&mut self, response: &egui::Response, ui: &egui::Ui) {
+        let delta = response.drag_delta();
+        let panning = response.dragged_by(egui::PointerButton::Secondary)
+            || response.dragged_by(egui::PointerButton::Middle)
+            || (response.dragged_by(egui::PointerButton::Primary)
+                && ui.input(|i| i.modifiers.shift));
+        if panning {
+            let (yaw, pitch) = (self.yaw.to_radians(), self.pitch.to_radians());
+            let right = DVec3::new(yaw.cos(), 0.0, -yaw.sin());
+            let up = DVec3::new(
+                -yaw.sin() * pitch.sin(),
+                pitch.cos(),
+                -yaw.cos() * pitch.sin(),
+            );
+            let scale = self.distance / response.rect.height().max(1.0) as f64;
+            self.pan += (-right * delta.x as f64 + up * delta.y as f64) * scale;
+        } else if response.dragged_by(egui::PointerButton::Primary) {
+            self.yaw -= delta.x as f64 * 0.4;
+            self.pitch = (self.pitch + delta.y as f64 * 0.4).clamp(-89.0, 89.0);
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y) as f64;
+            if scroll != 0.0 {
+                self.distance = (self.distance * (-scroll * 0.002).exp()).clamp(0.05, 50.0);
+            }
+        }
+    }
+}
+
+/// A 3D view: its camera and what it drew last.
+#[derive(Default)]
+pub struct View3d {
+    /// The camera.
+    pub orbit: Orbit,
+    gpu: ViewGpu,
+}
+
+/// What happened in the view this frame.
+pub struct ViewResponse {
+    /// The view's response.
+    pub response: egui::Response,
+    /// The camera used.
+    pub camera: Camera,
+    /// The ray through the pixel clicked this frame, in world space: (origin, direction).
+    pub clicked: Option<(DVec3, DVec3)>,
+    /// The ray through the pixel under the pointer.
+    pub hovered: Option<(DVec3, DVec3)>,
+}
+
+/// What a lesson gives the view to draw, and the layers' revisions. Geometry is given
+/// relative to the sphere (see [`relative`]).
+pub struct Content<'a> {
+    /// The bounding sphere of everything shown: (centre, radius).
+    pub sphere: (DVec3, f64),
+    /// The mesh and its revision.
+    pub mesh: (u64, &'a [DrawTriangle]),
+    /// Highlighted triangles and their revision.
+    pub highlights: (u64, &'a [DrawTriangle]),
+    /// Boxes and their revision.
+    pub boxes: (u64, &'a [Instance]),
+    /// Segments and their revision.
+    pub segments: (u64, &'a [Instance]),
+    /// Quads (back to front) and their revision.
+    pub quads: (u64, &'a [Instance]),
+    /// How box edges behind surfaces are drawn.
+    pub hidden_edges: HiddenEdges,
+}
+
+/// Line width in points: readable on a projector.
+const LINE_WIDTH_POINTS: f32 = 1.6;
+
+impl View3d {
+    /// Draws the view filling `size` and handles its camera controls. Coordinates sent to
+    /// the GPU are relative to the scene's centre, so f32 keeps the detail of a mesh far from
+    /// the origin.
+    pub fn ui(&mut self, ui: &mut egui::Ui, size: Vec2, content: &Content<'_>) -> ViewResponse {
+        let (rect, response) = ui.allocate_exact_size(size, Sense::click_and_drag());
+        self.orbit.control(&response, ui);
+        let (center, radius) = content.sphere;
+        let radius = radius.max(1e-9);
+        let camera = self.orbit.camera(center, radius);
+        let pixels_per_point = ui.ctx().pixels_per_point();
+        let pixels = [
+            (rect.width() * pixels_per_point).round().max(1.0) as u32,
+            (rect.height() * pixels_per_point).round().max(1.0) as u32,
+        ];
+        let ray_at = |position: egui::Pos2| {
+            let x = (position.x - rect.min.x) * pixels_per_point;
+            let y = (position.y - rect.min.y) * pixels_per_point;
+            camera.ray_through(x as f64, y as f64, pixels[0] as usize, pixels[1] as usize)
+        };
+        let clicked = response
+            .clicked()
+            .then(|| response.interact_pointer_pos())
+            .flatten()
+            .map(ray_at);
+        let hovered = response.hover_pos().map(ray_at);
+
+        match Gpu::of(ui.ctx()) {
+            Some(gpu) => {
+                // The camera in the units the geometry is sent in (see `relative`).
+                let relative = Camera {
+                    eye: (camera.eye - center) / radius,
+                    target: (camera.target - center) / radius,
+                    projection: match camera.projection {
+                        Projection::Orthographic { half_height } => Projection::Orthographic {
+                            half_height: half_height / radius,
+                        },
+                        perspective => perspective,
+                    },
+                    ..camera
+                };
+                let (near, far) = relative.depth_range(DVec3::ZERO, 1.5);
+                let view_proj: Mat4 = relative
+                    .view_projection(pixels[0] as f64 / pixels[1] as f64, near, far)
+                    .as_mat4();
+                let scene = Scene3d {
+                    view_proj,
+                    light: camera.eye - camera.target,
+                    mesh: content.mesh,
+                    highlights: content.highlights,
+                    boxes: content.boxes,
+                    segments: content.segments,
+                    quads: content.quads,
+                    line_width: LINE_WIDTH_POINTS * pixels_per_point,
+                    hidden_edges: content.hidden_edges,
+                    background: [246, 246, 246],
+                };
+                let texture = self.gpu.draw(&gpu, pixels, &scene);
+                ui.painter().image(
+                    texture,
+                    rect,
+                    Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+                    Color32::WHITE,
+                );
+            }
+            None => {
+                ui.painter()
+                    .rect_filled(rect, 0.0, ui.visuals().extreme_bg_color);
+                ui.painter().text(
+                    rect.center(),
+                    egui::Align2::CENTER_CENTER,
+                    "The 3D view needs the wgpu renderer (WebGPU, WebGL2, Vulkan, Metal or DirectX).",
+                    egui::FontId::proportional(15.0),
+                    ui.visuals().text_color(),
+                );
+            }
+        }
+        ViewResponse {
+            response,
+            camera,
+            clicked,
+            hovered,
+        }
+    }
+
+    /// Puts the camera back where it started.
+    pub fn reset(&mut self) {
+        self.orbit = Orbit::default();
+    }
+}
+
+/// A point as the GPU gets it: relative to the scene's bounding sphere (`center`, `radius`)
+/// in units of its radius, so f32 keeps a mesh's detail at any size and distance from the
+/// origin (a mesh at 1e300 included).
+pub fn relative(point: DVec3, (center, radius): (DVec3, f64)) -> [f32; 3] {
+    ((point - center) / radius.max(f64::MIN_POSITIVE))
+        .as_vec3()
+        .to_array()
+}
