@@ -27,6 +27,16 @@ pub fn set_background(on: bool) {
     BACKGROUND.store(on && cfg!(not(target_arch = "wasm32")), Ordering::Relaxed);
 }
 
+/// How many worker threads work that can be shared out may use: every core on the desktop,
+/// none (0: work a slice a frame on the UI thread) in the browser and in tests.
+pub fn worker_threads() -> usize {
+    if BACKGROUND.load(Ordering::Relaxed) {
+        std::thread::available_parallelism().map_or(1, usize::from)
+    } else {
+        0
+    }
+}
+
 /// Whether work of `size` primitives goes to a worker thread.
 fn in_background(size: usize) -> bool {
     size >= AT_ONCE_BELOW && BACKGROUND.load(Ordering::Relaxed)

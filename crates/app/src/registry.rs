@@ -5,8 +5,8 @@ use std::path::Path;
 
 use crate::lesson::{Lesson, LessonText};
 use crate::lessons::{
-    bounding_volumes, build_steps, bvh, cost_split, kd, mesh_tree, near_first, recap, slab, splits,
-    trivial,
+    bounding_volumes, build_steps, bvh, cost_split, heat, kd, mesh_tree, near_first, recap, slab,
+    splits, trivial,
 };
 
 /// One lesson: where its file lives, the file as embedded, and what shows it.
@@ -30,7 +30,7 @@ macro_rules! lesson {
 }
 
 /// The lessons, in the lecture's order.
-pub const LESSONS: [LessonEntry; 11] = [
+pub const LESSONS: [LessonEntry; 12] = [
     lesson!("01-trivial.ron", |text| Box::new(
         trivial::TrivialLoop::new(text)
     )),
@@ -60,6 +60,9 @@ pub const LESSONS: [LessonEntry; 11] = [
     lesson!("12-mesh-bvh.ron", |text| Box::new(
         mesh_tree::MeshTreeLesson::new(text)
     )),
+    lesson!("14-heat-maps.ron", |text| Box::new(heat::HeatLesson::new(
+        text
+    ))),
 ];
 
 /// A lesson whose built-in file is broken too (a build of the app that its tests would have

@@ -4,9 +4,11 @@
 mod common;
 
 use accelviz_app::lesson::Lesson;
+use accelviz_app::lessons::heat::HeatLesson;
 use accelviz_app::lessons::mesh_tree::MeshTreeLesson;
 use accelviz_app::view3d::HiddenEdges;
-use accelviz_core::{Order, Ray, TraceOptions, brute_force};
+use accelviz_core::heatmap::Counter;
+use accelviz_core::{Counters, Order, Ray, TraceOptions, TraversalStacks, brute_force};
 use common::{lesson_harness_3d, lesson_text};
 use glam::DVec3;
 
@@ -88,4 +90,101 @@ fn a_clicked_pixels_recorded_hit_is_brute_forces() {
         }
     }
     assert!(hits > 50, "{hits} pixels hit the teapot");
+}
+
+fn heat_lesson() -> HeatLesson {
+    HeatLesson::new(lesson_text("14-heat-maps.ron"))
+}
+
+/// Runs frames until the heat maps are whole.
+fn finish_heat_maps(harness: &mut egui_kittest::Harness<'_, HeatLesson>) {
+    harness.run_steps(2);
+    harness.state().job().expect("a job started").finish();
+    harness.run_steps(2);
+    let maps = harness.state().maps().expect("maps");
+    assert_eq!(maps.progress, 1.0);
+}
+
+#[test]
+fn heat_maps_near_first_file_order_and_their_difference() {
+    let mut harness = lesson_harness_3d(heat_lesson());
+    finish_heat_maps(&mut harness);
+    harness.snapshot("heat_3d_nodes");
+    harness.state_mut().counter = Counter::Prims;
+    harness.run_steps(2);
+    harness.snapshot("heat_3d_prims");
+}
+
+#[test]
+fn heat_map_totals_are_the_counters_of_the_same_rays() {
+    let mut harness = lesson_harness_3d(heat_lesson());
+    finish_heat_maps(&mut harness);
+    let tree = harness.state().tree().expect("built").clone();
+    let key = *harness.state().job().expect("job").key();
+    let maps = harness.state().maps().expect("maps");
+    assert!(
+        key.width > 100 && key.height > 100,
+        "{}x{}",
+        key.width,
+        key.height
+    );
+    for (order, map) in [Order::NearFirst, Order::FileOrder]
+        .into_iter()
+        .zip(&maps.maps)
+    {
+        let options = TraceOptions {
+            order,
+            ..TraceOptions::default()
+        };
+        let mut summed = Counters::default();
+        let mut stacks = TraversalStacks::default();
+        for row in 0..key.height {
+            for column in 0..key.width {
+                let ray = key
+                    .camera
+                    .pixel_ray::<DVec3>(column, row, key.width, key.height)
+                    .expect("a ray");
+                // The triangles in file order: the leaf-ordered copy the maps use must not
+                // change what is counted.
+                tree.built
+                    .tree
+                    .trace(&tree.triangles, &ray, &options, &mut stacks, &mut summed);
+            }
+        }
+        assert_eq!(
+            map.summary(Counter::Nodes).total,
+            summed.nodes_visited,
+            "{order:?}"
+        );
+        assert_eq!(
+            map.summary(Counter::Boxes).total,
+            summed.box_tests,
+            "{order:?}"
+        );
+        assert_eq!(
+            map.summary(Counter::Prims).total,
+            summed.primitive_tests,
+            "{order:?}"
+        );
+    }
+    // Clicking a pixel traces its ray: the recorded hit is brute force's.
+    let (x, y) = (key.width / 2, key.height / 2);
+    harness.state_mut().pick_pixel(x, y, Order::FileOrder);
+    harness.state_mut().update();
+    let ray = key
+        .camera
+        .pixel_ray::<DVec3>(x, y, key.width, key.height)
+        .expect("ray");
+    let expected = brute_force(
+        &tree.triangles,
+        &ray,
+        &TraceOptions::default(),
+        &mut accelviz_core::NoObserver,
+    );
+    let trace = harness.state().trace().expect("traced");
+    assert!(expected.is_some(), "the centre pixel sees the mesh");
+    assert_eq!(
+        trace.hit.map(|hit| hit.primitive),
+        expected.map(|hit| hit.primitive)
+    );
 }

@@ -227,8 +227,10 @@ pub fn difference_colors(differences: &[i64], scale: u64) -> Vec<[u8; 4]> {
         .collect()
 }
 
-/// Traces the pixels of rows `first_row..` into `out` (whole rows of `width`).
-fn trace_rows<V: Vector3>(
+/// Traces the pixels of rows `first_row..` of a `width × height` image into `out` (whole
+/// rows of `width`), with `trace` adding each ray's steps to its counters: a piece of a heat
+/// map, for callers that share the rows out themselves (the app, a band at a time).
+pub fn trace_rows<V: Vector3>(
     camera: &Camera,
     width: usize,
     height: usize,

@@ -5,92 +5,24 @@
 //! stepped on the timeline (each box test with its slab interval, culls, triangle tests, the
 //! closest hit so far), near-first or in file order.
 
-use std::hash::{Hash, Hasher};
 use std::sync::Arc;
 
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::camera::bounding_sphere_of_box;
 use accelviz_core::format::{count, number, point};
-use accelviz_core::{
-    Aabb, Built, CATALOGUE, Family, NoBuildObserver, Order, Ray, Step, Structure, TreeStats,
-    TriangleSet, slab_record,
-};
-use accelviz_scene::Mesh;
+use accelviz_core::{Aabb, CATALOGUE, Family, Order, Ray, Step, Structure, slab_record};
 use accelviz_scene::builtin::BUILTINS;
 use egui::Color32;
 use glam::DVec3;
-use web_time::Instant;
 
 use crate::background::{Cached, Derived};
 use crate::canvas::{depth_color, palette};
 use crate::lesson::{Lesson, LessonText};
-use crate::stage::{KD_BUDGET, Stage};
-use crate::trace::{Trace, TraceState, closest_so_far, describe_step, options_in, step_node};
-use crate::view3d::mesh_scene::MeshScene;
-use crate::view3d::{Content, DrawTriangle, HiddenEdges, Instance, View3d, relative};
+use crate::stage::Stage;
+use crate::trace::{Trace, TraceState, describe_step, options_in, step_node};
+use crate::view3d::mesh_scene::{MeshScene, MeshTree};
+use crate::view3d::{Content, HiddenEdges, Instance, View3d, relative, revision_of, trace_overlay};
 use crate::views::tree_diagram::{diagram_ui, traversal_emphasis};
-
-/// The mesh's colour (sRGB).
-const MESH_COLOR: [u8; 4] = [178, 188, 204, 255];
-
-/// A structure built over a mesh, with what the view draws of the mesh.
-pub struct MeshTree {
-    /// The mesh.
-    pub mesh: Arc<Mesh>,
-    /// Its triangles as the core traces them.
-    pub triangles: TriangleSet<DVec3>,
-    /// The tree and its facts.
-    pub built: Built<DVec3>,
-    /// Its statistics.
-    pub stats: TreeStats,
-    /// How long the build took.
-    pub build_millis: f64,
-    /// The mesh's bounding sphere: the view's centre and size.
-    pub sphere: (DVec3, f64),
-    /// The mesh as drawn (relative to the sphere's centre).
-    pub drawn: Vec<DrawTriangle>,
-}
-
-impl MeshTree {
-    /// Builds `structure` over `mesh`.
-    pub fn build(mesh: Arc<Mesh>, structure: Structure) -> Self {
-        let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
-        let params = BuildParams {
-            kd_budget: KD_BUDGET,
-            ..BuildParams::default()
-        };
-        let started = Instant::now();
-        let built = Built::new(structure, &triangles, &params, &mut NoBuildObserver);
-        let build_millis = started.elapsed().as_secs_f64() * 1e3;
-        let stats = built.stats(0, &params.cost);
-        let sphere = bounding_sphere_of_box(&mesh.bounds());
-        let drawn = mesh
-            .triangles
-            .iter()
-            .map(|triangle| DrawTriangle {
-                corners: triangle.map(|corner| relative(DVec3::from_array(corner), sphere)),
-                color: MESH_COLOR,
-            })
-            .collect();
-        Self {
-            mesh,
-            triangles,
-            built,
-            stats,
-            build_millis,
-            sphere,
-            drawn,
-        }
-    }
-
-    /// A node's name: its path from the root (`root`, `LRL`).
-    pub fn node_name(&self, node: u32) -> String {
-        match self.built.facts.path_to(node) {
-            path if path.is_empty() => "the root".to_owned(),
-            path => format!("node {path}"),
-        }
-    }
-}
 
 /// The ray of a clicked pixel.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -122,13 +54,6 @@ pub struct MeshTreeLesson {
     hovered: Option<u32>,
     /// The node the inspector shows.
     pub selected: Option<u32>,
-}
-
-/// A layer's revision: a hash of what it was made from.
-fn revision_of(key: impl Hash) -> u64 {
-    let mut hasher = std::collections::hash_map::DefaultHasher::new();
-    key.hash(&mut hasher);
-    hasher.finish()
 }
 
 impl MeshTreeLesson {
@@ -403,12 +328,7 @@ impl Lesson for MeshTreeLesson {
     crate::staged!(tree);
 
     fn update(&mut self) {
-        let key = (self.stage.scene.revision, self.structure);
-        let mesh = self.stage.scene.mesh.clone();
-        let structure = self.structure;
-        self.tree.request(&key, mesh.triangles.len(), || {
-            move || MeshTree::build(mesh, structure)
-        });
+        MeshTree::request(&mut self.tree, &self.stage.scene, self.structure);
         let Some(tree) = self.tree.get().cloned() else {
             return;
         };
@@ -541,41 +461,10 @@ impl Lesson for MeshTreeLesson {
             self.order,
             frame,
         ));
-        // Triangles tested so far (orange) and the closest hit so far (green).
-        let closest = closest_so_far(steps);
-        let mut highlights = Vec::new();
-        for step in steps {
-            if let Step::PrimitiveTested { primitive, .. } = *step
-                && let Some(triangle) = tree.drawn.get(primitive as usize)
-            {
-                highlights.push(DrawTriangle {
-                    color: [255, 170, 30, 255],
-                    ..*triangle
-                });
-            }
-        }
-        if let Some((primitive, _)) = closest
-            && let Some(triangle) = tree.drawn.get(primitive as usize)
-        {
-            highlights.push(DrawTriangle {
-                color: [60, 220, 90, 255],
-                ..*triangle
-            });
-        }
-        let mut segments = Vec::new();
-        if let Some(picked) = self.picked {
-            let (center, radius) = tree.sphere;
-            let ray = picked.ray;
-            // The ray from its origin to the closest hit so far, or through the scene.
-            let far = (ray.origin - center).length() + radius;
-            let end = closest.map_or(far / ray.direction.length(), |(_, t)| t);
-            let ray_color = palette::RAY;
-            segments.push(Instance {
-                a: relative(ray.origin, tree.sphere),
-                b: relative(ray.at(end), tree.sphere),
-                color: [ray_color.r(), ray_color.g(), ray_color.b(), 255],
-            });
-        }
+        let (highlights, segments) = match self.picked {
+            Some(picked) => trace_overlay(&tree, &picked.ray, steps),
+            None => (Vec::new(), Vec::new()),
+        };
         let overlay_revision = revision_of((
             self.tree.generation(),
             self.picked.map(|picked| picked.revision),

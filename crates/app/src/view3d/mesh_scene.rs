@@ -1,8 +1,18 @@
-//! A 3D lesson's scene: a mesh, built in or opened from an OBJ file.
+//! A 3D lesson's scene: a mesh, built in or opened from an OBJ file; and a structure built
+//! over it ([`MeshTree`]), what 3D lessons draw, trace and measure.
 
 use std::sync::Arc;
 
+use accelviz_core::bvh::BuildParams;
+use accelviz_core::camera::bounding_sphere_of_box;
+use accelviz_core::{Built, LeafOrdered, NoBuildObserver, Structure, TreeStats, TriangleSet};
 use accelviz_scene::Mesh;
+use glam::DVec3;
+use web_time::Instant;
+
+use super::{DrawTriangle, relative};
+use crate::background::Derived;
+use crate::stage::KD_BUDGET;
 use accelviz_scene::builtin::{BUILTINS, Builtin};
 
 use crate::files::FileFilter;
@@ -90,6 +100,85 @@ impl SceneFile for MeshScene {
             && let Ok(scene) = Self::named(&view.mesh)
         {
             *self = scene;
+        }
+    }
+}
+
+/// The mesh's colour (sRGB).
+const MESH_COLOR: [u8; 4] = [178, 188, 204, 255];
+
+/// A structure built over a mesh, with what the view draws of the mesh.
+pub struct MeshTree {
+    /// The mesh.
+    pub mesh: Arc<Mesh>,
+    /// Its triangles as the core traces them.
+    pub triangles: TriangleSet<DVec3>,
+    /// The tree and its facts.
+    pub built: Built<DVec3>,
+    /// Its statistics.
+    pub stats: TreeStats,
+    /// How long the build took.
+    pub build_millis: f64,
+    /// The mesh's bounding sphere: the view's centre and size.
+    pub sphere: (DVec3, f64),
+    /// The mesh as drawn (relative to the sphere, see [`relative`]).
+    pub drawn: Vec<DrawTriangle>,
+    /// The triangles in the tree's leaf order, for tracing many rays fast (heat maps).
+    pub ordered: LeafOrdered<TriangleSet<DVec3>>,
+}
+
+impl MeshTree {
+    /// Builds `structure` over `mesh`.
+    pub fn build(mesh: Arc<Mesh>, structure: Structure) -> Self {
+        let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
+        let params = BuildParams {
+            kd_budget: KD_BUDGET,
+            ..BuildParams::default()
+        };
+        let started = Instant::now();
+        let built = Built::new(structure, &triangles, &params, &mut NoBuildObserver);
+        let build_millis = started.elapsed().as_secs_f64() * 1e3;
+        let stats = built.stats(0, &params.cost);
+        let ordered = built.tree.leaf_ordered(&triangles);
+        let sphere = bounding_sphere_of_box(&mesh.bounds());
+        let drawn = mesh
+            .triangles
+            .iter()
+            .map(|triangle| DrawTriangle {
+                corners: triangle.map(|corner| relative(DVec3::from_array(corner), sphere)),
+                color: MESH_COLOR,
+            })
+            .collect();
+        Self {
+            mesh,
+            triangles,
+            built,
+            stats,
+            build_millis,
+            sphere,
+            drawn,
+            ordered,
+        }
+    }
+
+    /// Asks `derived` for `structure` built over the scene's mesh (on a worker thread on
+    /// the desktop when the mesh is large).
+    pub fn request(
+        derived: &mut Derived<(u64, Structure), MeshTree>,
+        scene: &MeshScene,
+        structure: Structure,
+    ) {
+        let mesh = scene.mesh.clone();
+        derived.request(&(scene.revision, structure), mesh.triangles.len(), || {
+            move || MeshTree::build(mesh, structure)
+        });
+    }
+
+    /// A node's name: its path from the root (`root`, `LRL`).
+    pub fn node_name(&self, node: u32) -> String {
+        match self.built.facts.path_to(node) {
+            path if path.is_empty() => "the root".to_owned(),
+            path => format!("node {path}"),
         }
     }
 }

@@ -3,6 +3,7 @@
 //! the heat maps and `bench --camera` use), so what is picked is what is traced.
 
 pub mod gpu;
+pub mod heat;
 pub mod mesh_scene;
 
 use accelviz_core::camera::{Camera, Projection};
@@ -241,4 +242,52 @@ pub fn relative(point: DVec3, (center, radius): (DVec3, f64)) -> [f32; 3] {
     ((point - center) / radius.max(f64::MIN_POSITIVE))
         .as_vec3()
         .to_array()
+}
+
+/// A layer's revision: a hash of what it was made from.
+pub fn revision_of(key: impl std::hash::Hash) -> u64 {
+    use std::hash::Hasher;
+    let mut hasher = std::collections::hash_map::DefaultHasher::new();
+    key.hash(&mut hasher);
+    hasher.finish()
+}
+
+/// What a recorded traversal of `ray` adds to the view after `steps`: the triangles tested
+/// so far (orange) and the closest hit so far (green) drawn over the mesh, and the ray from
+/// its origin to that hit (or through the scene).
+pub fn trace_overlay(
+    tree: &mesh_scene::MeshTree,
+    ray: &accelviz_core::Ray<DVec3>,
+    steps: &[accelviz_core::Step<f64>],
+) -> (Vec<DrawTriangle>, Vec<Instance>) {
+    let closest = crate::trace::closest_so_far(steps);
+    let mut highlights = Vec::new();
+    for step in steps {
+        if let accelviz_core::Step::PrimitiveTested { primitive, .. } = *step
+            && let Some(triangle) = tree.drawn.get(primitive as usize)
+        {
+            highlights.push(DrawTriangle {
+                color: [255, 170, 30, 255],
+                ..*triangle
+            });
+        }
+    }
+    if let Some((primitive, _)) = closest
+        && let Some(triangle) = tree.drawn.get(primitive as usize)
+    {
+        highlights.push(DrawTriangle {
+            color: [60, 220, 90, 255],
+            ..*triangle
+        });
+    }
+    let (center, radius) = tree.sphere;
+    let far = (ray.origin - center).length() + radius;
+    let end = closest.map_or(far / ray.direction.length(), |(_, t)| t);
+    let color = crate::canvas::palette::RAY;
+    let segments = vec![Instance {
+        a: relative(ray.origin, tree.sphere),
+        b: relative(ray.at(end), tree.sphere),
+        color: [color.r(), color.g(), color.b(), 255],
+    }];
+    (highlights, segments)
 }

@@ -1,0 +1,626 @@
+//! Lesson 14, "Where the time goes": the cost of every pixel's ray for the view's camera,
+//! counted by the core's traversal (nodes visited, box tests or primitive tests), near first
+//! and in file order side by side, and their difference. A colour-blind-safe palette with a
+//! legend, the maximum and the mean; hover a pixel to read its counts, click it to trace its
+//! ray step by step (the same recording and overlay as lesson 12).
+
+use std::sync::Arc;
+
+use accelviz_core::camera::Camera;
+use accelviz_core::format::{count, number};
+use accelviz_core::heatmap::{Counter, HeatMap, difference_colors, diverging, sequential};
+use accelviz_core::{CATALOGUE, Order, Ray, Structure};
+use accelviz_scene::builtin::BUILTINS;
+use egui::{Color32, ColorImage, Rect, Sense, TextureHandle, TextureOptions, Vec2};
+use glam::DVec3;
+
+use crate::background::{Cached, Derived, worker_threads};
+use crate::lesson::{Lesson, LessonText};
+use crate::stage::Stage;
+use crate::trace::{Trace, describe_step, options_in};
+use crate::view3d::heat::{HeatJob, HeatKey, HeatMaps, ORDERS};
+use crate::view3d::mesh_scene::{MeshScene, MeshTree};
+use crate::view3d::{Content, HiddenEdges, View3d, revision_of, trace_overlay};
+
+/// A clicked pixel's ray, in the order it is traced.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Picked {
+    ray: Ray<DVec3>,
+    order: Order,
+    revision: u64,
+}
+
+/// The maps' textures, for the job state and counter they show.
+struct Textures {
+    made_for: (u64, usize, Counter),
+    orders: [TextureHandle; 2],
+    difference: TextureHandle,
+    /// The sequential maps' scale (both share it) and the difference's.
+    scale: u32,
+    difference_scale: u64,
+}
+
+/// The lesson.
+pub struct HeatLesson {
+    stage: Stage<MeshScene>,
+    /// The view and its camera (the heat maps use the same camera).
+    pub view: View3d,
+    /// The structure traced.
+    pub structure: Structure,
+    tree: Derived<(u64, Structure), MeshTree>,
+    /// Which count the maps show.
+    pub counter: Counter,
+    job: Option<HeatJob>,
+    /// Counts the jobs started, so textures know which job they show.
+    job_serial: u64,
+    /// How many bands of the job `maps` holds.
+    maps_bands: usize,
+    /// What the pixel under the pointer cost, shown above the maps.
+    readout: Option<String>,
+    /// The heat maps' size in pixels, from the last frame's layout.
+    pane_pixels: Option<[usize; 2]>,
+    maps: Option<HeatMaps>,
+    textures: Option<Textures>,
+    picked: Option<Picked>,
+    trace: Cached<(u64, u64), Trace>,
+}
+
+impl HeatLesson {
+    /// The lesson with its file's mesh and structure.
+    pub fn new(text: LessonText) -> Self {
+        let view = text.file.view3d.clone();
+        let scene = view
+            .as_ref()
+            .and_then(|view| MeshScene::named(&view.mesh).ok())
+            .unwrap_or_else(|| MeshScene::new(accelviz_scene::builtin::teapot()));
+        let structure = view
+            .and_then(|view| Structure::parse(&view.structure).ok())
+            .unwrap_or(CATALOGUE[0].structure);
+        Self {
+            stage: Stage::with_scene(text, scene),
+            view: View3d::default(),
+            structure,
+            tree: Derived::default(),
+            counter: Counter::Nodes,
+            job: None,
+            job_serial: 0,
+            maps_bands: 0,
+            readout: None,
+            pane_pixels: None,
+            maps: None,
+            textures: None,
+            picked: None,
+            trace: Cached::default(),
+        }
+    }
+
+    /// The heat maps as far as they are made (near first, file order).
+    pub fn maps(&self) -> Option<&HeatMaps> {
+        self.maps.as_ref()
+    }
+
+    /// The job making the maps.
+    pub fn job(&self) -> Option<&HeatJob> {
+        self.job.as_ref()
+    }
+
+    /// The built tree.
+    pub fn tree(&self) -> Option<&Arc<MeshTree>> {
+        self.tree.get()
+    }
+
+    /// The clicked pixel's recorded traversal.
+    pub fn trace(&self) -> Option<&Trace> {
+        self.trace.get()
+    }
+
+    /// Traces pixel `(x, y)` of the heat maps in `order`, as a click there does.
+    pub fn pick_pixel(&mut self, x: usize, y: usize, order: Order) {
+        let Some(job) = &self.job else { return };
+        let key = *job.key();
+        let (origin, direction) =
+            key.camera
+                .ray_through(x as f64 + 0.5, y as f64 + 0.5, key.width, key.height);
+        if let Ok(ray) = Ray::try_new(origin, direction) {
+            let revision = self.picked.map_or(1, |picked| picked.revision + 1);
+            self.picked = Some(Picked {
+                ray,
+                order,
+                revision,
+            });
+            self.stage.timeline.rewind();
+        }
+    }
+
+    /// The camera the maps are made with for the current tree.
+    fn camera(&self, tree: &MeshTree) -> Camera {
+        self.view.orbit.camera(tree.sphere.0, tree.sphere.1)
+    }
+
+    /// Remakes the textures when the maps or the counter changed.
+    fn textures(&mut self, ctx: &egui::Context) {
+        let Some(maps) = &self.maps else {
+            return;
+        };
+        let made_for = (self.job_serial, self.maps_bands, self.counter);
+        if self
+            .textures
+            .as_ref()
+            .is_some_and(|textures| textures.made_for == made_for)
+        {
+            return;
+        }
+        let counter = self.counter;
+        let scale = maps
+            .maps
+            .iter()
+            .map(|map| map.summary(counter).max)
+            .max()
+            .unwrap_or(0)
+            .max(1);
+        let difference = maps.maps[0].difference(&maps.maps[1], counter);
+        let difference_scale = difference
+            .iter()
+            .map(|d| d.unsigned_abs())
+            .max()
+            .unwrap_or(0)
+            .max(1);
+        let image = |map: &HeatMap, colors: Vec<[u8; 4]>| ColorImage {
+            size: [map.width, map.height],
+            source_size: Vec2::new(map.width as f32, map.height as f32),
+            pixels: colors
+                .into_iter()
+                .map(|[r, g, b, _]| Color32::from_rgb(r, g, b))
+                .collect(),
+        };
+        let near = image(&maps.maps[0], maps.maps[0].colors(counter, scale));
+        let file = image(&maps.maps[1], maps.maps[1].colors(counter, scale));
+        let diff = image(
+            &maps.maps[0],
+            difference_colors(&difference, difference_scale),
+        );
+        match &mut self.textures {
+            Some(textures) => {
+                textures.orders[0].set(near, TextureOptions::NEAREST);
+                textures.orders[1].set(file, TextureOptions::NEAREST);
+                textures.difference.set(diff, TextureOptions::NEAREST);
+                textures.made_for = made_for;
+                textures.scale = scale;
+                textures.difference_scale = difference_scale;
+            }
+            None => {
+                self.textures = Some(Textures {
+                    made_for,
+                    orders: [
+                        ctx.load_texture("heat near first", near, TextureOptions::NEAREST),
+                        ctx.load_texture("heat file order", file, TextureOptions::NEAREST),
+                    ],
+                    difference: ctx.load_texture("heat difference", diff, TextureOptions::NEAREST),
+                    scale,
+                    difference_scale,
+                });
+            }
+        }
+    }
+
+    fn controls_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            let current = self.stage.scene.name.clone();
+            egui::ComboBox::from_label("mesh")
+                .selected_text(current.trim_start_matches("builtin:").to_owned())
+                .show_ui(ui, |ui| {
+                    for builtin in BUILTINS {
+                        let name = format!("builtin:{}", builtin.name);
+                        if ui
+                            .selectable_label(current == name, builtin.name)
+                            .on_hover_text(builtin.about)
+                            .clicked()
+                        {
+                            self.stage.scene.replace((builtin.make)());
+                            self.picked = None;
+                        }
+                    }
+                });
+            ui.separator();
+            egui::ComboBox::from_label("structure")
+                .selected_text(self.structure.name())
+                .show_ui(ui, |ui| {
+                    for entry in CATALOGUE {
+                        ui.selectable_value(
+                            &mut self.structure,
+                            entry.structure,
+                            format!("{} {}", entry.label, entry.family.label()),
+                        )
+                        .on_hover_text(entry.about);
+                    }
+                });
+            ui.separator();
+            for counter in Counter::ALL {
+                ui.selectable_value(&mut self.counter, counter, counter.label());
+            }
+            ui.separator();
+            ui.checkbox(&mut self.view.orbit.orthographic, "orthographic");
+            if ui.button("reset view").clicked() {
+                self.view.reset();
+            }
+        });
+    }
+
+    /// One heat map pane: title, image, legend. Returns the pixel under the pointer and
+    /// whether it was clicked.
+    fn map_ui(
+        ui: &mut egui::Ui,
+        size: Vec2,
+        title: &str,
+        texture: &TextureHandle,
+        map_size: [usize; 2],
+        legend: Legend,
+    ) -> (Option<[usize; 2]>, bool) {
+        let mut under = None;
+        let mut clicked = false;
+        ui.vertical(|ui| {
+            ui.set_width(size.x);
+            ui.label(egui::RichText::new(title).strong());
+            // One pixel of the map on one pixel of the screen, like the view beside it.
+            let pixels_per_point = ui.ctx().pixels_per_point();
+            let (fitted, response) = ui.allocate_exact_size(
+                Vec2::new(map_size[0] as f32, map_size[1] as f32) / pixels_per_point,
+                Sense::click(),
+            );
+            ui.painter().image(
+                texture.id(),
+                fitted,
+                Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+                Color32::WHITE,
+            );
+            if let Some(position) = response.hover_pos().filter(|p| fitted.contains(*p)) {
+                let x =
+                    ((position.x - fitted.min.x) / fitted.width() * map_size[0] as f32) as usize;
+                let y =
+                    ((position.y - fitted.min.y) / fitted.height() * map_size[1] as f32) as usize;
+                under = Some([x.min(map_size[0] - 1), y.min(map_size[1] - 1)]);
+                clicked = response.clicked();
+            }
+            legend.ui(ui, size.x);
+        });
+        (under, clicked)
+    }
+}
+
+/// A palette bar with its scale.
+enum Legend {
+    /// 0 to `max`, with the mean.
+    Sequential {
+        max: u32,
+        mean: f64,
+        label: &'static str,
+    },
+    /// −scale to +scale.
+    Diverging { scale: u64, label: &'static str },
+}
+
+impl Legend {
+    fn ui(&self, ui: &mut egui::Ui, width: f32) {
+        let (rect, _) = ui.allocate_exact_size(Vec2::new(width.min(320.0), 12.0), Sense::hover());
+        let steps = 48;
+        for step in 0..steps {
+            let t = step as f64 / (steps - 1) as f64;
+            let [r, g, b] = match self {
+                Legend::Sequential { .. } => sequential(t),
+                Legend::Diverging { .. } => diverging(t * 2.0 - 1.0),
+            };
+            let x0 = rect.min.x + rect.width() * step as f32 / steps as f32;
+            let x1 = rect.min.x + rect.width() * (step + 1) as f32 / steps as f32;
+            ui.painter().rect_filled(
+                Rect::from_min_max(egui::pos2(x0, rect.min.y), egui::pos2(x1, rect.max.y)),
+                0.0,
+                Color32::from_rgb(r, g, b),
+            );
+        }
+        let text = match self {
+            Legend::Sequential { max, mean, label } => {
+                format!(
+                    "0 … {} {label} (max {}, mean {})",
+                    count(*max as usize),
+                    count(*max as usize),
+                    number(*mean)
+                )
+            }
+            Legend::Diverging { scale, label } => format!(
+                "−{} (near first fewer) … 0 … +{} {label} (near first more)",
+                count(*scale as usize),
+                count(*scale as usize)
+            ),
+        };
+        ui.label(egui::RichText::new(text).small());
+    }
+}
+
+impl Lesson for HeatLesson {
+    crate::staged!(tree);
+
+    fn update(&mut self) {
+        MeshTree::request(&mut self.tree, &self.stage.scene, self.structure);
+        let Some(tree) = self.tree.get().cloned() else {
+            return;
+        };
+        if let Some([width, height]) = self.pane_pixels {
+            let key = HeatKey {
+                tree: self.tree.generation(),
+                camera: self.camera(&tree),
+                width,
+                height,
+            };
+            if self.job.as_ref().is_none_or(|job| *job.key() != key) {
+                self.job = Some(HeatJob::start(key, tree.clone(), worker_threads()));
+                self.job_serial += 1;
+                self.maps = None;
+            }
+        }
+        if let Some(job) = &self.job {
+            job.advance();
+            let bands = job.bands_done();
+            if self.maps.is_none() || bands != self.maps_bands {
+                self.maps = Some(job.snapshot());
+                self.maps_bands = bands;
+            }
+        }
+        let Some(picked) = self.picked else {
+            self.trace.clear();
+            self.stage.timeline.set_len(0);
+            return;
+        };
+        let trace = self
+            .trace
+            .get_or_make((self.tree.generation(), picked.revision), || {
+                Trace::of(
+                    &tree.built.tree,
+                    &tree.triangles,
+                    &picked.ray,
+                    &options_in(picked.order),
+                )
+            });
+        self.stage.timeline.set_len(trace.frames());
+    }
+
+    fn caption(&self) -> Option<String> {
+        let tree = self.tree.get()?;
+        let Some(trace) = self.trace.get() else {
+            return Some(
+                "Click a pixel of a heat map: its ray is traced here, step by step.".into(),
+            );
+        };
+        Some(trace.caption(
+            self.stage.timeline.shown,
+            "Press step: the traversal starts by testing the root's box.",
+            |step| describe_step(step, |node| tree.node_name(node)),
+        ))
+    }
+
+    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+        let Some(tree) = self.tree.get().cloned() else {
+            ui.label("Building…");
+            return;
+        };
+        ui.label(format!(
+            "{}: {} triangles; {} {}: {} nodes, SAH cost {}",
+            tree.mesh.name.trim_start_matches("builtin:"),
+            count(tree.mesh.triangles.len()),
+            tree.built.structure.entry().label,
+            tree.built.structure.family().label(),
+            count(tree.stats.node_count),
+            number(tree.stats.sah_cost)
+        ));
+        let Some(maps) = &self.maps else { return };
+        ui.separator();
+        egui::Grid::new("heat totals").striped(true).show(ui, |ui| {
+            ui.label("per pixel");
+            ui.label("near first");
+            ui.label("file order");
+            ui.end_row();
+            for counter in Counter::ALL {
+                ui.label(counter.label());
+                for map in &maps.maps {
+                    let summary = map.summary(counter);
+                    ui.label(format!(
+                        "mean {}, max {}",
+                        number(summary.mean),
+                        count(summary.max as usize)
+                    ));
+                }
+                ui.end_row();
+            }
+        });
+        let state = if maps.progress < 1.0 {
+            format!("{:.0} % traced", maps.progress * 100.0)
+        } else {
+            "every pixel traced".to_owned()
+        };
+        let timing = maps
+            .millis
+            .map(|ms| format!("both orders in {} ms", number(ms)))
+            .unwrap_or_default();
+        ui.label(egui::RichText::new(state).small())
+            .on_hover_text(timing);
+    }
+
+    fn canvas_ui(&mut self, ui: &mut egui::Ui) {
+        self.controls_ui(ui);
+        let Some(tree) = self.tree.get().cloned() else {
+            ui.label("Building…");
+            return;
+        };
+        let frame = self.stage.timeline.shown;
+        let steps = self.trace.get().map_or(&[][..], |trace| trace.shown(frame));
+        let (highlights, segments) = match self.picked {
+            Some(picked) => trace_overlay(&tree, &picked.ray, steps),
+            None => (Vec::new(), Vec::new()),
+        };
+        let overlay = revision_of((
+            self.tree.generation(),
+            self.picked.map(|p| p.revision),
+            frame,
+        ));
+        // One line of fixed height: the progress while tracing, then what the pointer reads
+        // (a line that came and went would resize the maps and start them again).
+        let progress = self.maps.as_ref().map_or(0.0, |maps| maps.progress);
+        let width = ui.available_width();
+        let (line, _) = ui.allocate_exact_size(Vec2::new(width, 20.0), Sense::hover());
+        if progress < 1.0 {
+            ui.put(
+                Rect::from_min_size(line.min, Vec2::new(width.min(420.0), 16.0)),
+                egui::ProgressBar::new(progress as f32)
+                    .text(format!("tracing every pixel: {:.0} %", progress * 100.0)),
+            );
+            ui.ctx().request_repaint();
+        } else {
+            let text = self
+                .readout
+                .clone()
+                .unwrap_or_else(|| "Hover a pixel of a map to read its counts.".to_owned());
+            ui.scope_builder(egui::UiBuilder::new().max_rect(line), |ui| {
+                ui.add(egui::Label::new(text).truncate());
+            });
+        }
+        self.textures(ui.ctx());
+        let available = ui.available_size();
+        let gap = 8.0;
+        let pane =
+            Vec2::new((available.x - gap) / 2.0, (available.y - gap) / 2.0).max(Vec2::splat(40.0));
+        // The maps have the 3D view's size in pixels, so a pixel of one is a pixel of the other.
+        let pixels_per_point = ui.ctx().pixels_per_point();
+        // In steps of 8 pixels, so a layout that moves by a pixel does not start the maps again.
+        let quantized = |points: f32| (((points * pixels_per_point) as usize) / 8 * 8).max(8);
+        self.pane_pixels = Some([quantized(pane.x), quantized((pane.y - 44.0).max(10.0))]);
+
+        let mut hovered: Option<([usize; 2], &'static str)> = None;
+        let mut clicked: Option<([usize; 2], Order)> = None;
+        let counter = self.counter;
+        let sizes = self
+            .job
+            .as_ref()
+            .map(|job| [job.key().width, job.key().height]);
+        ui.horizontal(|ui| {
+            ui.vertical(|ui| {
+                ui.set_width(pane.x);
+                ui.label(egui::RichText::new("The view (its camera is the maps')").strong());
+                // Exactly the maps' size: pixel (x, y) here is pixel (x, y) there.
+                let image = Vec2::new(
+                    self.pane_pixels
+                        .map_or(pane.x, |[w, _]| w as f32 / pixels_per_point),
+                    self.pane_pixels
+                        .map_or(pane.y - 44.0, |[_, h]| h as f32 / pixels_per_point),
+                );
+                self.view.ui(
+                    ui,
+                    image,
+                    &Content {
+                        sphere: tree.sphere,
+                        mesh: (revision_of((self.tree.generation(), "mesh")), &tree.drawn),
+                        highlights: (overlay, &highlights),
+                        boxes: (0, &[]),
+                        segments: (overlay, &segments),
+                        quads: (0, &[]),
+                        hidden_edges: HiddenEdges::Dimmed,
+                    },
+                );
+                ui.label(
+                    egui::RichText::new("Drag to orbit, right-drag to pan, scroll to zoom.")
+                        .small()
+                        .weak(),
+                );
+            });
+            ui.add_space(gap);
+            if let (Some(textures), Some(maps), Some(size)) = (&self.textures, &self.maps, sizes) {
+                let summary = maps.maps[0].summary(counter);
+                let (under, click) = Self::map_ui(
+                    ui,
+                    pane,
+                    &format!("Near first: {} per pixel", counter.label()),
+                    &textures.orders[0],
+                    size,
+                    Legend::Sequential {
+                        max: textures.scale,
+                        mean: summary.mean,
+                        label: counter.label(),
+                    },
+                );
+                if let Some(pixel) = under {
+                    hovered = Some((pixel, "near first"));
+                    if click {
+                        clicked = Some((pixel, Order::NearFirst));
+                    }
+                }
+            }
+        });
+        ui.add_space(gap);
+        ui.horizontal(|ui| {
+            if let (Some(textures), Some(maps), Some(size)) = (&self.textures, &self.maps, sizes) {
+                let summary = maps.maps[1].summary(counter);
+                let (under, click) = Self::map_ui(
+                    ui,
+                    pane,
+                    &format!("File order: {} per pixel", counter.label()),
+                    &textures.orders[1],
+                    size,
+                    Legend::Sequential {
+                        max: textures.scale,
+                        mean: summary.mean,
+                        label: counter.label(),
+                    },
+                );
+                if let Some(pixel) = under {
+                    hovered = Some((pixel, "file order"));
+                    if click {
+                        clicked = Some((pixel, Order::FileOrder));
+                    }
+                }
+                ui.add_space(gap);
+                let (under, click) = Self::map_ui(
+                    ui,
+                    pane,
+                    "Near first minus file order",
+                    &textures.difference,
+                    size,
+                    Legend::Diverging {
+                        scale: textures.difference_scale,
+                        label: counter.label(),
+                    },
+                );
+                if let Some(pixel) = under {
+                    hovered = Some((pixel, "both"));
+                    if click {
+                        clicked = Some((pixel, Order::NearFirst));
+                    }
+                }
+            }
+        });
+        self.readout = match (hovered, &self.maps) {
+            (Some(([x, y], _)), Some(maps)) => {
+                let counts: Vec<String> = ORDERS
+                    .iter()
+                    .zip(&maps.maps)
+                    .filter_map(|(order, map)| {
+                        let cost = map.at(x, y)?;
+                        let name = match order {
+                            Order::NearFirst => "near first",
+                            Order::FileOrder => "file order",
+                        };
+                        Some(format!(
+                            "{name} {} nodes, {} box tests, {} primitive tests",
+                            cost.nodes, cost.boxes, cost.prims
+                        ))
+                    })
+                    .collect();
+                Some(format!(
+                    "pixel ({x}, {y}): {}; click to trace its ray",
+                    counts.join(" | ")
+                ))
+            }
+            _ => None,
+        };
+        if let Some(([x, y], order)) = clicked {
+            self.pick_pixel(x, y, order);
+        }
+    }
+}
