@@ -181,12 +181,16 @@ impl AccelvizApp {
             ui.separator();
             let scene = self.lesson().map(|lesson| {
                 let scene = &lesson.stage().scene;
-                (scene.noun(), scene.save().is_some())
+                (
+                    scene.noun(),
+                    scene.filter().is_some(),
+                    scene.save().is_some(),
+                )
             });
             let has_scene = scene.is_some();
-            let (noun, can_save) = scene.unwrap_or(("scene", false));
+            let (noun, can_open, can_save) = scene.unwrap_or(("scene", false, false));
             if ui
-                .add_enabled(has_scene, egui::Button::new(format!("Open {noun}…")))
+                .add_enabled(can_open, egui::Button::new(format!("Open {noun}…")))
                 .on_hover_text(format!("Open a {noun} file into this lesson"))
                 .clicked()
             {
@@ -250,7 +254,10 @@ impl AccelvizApp {
 
     /// Opens a scene: the system's dialog, or the in-app panel when there is none.
     pub fn open_scene(&mut self, ctx: &egui::Context) {
-        let Some(filter) = self.lesson().map(|lesson| lesson.stage().scene.filter()) else {
+        let Some(filter) = self
+            .lesson()
+            .and_then(|lesson| lesson.stage().scene.filter())
+        else {
             return;
         };
         log::info!("accelviz: asking for a file to open");
@@ -276,7 +283,10 @@ impl AccelvizApp {
             Ok(None) => return,
             Err(reason) => {
                 log::warn!("accelviz: no file dialog: {reason}");
-                let Some(filter) = self.lesson().map(|lesson| lesson.stage().scene.filter()) else {
+                let Some(filter) = self
+                    .lesson()
+                    .and_then(|lesson| lesson.stage().scene.filter())
+                else {
                     return;
                 };
                 self.file_panel = Some(FilePanel::new(PanelMode::Save, filter, Some(reason)));

@@ -35,13 +35,32 @@ pub struct LessonFile {
 }
 
 /// What a 3D lesson opens with.
-#[derive(Clone, Debug, Deserialize)]
+#[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct View3dFile {
     /// The mesh: `builtin:NAME`.
-    pub mesh: String,
+    #[serde(default)]
+    pub mesh: Option<String>,
     /// The structure, by its catalogue name (`bvh:sah-binned`).
-    pub structure: String,
+    #[serde(default)]
+    pub structure: Option<String>,
+    /// A box and a ray (the 3D slab test).
+    #[serde(default)]
+    pub slab: Option<SlabFile>,
+}
+
+/// A box and a ray, as a 3D lesson file gives them.
+#[derive(Clone, Copy, Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SlabFile {
+    /// The box's lower corner.
+    pub min: (f64, f64, f64),
+    /// Its upper corner.
+    pub max: (f64, f64, f64),
+    /// Where the ray starts.
+    pub origin: (f64, f64, f64),
+    /// A point it passes at t = 1.
+    pub toward: (f64, f64, f64),
 }
 
 /// A scene a lesson offers by name.
@@ -91,10 +110,33 @@ impl LessonText {
         let scene = match (&file.scene, &file.view3d) {
             (Some(document), None) => Scene2d::from_document(document.clone(), path)?,
             (None, Some(view)) => {
-                crate::view3d::mesh_scene::MeshScene::builtin(&view.mesh)
-                    .map_err(|problem| LoadError::in_file(path, problem))?;
-                accelviz_core::Structure::parse(&view.structure)
-                    .map_err(|problem| LoadError::in_file(path, problem.to_string()))?;
+                if let Some(mesh) = &view.mesh {
+                    crate::view3d::mesh_scene::MeshScene::builtin(mesh)
+                        .map_err(|problem| LoadError::in_file(path, problem))?;
+                }
+                if let Some(structure) = &view.structure {
+                    accelviz_core::Structure::parse(structure)
+                        .map_err(|problem| LoadError::in_file(path, problem.to_string()))?;
+                }
+                if let Some(slab) = &view.slab {
+                    let numbers = [slab.min, slab.max, slab.origin, slab.toward]
+                        .into_iter()
+                        .flat_map(|(x, y, z)| [x, y, z]);
+                    if numbers.clone().any(|x| !x.is_finite())
+                        || [
+                            slab.min.0 > slab.max.0,
+                            slab.min.1 > slab.max.1,
+                            slab.min.2 > slab.max.2,
+                        ]
+                        .into_iter()
+                        .any(|inverted| inverted)
+                    {
+                        return Err(LoadError::in_file(
+                            path,
+                            "the slab box needs finite corners with min <= max, and a finite ray",
+                        ));
+                    }
+                }
                 // Never shown: a 3D lesson's scene is its mesh.
                 Scene2d {
                     shapes: Default::default(),
@@ -115,6 +157,12 @@ impl LessonText {
             Scene2d::from_document(preset.scene.clone(), path)?;
         }
         Ok(Self { file, scene })
+    }
+
+    /// A 3D lesson's structure, as its file names it.
+    pub fn structure(&self) -> Option<accelviz_core::Structure> {
+        let name = self.file.view3d.as_ref()?.structure.as_ref()?;
+        accelviz_core::Structure::parse(name).ok()
     }
 
     /// The lesson's title.

@@ -6,7 +6,7 @@ use std::path::Path;
 use crate::lesson::{Lesson, LessonText};
 use crate::lessons::{
     bounding_volumes, build_steps, bvh, cost_split, heat, kd, mesh_tree, near_first, recap, slab,
-    splits, trivial,
+    slab3d, splits, trivial,
 };
 
 /// One lesson: where its file lives, the file as embedded, and what shows it.
@@ -30,7 +30,7 @@ macro_rules! lesson {
 }
 
 /// The lessons, in the lecture's order.
-pub const LESSONS: [LessonEntry; 12] = [
+pub const LESSONS: [LessonEntry; 13] = [
     lesson!("01-trivial.ron", |text| Box::new(
         trivial::TrivialLoop::new(text)
     )),
@@ -57,6 +57,9 @@ pub const LESSONS: [LessonEntry; 12] = [
     lesson!("10-recap.ron", |text| Box::new(recap::RecapLesson::new(
         text
     ))),
+    lesson!("11-slab-3d.ron", |text| Box::new(
+        slab3d::Slab3dLesson::new(text)
+    )),
     lesson!("12-mesh-bvh.ron", |text| Box::new(
         mesh_tree::MeshTreeLesson::new(text)
     )),

@@ -44,8 +44,8 @@ pub trait SceneFile {
     /// What the scene is called in the top bar's buttons and messages ("scene", "mesh").
     fn noun(&self) -> &'static str;
 
-    /// The files it opens, for the open dialog's filter.
-    fn filter(&self) -> FileFilter;
+    /// The files it opens, for the open dialog's filter; `None` if it opens none.
+    fn filter(&self) -> Option<FileFilter>;
 
     /// Replaces the scene with the file `name` holding `text`; on a bad file the scene stays
     /// and the error names the file, the line and the problem.
@@ -73,11 +73,11 @@ impl SceneFile for EditableScene {
         "scene"
     }
 
-    fn filter(&self) -> FileFilter {
-        FileFilter {
+    fn filter(&self) -> Option<FileFilter> {
+        Some(FileFilter {
             name: "accelviz scene",
             extensions: &["ron"],
-        }
+        })
     }
 
     fn open(&mut self, name: &str, text: &str) -> Result<(), String> {

@@ -6,6 +6,7 @@ mod common;
 use accelviz_app::lesson::Lesson;
 use accelviz_app::lessons::heat::HeatLesson;
 use accelviz_app::lessons::mesh_tree::MeshTreeLesson;
+use accelviz_app::lessons::slab3d::Slab3dLesson;
 use accelviz_app::view3d::HiddenEdges;
 use accelviz_core::heatmap::Counter;
 use accelviz_core::{Counters, Order, Ray, TraceOptions, TraversalStacks, brute_force};
@@ -187,4 +188,66 @@ fn heat_map_totals_are_the_counters_of_the_same_rays() {
         trace.hit.map(|hit| hit.primitive),
         expected.map(|hit| hit.primitive)
     );
+}
+
+fn slab_lesson() -> Slab3dLesson {
+    Slab3dLesson::new(lesson_text("11-slab-3d.ron"))
+}
+
+#[test]
+fn the_slab_test_in_3d_step_by_step_and_its_edge_cases() {
+    let mut harness = lesson_harness_3d(slab_lesson());
+    harness.run();
+    let mut failures = Vec::new();
+    for (shown, name) in [(3, "slab_3d_three_slabs"), (6, "slab_3d_verdict")] {
+        harness.state_mut().stage_mut().timeline.shown = shown;
+        harness.run();
+        if let Err(error) = harness.try_snapshot(name) {
+            failures.push(error.to_string());
+        }
+    }
+    // The parallel case: one slab's interval is everything.
+    harness.state_mut().use_case(1);
+    harness.run();
+    let record = harness.state().scene().record().expect("a ray");
+    assert_eq!(
+        (record.t_near.y, record.t_far.y),
+        (f64::NEG_INFINITY, f64::INFINITY)
+    );
+    assert!(record.hit);
+    if let Err(error) = harness.try_snapshot("slab_3d_parallel") {
+        failures.push(error.to_string());
+    }
+    harness.state_mut().use_case(2);
+    harness.run();
+    let record = harness.state().scene().record().expect("a ray");
+    assert!(!record.hit, "parallel outside the y slab misses");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+fn dragging_the_rays_start_moves_it_and_not_the_camera() {
+    let mut harness = lesson_harness_3d(slab_lesson());
+    harness.run_steps(2);
+    let before = harness.state().scene().origin;
+    let orbit = harness.state().view.orbit;
+    // Where the last frame drew the ray's start.
+    let start = harness
+        .state()
+        .handle_on_screen(0)
+        .expect("the start is drawn");
+    let end = start + egui::vec2(40.0, -25.0);
+    harness.hover_at(start);
+    harness.run();
+    harness.drag_at(start);
+    harness.run();
+    for step in 1..=4 {
+        harness.hover_at(start + (end - start) * step as f32 / 4.0);
+        harness.run();
+    }
+    harness.drop_at(end);
+    harness.run();
+    let after = harness.state().scene().origin;
+    assert!((after - before).length() > 0.05, "{before} -> {after}");
+    assert_eq!(harness.state().view.orbit, orbit, "the camera stayed");
 }

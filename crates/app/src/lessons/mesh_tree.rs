@@ -59,14 +59,8 @@ pub struct MeshTreeLesson {
 impl MeshTreeLesson {
     /// The lesson with its file's mesh and structure.
     pub fn new(text: LessonText) -> Self {
-        let view = text.file.view3d.clone();
-        let scene = view
-            .as_ref()
-            .and_then(|view| MeshScene::named(&view.mesh).ok())
-            .unwrap_or_else(|| MeshScene::new(accelviz_scene::builtin::teapot()));
-        let structure = view
-            .and_then(|view| Structure::parse(&view.structure).ok())
-            .unwrap_or(Structure::parse("bvh:sah-binned").unwrap_or(CATALOGUE[0].structure));
+        let scene = MeshScene::of_lesson(&text);
+        let structure = text.structure().unwrap_or(CATALOGUE[0].structure);
         Self {
             stage: Stage::with_scene(text, scene),
             view: View3d::default(),

@@ -12,5 +12,6 @@ pub mod mesh_tree;
 pub mod near_first;
 pub mod recap;
 pub mod slab;
+pub mod slab3d;
 pub mod splits;
 pub mod trivial;

@@ -8,13 +8,14 @@
 
 use accelviz_core::format::{number, point};
 use accelviz_core::{Aabb, Shape, SlabRecord, slab_record};
-use egui::{Color32, FontId, Pos2, Rect, Sense, Stroke, Vec2};
+use egui::{Color32, Pos2, Rect, Stroke, Vec2};
 use glam::DVec2;
 
-use crate::canvas::{Canvas, Labels, faded, palette};
+use crate::canvas::{Canvas, faded, palette};
 use crate::editor::Editing;
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
+use crate::views::number_lines::{IntervalRow, number_lines_ui};
 use crate::views::scene_view::{draw_ray, draw_shapes, t_hint_ui};
 
 /// The two slabs in the slide's table order: name, the axis whose interval it gives, and its
@@ -388,142 +389,28 @@ impl Lesson for SlabLesson {
         canvas.finish();
         let mut rects = vec![canvas.placed_labels()];
         if let Some((_, record)) = record {
-            rects.push(number_lines_ui(ui, &record, shown, number_lines_height));
+            let rows = [
+                IntervalRow {
+                    name: "horizontal slab",
+                    color: SLABS[0].2,
+                    interval: (record.t_near.y, record.t_far.y),
+                    visible: shown >= 1,
+                },
+                IntervalRow {
+                    name: "vertical slab",
+                    color: SLABS[1].2,
+                    interval: (record.t_near.x, record.t_far.x),
+                    visible: shown >= 2,
+                },
+                IntervalRow {
+                    name: "both",
+                    color: palette::CURRENT,
+                    interval: (record.t_enter, record.t_exit),
+                    visible: shown >= 4,
+                },
+            ];
+            rects.push(number_lines_ui(ui, &rows, number_lines_height));
         }
         self.label_rects = rects;
     }
-}
-
-/// One number line per slab and one for the result, sharing a t scale. Returns where its
-/// labels went.
-fn number_lines_ui(
-    ui: &mut egui::Ui,
-    record: &SlabRecord<DVec2>,
-    shown: usize,
-    height: f32,
-) -> Vec<Rect> {
-    let (rect, _) = ui.allocate_exact_size(Vec2::new(ui.available_width(), height), Sense::hover());
-    let painter = ui.painter_at(rect);
-    painter.rect_filled(rect, 4.0, ui.visuals().faint_bg_color);
-    let text_color = ui.visuals().text_color();
-    // The t range: every finite value and 0, with a margin.
-    let finite: Vec<f64> = [
-        record.t_near.x,
-        record.t_near.y,
-        record.t_far.x,
-        record.t_far.y,
-        0.0,
-    ]
-    .into_iter()
-    .filter(|value| value.is_finite())
-    .collect();
-    let low = finite.iter().copied().fold(f64::INFINITY, f64::min);
-    let high = finite.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let margin = ((high - low) * 0.15).max(0.5);
-    let (low, high) = (low - margin, high + margin);
-    let left = rect.left() + 150.0;
-    let right = rect.right() - 30.0;
-    let x_of = |t: f64| -> f32 {
-        if t == f64::INFINITY {
-            right + 16.0
-        } else if t == f64::NEG_INFINITY {
-            left - 16.0
-        } else {
-            left + ((t - low) / (high - low)) as f32 * (right - left)
-        }
-    };
-    let mut labels = Labels::new(rect.shrink(2.0));
-    let rows = [
-        (
-            "horizontal slab",
-            SLABS[0].2,
-            (record.t_near.y, record.t_far.y),
-            shown >= 1,
-        ),
-        (
-            "vertical slab",
-            SLABS[1].2,
-            (record.t_near.x, record.t_far.x),
-            shown >= 2,
-        ),
-        (
-            "both",
-            palette::CURRENT,
-            (record.t_enter, record.t_exit),
-            shown >= 4,
-        ),
-    ];
-    // t = 0, where the ray starts: hits behind it do not count.
-    let zero = x_of(0.0);
-    painter.line_segment(
-        [
-            Pos2::new(zero, rect.top() + 6.0),
-            Pos2::new(zero, rect.bottom() - 6.0),
-        ],
-        Stroke::new(1.0, Color32::from_gray(160)),
-    );
-    labels.place(
-        &painter,
-        "t = 0",
-        FontId::proportional(11.0),
-        text_color,
-        Pos2::new(zero, rect.top() + 9.0),
-        &[Vec2::new(18.0, 0.0), Vec2::new(-18.0, 0.0)],
-        None,
-    );
-    for (row, (name, color, (t_near, t_far), visible)) in rows.into_iter().enumerate() {
-        let y = rect.top() + 26.0 + row as f32 * 36.0;
-        labels.place(
-            &painter,
-            name,
-            FontId::proportional(13.0),
-            color,
-            Pos2::new(rect.left() + 70.0, y),
-            &[Vec2::ZERO],
-            None,
-        );
-        painter.line_segment(
-            [Pos2::new(left - 16.0, y), Pos2::new(right + 16.0, y)],
-            Stroke::new(1.0, faded(text_color, 90)),
-        );
-        if !visible {
-            continue;
-        }
-        if t_near <= t_far {
-            let span = Rect::from_x_y_ranges(x_of(t_near)..=x_of(t_far), (y - 5.0)..=(y + 5.0));
-            painter.rect_filled(span, 2.0, faded(color, 170));
-        } else {
-            labels.place(
-                &painter,
-                "empty: near > far",
-                FontId::proportional(12.0),
-                palette::MISS,
-                Pos2::new((x_of(t_far) + x_of(t_near)) * 0.5, y),
-                &[Vec2::new(0.0, -11.0), Vec2::new(0.0, 11.0)],
-                None,
-            );
-        }
-        for (t, label, below) in [(t_near, "near", 1.0), (t_far, "far", -1.0)] {
-            let x = x_of(t);
-            painter.line_segment(
-                [Pos2::new(x, y - 8.0), Pos2::new(x, y + 8.0)],
-                Stroke::new(2.0, color),
-            );
-            labels.place(
-                &painter,
-                &format!("{label} {}", number(t)),
-                FontId::proportional(11.0),
-                text_color,
-                Pos2::new(x, y),
-                &[
-                    Vec2::new(0.0, 13.0 * below),
-                    Vec2::new(0.0, -13.0 * below),
-                    Vec2::new(34.0 * below, 13.0 * below),
-                    Vec2::new(-34.0 * below, 13.0 * below),
-                ],
-                None,
-            );
-        }
-    }
-    labels.placed().to_vec()
 }

@@ -51,6 +51,16 @@ impl MeshScene {
             })
     }
 
+    /// The mesh a 3D lesson's file names (the teapot if it names none).
+    pub fn of_lesson(text: &LessonText) -> Self {
+        text.file
+            .view3d
+            .as_ref()
+            .and_then(|view| view.mesh.as_ref())
+            .and_then(|name| Self::named(name).ok())
+            .unwrap_or_else(|| Self::new(accelviz_scene::builtin::teapot()))
+    }
+
     /// A scene showing `mesh`.
     pub fn new(mesh: Mesh) -> Self {
         let name = mesh.name.clone();
@@ -78,11 +88,11 @@ impl SceneFile for MeshScene {
         "mesh"
     }
 
-    fn filter(&self) -> FileFilter {
-        FileFilter {
+    fn filter(&self) -> Option<FileFilter> {
+        Some(FileFilter {
             name: "OBJ mesh",
             extensions: &["obj"],
-        }
+        })
     }
 
     fn open(&mut self, name: &str, text: &str) -> Result<(), String> {
@@ -96,11 +106,7 @@ impl SceneFile for MeshScene {
     }
 
     fn reset(&mut self, text: &LessonText) {
-        if let Some(view) = &text.file.view3d
-            && let Ok(scene) = Self::named(&view.mesh)
-        {
-            *self = scene;
-        }
+        *self = Self::of_lesson(text);
     }
 }
 

@@ -107,6 +107,8 @@ impl Orbit {
 pub struct View3d {
     /// The camera.
     pub orbit: Orbit,
+    /// Set while a lesson drags something in the view: drags then do not move the camera.
+    pub locked: bool,
     gpu: ViewGpu,
 }
 
@@ -120,6 +122,39 @@ pub struct ViewResponse {
     pub clicked: Option<(DVec3, DVec3)>,
     /// The ray through the pixel under the pointer.
     pub hovered: Option<(DVec3, DVec3)>,
+    /// World to screen (points), for the bounding sphere the view was drawn for.
+    to_screen: Box<dyn Fn(DVec3) -> Option<egui::Pos2>>,
+}
+
+impl ViewResponse {
+    /// Where `point` is drawn, if it is in front of the camera.
+    pub fn to_screen(&self, point: DVec3) -> Option<egui::Pos2> {
+        (self.to_screen)(point)
+    }
+}
+
+/// World to screen for `camera` drawing into `rect`.
+fn projector(
+    camera: Camera,
+    rect: Rect,
+    sphere: (DVec3, f64),
+) -> Box<dyn Fn(DVec3) -> Option<egui::Pos2>> {
+    let (near, far) = camera.depth_range(sphere.0, sphere.1 * 1.5);
+    let matrix = camera.view_projection(
+        f64::from(rect.width().max(1.0)) / f64::from(rect.height().max(1.0)),
+        near,
+        far,
+    );
+    Box::new(move |point| {
+        let clip = matrix * point.extend(1.0);
+        (clip.w > 1e-12).then(|| {
+            let ndc = clip.truncate() / clip.w;
+            egui::pos2(
+                rect.min.x + (ndc.x as f32 + 1.0) / 2.0 * rect.width(),
+                rect.min.y + (1.0 - ndc.y as f32) / 2.0 * rect.height(),
+            )
+        })
+    })
 }
 
 /// What a lesson gives the view to draw, and the layers' revisions. Geometry is given
@@ -150,7 +185,9 @@ impl View3d {
     /// the origin.
     pub fn ui(&mut self, ui: &mut egui::Ui, size: Vec2, content: &Content<'_>) -> ViewResponse {
         let (rect, response) = ui.allocate_exact_size(size, Sense::click_and_drag());
-        self.orbit.control(&response, ui);
+        if !self.locked {
+            self.orbit.control(&response, ui);
+        }
         let (center, radius) = content.sphere;
         let radius = radius.max(1e-9);
         let camera = self.orbit.camera(center, radius);
@@ -226,6 +263,7 @@ impl View3d {
             camera,
             clicked,
             hovered,
+            to_screen: projector(camera, rect, (center, radius)),
         }
     }
 
