@@ -91,6 +91,10 @@ pub mod palette {
     pub const X_AXIS: Color32 = Color32::from_rgb(240, 90, 90);
     /// Vertical (y) quantities.
     pub const Y_AXIS: Color32 = Color32::from_rgb(90, 200, 110);
+    /// The z axis (3D): apart from x, y and the current step's blue.
+    pub const Z_AXIS: Color32 = Color32::from_rgb(165, 105, 235);
+    /// The axes in order, x, y, z.
+    pub const AXES: [Color32; 3] = [X_AXIS, Y_AXIS, Z_AXIS];
 }
 
 /// A colour per tree depth, cycling through hues so neighbouring depths differ.

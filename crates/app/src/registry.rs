@@ -30,7 +30,7 @@ macro_rules! lesson {
 }
 
 /// The lessons, in the lecture's order.
-pub const LESSONS: [LessonEntry; 13] = [
+pub const LESSONS: [LessonEntry; 14] = [
     lesson!("01-trivial.ron", |text| Box::new(
         trivial::TrivialLoop::new(text)
     )),
@@ -61,6 +61,9 @@ pub const LESSONS: [LessonEntry; 13] = [
         slab3d::Slab3dLesson::new(text)
     )),
     lesson!("12-mesh-bvh.ron", |text| Box::new(
+        mesh_tree::MeshTreeLesson::new(text)
+    )),
+    lesson!("13-kd-3d.ron", |text| Box::new(
         mesh_tree::MeshTreeLesson::new(text)
     )),
     lesson!("14-heat-maps.ron", |text| Box::new(heat::HeatLesson::new(

@@ -251,3 +251,25 @@ fn dragging_the_rays_start_moves_it_and_not_the_camera() {
     assert!((after - before).length() > 0.05, "{before} -> {after}");
     assert_eq!(harness.state().view.orbit, orbit, "the camera stayed");
 }
+
+#[test]
+fn kd_split_planes_clipped_to_their_cells_and_a_selected_cell() {
+    let mut harness = lesson_harness_3d(MeshTreeLesson::new(lesson_text("13-kd-3d.ron")));
+    harness.run();
+    let tree = harness.state().tree().expect("built").clone();
+    assert_eq!(tree.built.structure.family(), accelviz_core::Family::Kd);
+    harness.state_mut().depth_range = (0, 3);
+    harness.run();
+    let mut failures = Vec::new();
+    if let Err(error) = harness.try_snapshot("kd_3d_planes") {
+        failures.push(error.to_string());
+    }
+    // A deeper node selected: its plane lit, its triangles drawn over the mesh.
+    let node = tree.built.facts.by_depth[5];
+    harness.state_mut().selected = Some(node);
+    harness.run();
+    if let Err(error) = harness.try_snapshot("kd_3d_selected_cell") {
+        failures.push(error.to_string());
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

@@ -1,4 +1,5 @@
-//! Lesson 12, "A real mesh and its BVH": a shaded mesh in the boxes (or cells) of any
+//! Lessons 12, "A real mesh and its BVH", and 13, "kD-tree in 3D": a shaded mesh in the boxes
+//! (or cells, and a kD-tree's split planes clipped to their cells, coloured by axis) of any
 //! structure of the catalogue, coloured by depth, a depth range, inner nodes and leaves
 //! toggled, hidden edges faint or gone; the tree diagram and a node inspector linked to the
 //! view both ways; a clicked pixel's ray traced by the one traversal with a `Recorder` and
@@ -21,7 +22,9 @@ use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
 use crate::trace::{Trace, TraceState, describe_step, options_in, step_node};
 use crate::view3d::mesh_scene::{MeshScene, MeshTree};
-use crate::view3d::{Content, HiddenEdges, Instance, View3d, relative, revision_of, trace_overlay};
+use crate::view3d::{
+    Content, DrawTriangle, HiddenEdges, Instance, View3d, relative, revision_of, trace_overlay,
+};
 use crate::views::tree_diagram::{diagram_ui, traversal_emphasis};
 
 /// The ray of a clicked pixel.
@@ -49,6 +52,8 @@ pub struct MeshTreeLesson {
     pub show_inner: bool,
     /// Whether leaves' boxes are drawn.
     pub show_leaves: bool,
+    /// Whether kD split planes are drawn (kD-trees only).
+    pub show_planes: bool,
     /// How box edges behind the surface are drawn.
     pub hidden_edges: HiddenEdges,
     hovered: Option<u32>,
@@ -70,8 +75,10 @@ impl MeshTreeLesson {
             picked: None,
             trace: Cached::default(),
             depth_range: (0, usize::MAX),
-            show_inner: true,
-            show_leaves: true,
+            // A kD-tree is shown by its planes; its cells' outlines on request.
+            show_inner: structure.family() == Family::Bvh,
+            show_leaves: structure.family() == Family::Bvh,
+            show_planes: true,
             hidden_edges: HiddenEdges::Dimmed,
             hovered: None,
             selected: Some(0),
@@ -174,6 +181,61 @@ impl MeshTreeLesson {
         instances
     }
 
+    /// A kD-tree's split planes in the depth range, each clipped to its node's cell and
+    /// coloured by axis (fainter deeper down), sorted back to front for `eye`.
+    fn planes(&self, tree: &MeshTree, eye: DVec3) -> Vec<Instance> {
+        if !self.show_planes {
+            return Vec::new();
+        }
+        let facts = &tree.built.facts;
+        let mut planes: Vec<(f64, Instance)> = Vec::new();
+        for node in 0..facts.node_count() as u32 {
+            let depth = facts.depth[node as usize] as usize;
+            let Some((axis, position)) = tree.built.plane(node) else {
+                continue;
+            };
+            if !self.depths().contains(&depth) {
+                continue;
+            }
+            let cell = facts.bounds[node as usize];
+            let (mut low, mut high) = (cell.min, cell.max);
+            low[axis] = position;
+            high[axis] = position;
+            let color = palette::AXES[axis];
+            let alpha = if Some(node) == self.selected || Some(node) == self.hovered {
+                150
+            } else {
+                (90 - 8 * depth.min(8)) as u8
+            };
+            planes.push((
+                ((low + high) / 2.0 - eye).length(),
+                Instance {
+                    a: relative(low, tree.sphere),
+                    b: relative(high, tree.sphere),
+                    color: [color.r(), color.g(), color.b(), alpha],
+                },
+            ));
+        }
+        planes.sort_by(|a, b| b.0.total_cmp(&a.0));
+        planes.into_iter().map(|(_, plane)| plane).collect()
+    }
+
+    /// The selected node's triangles, drawn over the mesh (when no ray is traced).
+    fn selected_triangles(&self, tree: &MeshTree) -> Vec<DrawTriangle> {
+        let Some(node) = self.selected.filter(|&node| node != 0) else {
+            return Vec::new();
+        };
+        tree.built
+            .primitives_below(node)
+            .into_iter()
+            .filter_map(|primitive| tree.drawn.get(primitive as usize))
+            .map(|triangle| DrawTriangle {
+                color: [80, 170, 255, 255],
+                ..*triangle
+            })
+            .collect()
+    }
+
     fn controls_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
             let current = self.stage.scene.name.clone();
@@ -219,6 +281,12 @@ impl MeshTreeLesson {
             ui.separator();
             ui.checkbox(&mut self.show_inner, "inner nodes");
             ui.checkbox(&mut self.show_leaves, "leaves");
+            if self.structure.family() == Family::Kd {
+                ui.checkbox(&mut self.show_planes, "split planes")
+                    .on_hover_text(
+                        "Each inner node's plane, clipped to its cell, coloured by axis",
+                    );
+            }
             ui.selectable_value(&mut self.hidden_edges, HiddenEdges::Dimmed, "x-ray")
                 .on_hover_text("Box edges behind the surface drawn faint");
             ui.selectable_value(&mut self.hidden_edges, HiddenEdges::Hidden, "hide hidden")
@@ -457,13 +525,24 @@ impl Lesson for MeshTreeLesson {
         ));
         let (highlights, segments) = match self.picked {
             Some(picked) => trace_overlay(&tree, &picked.ray, steps),
-            None => (Vec::new(), Vec::new()),
+            None => (self.selected_triangles(&tree), Vec::new()),
         };
         let overlay_revision = revision_of((
             self.tree.generation(),
             self.picked.map(|picked| picked.revision),
             self.order,
             frame,
+            self.selected,
+        ));
+        let eye = self.view.orbit.camera(tree.sphere.0, tree.sphere.1).eye;
+        let planes = self.planes(&tree, eye);
+        let planes_revision = revision_of((
+            self.tree.generation(),
+            self.depth_range,
+            self.show_planes,
+            self.hovered,
+            self.selected,
+            eye.to_array().map(f64::to_bits),
         ));
         let size = ui.available_size();
         let response = self.view.ui(
@@ -475,7 +554,7 @@ impl Lesson for MeshTreeLesson {
                 highlights: (overlay_revision, &highlights),
                 boxes: (boxes_revision, &boxes),
                 segments: (overlay_revision, &segments),
-                quads: (0, &[]),
+                quads: (planes_revision, &planes),
                 hidden_edges: self.hidden_edges,
             },
         );

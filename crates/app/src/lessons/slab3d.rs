@@ -16,13 +16,11 @@ use crate::stage::{SceneFile, Stage};
 use crate::view3d::{Content, HiddenEdges, Instance, View3d, relative, revision_of};
 use crate::views::number_lines::{IntervalRow, number_lines_height, number_lines_ui};
 
-/// The z axis's colour (x and y are the 2D lessons').
-const Z_AXIS: Color32 = Color32::from_rgb(165, 105, 235);
 /// The three slabs: name and colour, by axis.
 const AXES: [(&str, Color32); 3] = [
     ("x slab", palette::X_AXIS),
     ("y slab", palette::Y_AXIS),
-    ("z slab", Z_AXIS),
+    ("z slab", palette::Z_AXIS),
 ];
 
 /// The steps, in the slide's order.
