@@ -102,6 +102,7 @@ impl AccelvizApp {
     /// Everything the app draws in a frame.
     pub fn contents_ui(&mut self, ui: &mut Ui) {
         self.selected = self.selected.min(self.lessons.len().saturating_sub(1));
+        self.take_dropped_files(ui.ctx());
         self.apply_file_events();
         if let Some(lesson) = self.lesson_mut() {
             // A freshly generated scene gets the ray the lesson wants for it.
@@ -302,14 +303,16 @@ impl AccelvizApp {
         match panel.ui(ctx) {
             PanelAction::None => {}
             PanelAction::Close => self.file_panel = None,
-            PanelAction::Open(path) => match crate::files::read_scene_file(&path) {
-                FileEvent::Opened { name, text } => {
-                    if self.open_scene_text(&name, &text) {
-                        self.file_panel = None;
+            PanelAction::Open(path) => {
+                match crate::files::read_scene_file(&path, panel.filter.max_bytes) {
+                    FileEvent::Opened { name, text } => {
+                        if self.open_scene_text(&name, &text) {
+                            self.file_panel = None;
+                        }
                     }
+                    FileEvent::Failed(message) => self.status = Some((message, true)),
                 }
-                FileEvent::Failed(message) => self.status = Some((message, true)),
-            },
+            }
             PanelAction::Save(path) => {
                 let Some((_, text)) = self.lesson().and_then(|lesson| lesson.stage().scene.save())
                 else {
@@ -323,6 +326,24 @@ impl AccelvizApp {
                     Err(message) => self.status = Some((message, true)),
                 }
             }
+        }
+    }
+
+    /// Opens files dropped onto the window (or the page) into the current lesson.
+    fn take_dropped_files(&mut self, ctx: &egui::Context) {
+        let dropped = ctx.input(|input| input.raw.dropped_files.clone());
+        if dropped.is_empty() {
+            return;
+        }
+        let Some(filter) = self
+            .lesson()
+            .and_then(|lesson| lesson.stage().scene.filter())
+        else {
+            self.status = Some(("this lesson opens no files".to_owned(), true));
+            return;
+        };
+        for file in dropped {
+            self.files.dropped(ctx, file, filter.max_bytes);
         }
     }
 

@@ -24,9 +24,6 @@ pub enum FileEvent {
     Failed(String),
 }
 
-/// The largest scene file opened (bytes), checked before reading it all.
-const MAX_OPEN_BYTES: u64 = accelviz_scene::document::MAX_DOCUMENT_BYTES as u64;
-
 /// What rfd logged at warning level or above while a dialog was open: why it failed.
 static DIALOG_LOG: Mutex<Vec<String>> = Mutex::new(Vec::new());
 
@@ -93,22 +90,35 @@ fn run_dialog<T>(dialog: impl FnOnce() -> Option<T>) -> Result<Option<T>, String
     }
 }
 
-/// Reads a scene file, refusing huge ones before reading them whole.
-pub fn read_scene_file(path: &Path) -> FileEvent {
+/// Reads a file the lesson opens, refusing one larger than `max_bytes` before reading it.
+pub fn read_scene_file(path: &Path, max_bytes: u64) -> FileEvent {
     let name = path.display().to_string();
     let size = std::fs::metadata(path)
         .map(|metadata| metadata.len())
         .unwrap_or(0);
-    if size > MAX_OPEN_BYTES {
-        return FileEvent::Failed(format!(
-            "{name}: the file is {} MB; scene files are limited to {} MB",
-            size >> 20,
-            MAX_OPEN_BYTES >> 20
-        ));
+    if size > max_bytes {
+        return too_large(&name, size, max_bytes);
     }
-    match std::fs::read_to_string(path) {
-        Ok(text) => FileEvent::Opened { name, text },
+    match std::fs::read(path) {
+        Ok(bytes) => text_event(name, bytes),
         Err(error) => FileEvent::Failed(format!("{name}: cannot read the file: {error}")),
+    }
+}
+
+/// The refusal of a file of `size` bytes over `max_bytes`.
+fn too_large(name: &str, size: u64, max_bytes: u64) -> FileEvent {
+    FileEvent::Failed(format!(
+        "{name}: the file is {} MB; these files are limited to {} MB",
+        size >> 20,
+        max_bytes >> 20
+    ))
+}
+
+/// A file's bytes as text, or why they are not.
+fn text_event(name: String, bytes: Vec<u8>) -> FileEvent {
+    match String::from_utf8(bytes) {
+        Ok(text) => FileEvent::Opened { name, text },
+        Err(_) => FileEvent::Failed(format!("{name}: the file is not UTF-8 text")),
     }
 }
 
@@ -308,6 +318,8 @@ pub struct FileFilter {
     pub name: &'static str,
     /// Their extensions, without the dot.
     pub extensions: &'static [&'static str],
+    /// The largest file opened: larger ones are refused before they are read.
+    pub max_bytes: u64,
 }
 
 /// What asking for a file led to.
@@ -329,6 +341,47 @@ impl FileChannel {
             .unwrap_or_default()
     }
 
+    /// Reads a file dropped onto the window or the page (at once on the desktop; in the
+    /// browser asynchronously, arriving as an event).
+    pub fn dropped(&self, ctx: &egui::Context, file: egui::DroppedFileHandle, max_bytes: u64) {
+        let name = file.path().file_name().map_or_else(
+            || file.path().display().to_string(),
+            |name| name.to_string_lossy().into_owned(),
+        );
+        #[cfg(not(target_arch = "wasm32"))]
+        {
+            let size = std::fs::metadata(file.path()).map_or(0, |metadata| metadata.len());
+            let event = if size > max_bytes {
+                too_large(&name, size, max_bytes)
+            } else {
+                match file.bytes() {
+                    Ok(bytes) => text_event(name, bytes),
+                    Err(error) => {
+                        FileEvent::Failed(format!("{name}: cannot read the file: {error}"))
+                    }
+                }
+            };
+            self.push(ctx, event);
+        }
+        #[cfg(target_arch = "wasm32")]
+        {
+            let channel = self.clone();
+            let ctx = ctx.clone();
+            wasm_bindgen_futures::spawn_local(async move {
+                let event = match file.bytes_async().await {
+                    Ok(bytes) if bytes.len() as u64 > max_bytes => {
+                        too_large(&name, bytes.len() as u64, max_bytes)
+                    }
+                    Ok(bytes) => text_event(name, bytes),
+                    Err(error) => {
+                        FileEvent::Failed(format!("{name}: cannot read the file: {error}"))
+                    }
+                };
+                channel.push(&ctx, event);
+            });
+        }
+    }
+
     /// Leaves `event` for the next frame, and asks `ctx` for that frame: egui draws only
     /// when something happens, and a file read in the background is not an input event.
     fn push(&self, ctx: &egui::Context, event: FileEvent) {
@@ -348,7 +401,7 @@ impl FileChannel {
         });
         match picked {
             Ok(Some(path)) => {
-                self.push(ctx, read_scene_file(&path));
+                self.push(ctx, read_scene_file(&path, filter.max_bytes));
                 DialogOutcome::Done
             }
             Ok(None) => DialogOutcome::Cancelled,
@@ -372,17 +425,10 @@ impl FileChannel {
             };
             let name = file.file_name();
             let bytes = file.read().await;
-            let event = if bytes.len() as u64 > MAX_OPEN_BYTES {
-                FileEvent::Failed(format!(
-                    "{name}: the file is {} MB; scene files are limited to {} MB",
-                    bytes.len() >> 20,
-                    MAX_OPEN_BYTES >> 20
-                ))
+            let event = if bytes.len() as u64 > filter.max_bytes {
+                too_large(&name, bytes.len() as u64, filter.max_bytes)
             } else {
-                match String::from_utf8(bytes) {
-                    Ok(text) => FileEvent::Opened { name, text },
-                    Err(_) => FileEvent::Failed(format!("{name}: the file is not UTF-8 text")),
-                }
+                text_event(name, bytes)
             };
             channel.push(&ctx, event);
         });

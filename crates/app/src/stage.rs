@@ -77,6 +77,7 @@ impl SceneFile for EditableScene {
         Some(FileFilter {
             name: "accelviz scene",
             extensions: &["ron"],
+            max_bytes: accelviz_scene::document::MAX_DOCUMENT_BYTES as u64,
         })
     }
 

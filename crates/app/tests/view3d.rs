@@ -273,3 +273,60 @@ fn kd_split_planes_clipped_to_their_cells_and_a_selected_cell() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// A file dropped onto the window, as eframe hands it over on the desktop.
+#[derive(Debug)]
+struct DroppedPath(std::path::PathBuf);
+
+impl egui::DroppedFile for DroppedPath {
+    fn path(&self) -> &std::path::Path {
+        &self.0
+    }
+
+    fn bytes(&self) -> Result<Vec<u8>, String> {
+        std::fs::read(&self.0).map_err(|error| error.to_string())
+    }
+}
+
+#[test]
+fn a_malformed_obj_leaves_the_app_running_with_the_message_and_the_mesh_kept() {
+    let mut harness = common::app_harness();
+    let titles = harness.state().titles();
+    harness.state_mut().selected = titles
+        .iter()
+        .position(|title| title.contains("real mesh"))
+        .expect("lesson 12");
+    harness.run();
+    let broken = "v 0 0 0\nv 1 0 0\nvn 0 1\nf 1 2 3\n";
+    assert!(!harness.state_mut().open_scene_text("broken.obj", broken));
+    harness.run();
+    use egui_kittest::kittest::Queryable;
+    assert!(
+        harness
+            .query_by_label_contains("broken.obj:3: a normal needs 3 numbers, found 2")
+            .is_some(),
+        "the message names the file and the line"
+    );
+    assert!(harness.query_by_label_contains("teapot: ").is_some(), "the teapot stays");
+
+    // A good OBJ dropped onto the window opens.
+    let dir = std::env::temp_dir().join(format!("accelviz-drop-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join("tetrahedron.obj");
+    std::fs::write(
+        &path,
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",
+    )
+    .expect("written");
+    harness
+        .input_mut()
+        .dropped_files
+        .push(std::sync::Arc::new(DroppedPath(path)));
+    harness.run_steps(3);
+    assert!(
+        harness.query_by_label_contains("opened tetrahedron.obj").is_some(),
+        "the dropped file opened"
+    );
+    assert!(harness.query_by_label_contains("tetrahedron.obj: 4 triangles").is_some());
+    std::fs::remove_dir_all(&dir).expect("removed");
+}

@@ -92,6 +92,7 @@ impl SceneFile for MeshScene {
         Some(FileFilter {
             name: "OBJ mesh",
             extensions: &["obj"],
+            max_bytes: accelviz_scene::error::MAX_FILE_BYTES,
         })
     }
 
