@@ -59,6 +59,9 @@ pub struct MeshTreeLesson {
     hovered: Option<u32>,
     /// The node the inspector shows.
     pub selected: Option<u32>,
+    /// The box outlines and planes last made, with the revisions they were made for.
+    drawn_boxes: Option<(u64, Arc<Vec<Instance>>)>,
+    drawn_planes: Option<(u64, Arc<Vec<Instance>>)>,
 }
 
 impl MeshTreeLesson {
@@ -82,6 +85,8 @@ impl MeshTreeLesson {
             hidden_edges: HiddenEdges::Dimmed,
             hovered: None,
             selected: Some(0),
+            drawn_boxes: None,
+            drawn_planes: None,
         }
     }
 
@@ -511,7 +516,6 @@ impl Lesson for MeshTreeLesson {
         let current = state
             .and_then(|state| state.current)
             .and_then(|step| step_node(&step));
-        let boxes = self.boxes(&tree, steps, current);
         let boxes_revision = revision_of((
             self.tree.generation(),
             self.depth_range,
@@ -523,6 +527,15 @@ impl Lesson for MeshTreeLesson {
             self.order,
             frame,
         ));
+        // Tens of thousands of boxes: made again only when what they show changed.
+        let boxes = match &self.drawn_boxes {
+            Some((revision, boxes)) if *revision == boxes_revision => boxes.clone(),
+            _ => {
+                let boxes = Arc::new(self.boxes(&tree, steps, current));
+                self.drawn_boxes = Some((boxes_revision, boxes.clone()));
+                boxes
+            }
+        };
         let (highlights, segments) = match self.picked {
             Some(picked) => trace_overlay(&tree, &picked.ray, steps),
             None => (self.selected_triangles(&tree), Vec::new()),
@@ -535,7 +548,6 @@ impl Lesson for MeshTreeLesson {
             self.selected,
         ));
         let eye = self.view.orbit.camera(tree.sphere.0, tree.sphere.1).eye;
-        let planes = self.planes(&tree, eye);
         let planes_revision = revision_of((
             self.tree.generation(),
             self.depth_range,
@@ -544,6 +556,14 @@ impl Lesson for MeshTreeLesson {
             self.selected,
             eye.to_array().map(f64::to_bits),
         ));
+        let planes = match &self.drawn_planes {
+            Some((revision, planes)) if *revision == planes_revision => planes.clone(),
+            _ => {
+                let planes = Arc::new(self.planes(&tree, eye));
+                self.drawn_planes = Some((planes_revision, planes.clone()));
+                planes
+            }
+        };
         let size = ui.available_size();
         let response = self.view.ui(
             ui,

@@ -173,6 +173,8 @@ pub struct ViewGpu {
     boxes: Layer,
     segments: Layer,
     quads: Layer,
+    /// What the target holds: a frame that would draw the same is not drawn again.
+    drawn: Option<u64>,
 }
 
 impl ViewGpu {
@@ -185,6 +187,21 @@ impl ViewGpu {
         let Some(target) = &self.target else {
             return egui::TextureId::default();
         };
+        // The same camera, layers and size as the frame before: its picture is still there.
+        let frame = super::revision_of((
+            scene.view_proj.to_cols_array().map(f32::to_bits),
+            [scene.mesh.0, scene.highlights.0, scene.boxes.0, scene.segments.0, scene.quads.0],
+            [scene.mesh.1.len(), scene.highlights.1.len(), scene.boxes.1.len()],
+            [scene.segments.1.len(), scene.quads.1.len()],
+            size,
+            scene.line_width.to_bits(),
+            scene.hidden_edges,
+            scene.background,
+        ));
+        if self.drawn == Some(frame) {
+            return target.texture_id;
+        }
+        self.drawn = Some(frame);
         let (color_view, depth_view, texture_id) = (
             target
                 .color
