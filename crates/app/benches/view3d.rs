@@ -30,7 +30,9 @@ fn view3d_costs(c: &mut Criterion) {
     c.bench_function("3D: bunny read and its BVH built (bvh:sah-binned)", |b| {
         b.iter(|| {
             let mesh = accelviz_scene::obj::parse_obj(&text, "bunny.obj").expect("parses");
-            MeshTree::build(Arc::new(mesh), structure()).stats.node_count
+            MeshTree::build(Arc::new(mesh), structure())
+                .stats
+                .node_count
         })
     });
 

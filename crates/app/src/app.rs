@@ -3,7 +3,9 @@
 
 use egui::{RichText, Ui};
 
-use crate::files::{DialogOutcome, FileChannel, FileEvent, FilePanel, PanelAction, PanelMode};
+use crate::files::{
+    DialogOutcome, FileChannel, FileEvent, FileFilter, FilePanel, PanelAction, PanelMode,
+};
 use crate::lesson::Lesson;
 use crate::registry::{self, BrokenLesson};
 
@@ -102,6 +104,7 @@ impl AccelvizApp {
     /// Everything the app draws in a frame.
     pub fn contents_ui(&mut self, ui: &mut Ui) {
         self.selected = self.selected.min(self.lessons.len().saturating_sub(1));
+        self.take_export();
         self.take_dropped_files(ui.ctx());
         self.apply_file_events();
         if let Some(lesson) = self.lesson_mut() {
@@ -274,23 +277,25 @@ impl AccelvizApp {
     /// Saves the scene: the system's dialog (a download in the browser), or the in-app panel
     /// when there is none.
     pub fn save_scene(&mut self) {
-        let Some((name, text)) = self.lesson().and_then(|lesson| lesson.stage().scene.save())
-        else {
+        let Some(((name, text), filter)) = self.lesson().and_then(|lesson| {
+            let scene = &lesson.stage().scene;
+            Some((scene.save()?, scene.filter()?))
+        }) else {
             return;
         };
-        self.status = match self.files.save(&name, &text) {
+        self.save_file(&name, text.into_bytes(), filter);
+    }
+
+    /// Saves `bytes` as `name` through the system's dialog (a download in the browser), or
+    /// the in-app panel when there is none; says how it went in the status line.
+    pub fn save_file(&mut self, name: &str, bytes: Vec<u8>, filter: FileFilter) {
+        self.status = match self.files.save(name, &bytes, filter) {
             Ok(Some(Ok(message))) => Some((message, false)),
             Ok(Some(Err(message))) => Some((message, true)),
             Ok(None) => return,
             Err(reason) => {
                 log::warn!("accelviz: no file dialog: {reason}");
-                let Some(filter) = self
-                    .lesson()
-                    .and_then(|lesson| lesson.stage().scene.filter())
-                else {
-                    return;
-                };
-                self.file_panel = Some(FilePanel::new(PanelMode::Save, filter, Some(reason)));
+                self.file_panel = Some(FilePanel::saving(filter, name, bytes, reason));
                 return;
             }
         };
@@ -313,18 +318,25 @@ impl AccelvizApp {
                     FileEvent::Failed(message) => self.status = Some((message, true)),
                 }
             }
-            PanelAction::Save(path) => {
-                let Some((_, text)) = self.lesson().and_then(|lesson| lesson.stage().scene.save())
-                else {
-                    return;
-                };
-                match crate::files::write_scene_file(&path, &text) {
-                    Ok(message) => {
-                        self.status = Some((message, false));
-                        self.file_panel = None;
-                    }
-                    Err(message) => self.status = Some((message, true)),
+            PanelAction::Save(path) => match crate::files::write_file(&path, &panel.content) {
+                Ok(message) => {
+                    self.status = Some((message, false));
+                    self.file_panel = None;
                 }
+                Err(message) => self.status = Some((message, true)),
+            },
+        }
+    }
+
+    /// Saves what the lesson made to be saved (a PNG of its view).
+    fn take_export(&mut self) {
+        let Some(export) = self.lesson_mut().and_then(|lesson| lesson.take_export()) else {
+            return;
+        };
+        match export {
+            Ok((name, bytes)) => self.save_file(&name, bytes, PNG_FILTER),
+            Err(problem) => {
+                self.status = Some((format!("cannot save the picture: {problem}"), true))
             }
         }
     }
@@ -437,6 +449,13 @@ impl eframe::App for AccelvizApp {
         self.contents_ui(ui);
     }
 }
+
+/// Pictures saved for slides.
+const PNG_FILTER: FileFilter = FileFilter {
+    name: "PNG image",
+    extensions: &["png"],
+    max_bytes: 0,
+};
 
 /// The slide, the explanation and things to try, for the inspector's top.
 pub fn text_ui(ui: &mut Ui, text: &crate::lesson::LessonText) {

@@ -122,17 +122,12 @@ fn text_event(name: String, bytes: Vec<u8>) -> FileEvent {
     }
 }
 
-/// Writes `text` to `path` through a file beside it and a rename, so a failed write never
+/// Writes `bytes` to `path` through a file beside it and a rename, so a failed write never
 /// leaves half a file where the old one was.
-pub fn write_scene_file(path: &Path, text: &str) -> Result<String, String> {
-    let partial = path.with_extension("ron.partial");
-    std::fs::write(&partial, text)
-        .and_then(|()| std::fs::rename(&partial, path))
+pub fn write_file(path: &Path, bytes: &[u8]) -> Result<String, String> {
+    accelviz_scene::output::write_all_or_nothing(&[(path, bytes)])
         .map(|()| format!("saved {}", path.display()))
-        .map_err(|error| {
-            let _ = std::fs::remove_file(&partial);
-            format!("{}: cannot save: {error}", path.display())
-        })
+        .map_err(|error| error.to_string())
 }
 
 /// What the in-app file panel is for.
@@ -156,6 +151,8 @@ pub struct FilePanel {
     pub reason: Option<String>,
     /// Which files it lists.
     pub filter: FileFilter,
+    /// What a save panel writes (its suggested name is in the path).
+    pub content: Vec<u8>,
 }
 
 /// What the panel asks the app to do.
@@ -174,15 +171,24 @@ impl FilePanel {
     /// A panel for `mode`, starting in the current folder (and with `file_name` to save).
     pub fn new(mode: PanelMode, filter: FileFilter, reason: Option<String>) -> Self {
         let folder = std::env::current_dir().unwrap_or_default();
-        let path = match mode {
-            PanelMode::Open => folder.display().to_string(),
-            PanelMode::Save => folder.join("scene.ron").display().to_string(),
-        };
         Self {
             mode,
-            path,
+            path: folder.display().to_string(),
             reason,
             filter,
+            content: Vec::new(),
+        }
+    }
+
+    /// A panel that saves `content`, suggesting `name` in the current folder.
+    pub fn saving(filter: FileFilter, name: &str, content: Vec<u8>, reason: String) -> Self {
+        let folder = std::env::current_dir().unwrap_or_default();
+        Self {
+            mode: PanelMode::Save,
+            path: folder.join(name).display().to_string(),
+            reason: Some(reason),
+            filter,
+            content,
         }
     }
 
@@ -435,32 +441,34 @@ impl FileChannel {
         DialogOutcome::Done
     }
 
-    /// Saves `text` through the system's save dialog. `Ok(Some(message))` when saved,
+    /// Saves `bytes` through the system's save dialog. `Ok(Some(message))` when saved,
     /// `Ok(None)` if the user cancelled, `Err(reason)` if no dialog could open.
     #[cfg(not(target_arch = "wasm32"))]
     pub fn save(
         &self,
         suggested_name: &str,
-        text: &str,
+        bytes: &[u8],
+        filter: FileFilter,
     ) -> Result<Option<Result<String, String>>, String> {
         let chosen = run_dialog(|| {
             rfd::FileDialog::new()
-                .add_filter("accelviz scene", &["ron"])
+                .add_filter(filter.name, filter.extensions)
                 .set_file_name(suggested_name)
                 .save_file()
         })?;
-        Ok(chosen.map(|path| write_scene_file(&path, text)))
+        Ok(chosen.map(|path| write_file(&path, bytes)))
     }
 
-    /// Downloads `text` as a file.
+    /// Downloads `bytes` as a file.
     #[cfg(target_arch = "wasm32")]
     pub fn save(
         &self,
         suggested_name: &str,
-        text: &str,
+        bytes: &[u8],
+        _filter: FileFilter,
     ) -> Result<Option<Result<String, String>>, String> {
         Ok(Some(
-            web::download(suggested_name, text)
+            web::download(suggested_name, bytes)
                 .map(|()| format!("downloaded {suggested_name}"))
                 .map_err(|error| format!("cannot download {suggested_name}: {error:?}")),
         ))
@@ -483,11 +491,17 @@ mod web {
     use wasm_bindgen::{JsCast, JsValue};
 
     /// Offers `text` as a download named `name`.
-    pub fn download(name: &str, text: &str) -> Result<(), JsValue> {
-        let parts = js_sys::Array::of1(&JsValue::from_str(text));
+    pub fn download(name: &str, bytes: &[u8]) -> Result<(), JsValue> {
+        let array = js_sys::Uint8Array::from(bytes);
+        let parts = js_sys::Array::of1(&array);
         let options = web_sys::BlobPropertyBag::new();
-        options.set_type("text/plain");
-        let blob = web_sys::Blob::new_with_str_sequence_and_options(&parts, &options)?;
+        let kind = if name.ends_with(".png") {
+            "image/png"
+        } else {
+            "text/plain"
+        };
+        options.set_type(kind);
+        let blob = web_sys::Blob::new_with_u8_array_sequence_and_options(&parts, &options)?;
         let url = web_sys::Url::create_object_url_with_blob(&blob)?;
         let document = web_sys::window()
             .and_then(|window| window.document())

@@ -208,6 +208,12 @@ pub trait Lesson {
         None
     }
 
+    /// A file the lesson made to be saved (a PNG of its view), once: the app saves it
+    /// through the system's dialog, or as a download in the browser.
+    fn take_export(&mut self) -> Option<crate::view3d::Export> {
+        None
+    }
+
     /// The lesson's text.
     fn text(&self) -> &LessonText {
         &self.stage().text

@@ -307,7 +307,10 @@ fn a_malformed_obj_leaves_the_app_running_with_the_message_and_the_mesh_kept() {
             .is_some(),
         "the message names the file and the line"
     );
-    assert!(harness.query_by_label_contains("teapot: ").is_some(), "the teapot stays");
+    assert!(
+        harness.query_by_label_contains("teapot: ").is_some(),
+        "the teapot stays"
+    );
 
     // A good OBJ dropped onto the window opens.
     let dir = std::env::temp_dir().join(format!("accelviz-drop-{}", std::process::id()));
@@ -324,9 +327,60 @@ fn a_malformed_obj_leaves_the_app_running_with_the_message_and_the_mesh_kept() {
         .push(std::sync::Arc::new(DroppedPath(path)));
     harness.run_steps(3);
     assert!(
-        harness.query_by_label_contains("opened tetrahedron.obj").is_some(),
+        harness
+            .query_by_label_contains("opened tetrahedron.obj")
+            .is_some(),
         "the dropped file opened"
     );
-    assert!(harness.query_by_label_contains("tetrahedron.obj: 4 triangles").is_some());
+    assert!(
+        harness
+            .query_by_label_contains("tetrahedron.obj: 4 triangles")
+            .is_some()
+    );
     std::fs::remove_dir_all(&dir).expect("removed");
+}
+
+/// A PNG's size and how many colours it has.
+fn decode_png(bytes: &[u8]) -> (u32, u32, usize) {
+    let decoder = png::Decoder::new(std::io::Cursor::new(bytes));
+    let mut reader = decoder.read_info().expect("a PNG");
+    let mut pixels = vec![0; reader.output_buffer_size().expect("a size")];
+    let info = reader.next_frame(&mut pixels).expect("a frame");
+    let colours: std::collections::HashSet<&[u8]> = pixels[..info.buffer_size()]
+        .chunks_exact(info.color_type.samples())
+        .collect();
+    (info.width, info.height, colours.len())
+}
+
+#[test]
+fn the_view_and_a_heat_map_save_as_png() {
+    use egui_kittest::kittest::Queryable;
+    let mut harness = lesson_harness_3d(mesh_lesson());
+    harness.run();
+    harness.get_by_label("save view as PNG").click();
+    harness.run_steps(2);
+    let (name, bytes) = harness
+        .state_mut()
+        .take_export()
+        .expect("an export")
+        .expect("a picture");
+    assert_eq!(name, "view.png");
+    let (width, height, colours) = decode_png(&bytes);
+    assert!(width > 500 && height > 400, "{width}x{height}");
+    assert!(colours > 50, "the picture has the mesh and its boxes: {colours} colours");
+
+    let mut harness = lesson_harness_3d(heat_lesson());
+    finish_heat_maps(&mut harness);
+    harness.get_all_by_label("save PNG").next().expect("a map's button").click();
+    harness.run_steps(2);
+    let (name, bytes) = harness
+        .state_mut()
+        .take_export()
+        .expect("an export")
+        .expect("a picture");
+    assert_eq!(name, "heat-near-first-nodes.png");
+    let key = *harness.state().job().expect("job").key();
+    let (width, height, colours) = decode_png(&bytes);
+    assert_eq!((width as usize, height as usize), (key.width, key.height));
+    assert!(colours > 10, "{colours} colours");
 }

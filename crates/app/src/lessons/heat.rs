@@ -63,6 +63,8 @@ pub struct HeatLesson {
     textures: Option<Textures>,
     picked: Option<Picked>,
     trace: Cached<(u64, u64), Trace>,
+    /// A map saved as a PNG, waiting for the app to take it.
+    export: Option<crate::view3d::Export>,
 }
 
 impl HeatLesson {
@@ -85,6 +87,7 @@ impl HeatLesson {
             textures: None,
             picked: None,
             trace: Cached::default(),
+            export: None,
         }
     }
 
@@ -237,6 +240,7 @@ impl HeatLesson {
             if ui.button("reset view").clicked() {
                 self.view.reset();
             }
+            self.view.save_button(ui);
         });
     }
 
@@ -249,12 +253,19 @@ impl HeatLesson {
         texture: &TextureHandle,
         map_size: [usize; 2],
         legend: Legend,
-    ) -> (Option<[usize; 2]>, bool) {
+    ) -> (Option<[usize; 2]>, bool, bool) {
         let mut under = None;
         let mut clicked = false;
+        let mut save = false;
         ui.vertical(|ui| {
             ui.set_width(size.x);
-            ui.label(egui::RichText::new(title).strong());
+            ui.horizontal(|ui| {
+                ui.label(egui::RichText::new(title).strong());
+                save = ui
+                    .small_button("save PNG")
+                    .on_hover_text("This map as a PNG, one pixel a pixel, for slides")
+                    .clicked();
+            });
             // One pixel of the map on one pixel of the screen, like the view beside it.
             let pixels_per_point = ui.ctx().pixels_per_point();
             let (fitted, response) = ui.allocate_exact_size(
@@ -277,7 +288,27 @@ impl HeatLesson {
             }
             legend.ui(ui, size.x);
         });
-        (under, clicked)
+        (under, clicked, save)
+    }
+
+    /// One of the maps as a PNG: near first (0), file order (1) or their difference (2), in
+    /// the colours shown.
+    fn map_png(&self, which: usize) -> Option<crate::view3d::Export> {
+        let (maps, textures) = (self.maps.as_ref()?, self.textures.as_ref()?);
+        let counter = self.counter;
+        let map = &maps.maps[which.min(1)];
+        let colors = match which {
+            0 | 1 => map.colors(counter, textures.scale),
+            _ => difference_colors(
+                &maps.maps[0].difference(&maps.maps[1], counter),
+                textures.difference_scale,
+            ),
+        };
+        let name = ["near-first", "file-order", "difference"][which.min(2)];
+        Some(
+            accelviz_scene::output::encode_png(map.width, map.height, &colors)
+                .map(|bytes| (format!("heat-{name}-{}.png", counter.name()), bytes)),
+        )
     }
 }
 
@@ -375,6 +406,10 @@ impl Lesson for HeatLesson {
                 )
             });
         self.stage.timeline.set_len(trace.frames());
+    }
+
+    fn take_export(&mut self) -> Option<crate::view3d::Export> {
+        self.view.take_export().or_else(|| self.export.take())
     }
 
     fn caption(&self) -> Option<String> {
@@ -488,6 +523,7 @@ impl Lesson for HeatLesson {
         self.pane_pixels = Some([quantized(pane.x), quantized((pane.y - 44.0).max(10.0))]);
 
         let mut hovered: Option<([usize; 2], &'static str)> = None;
+        let mut save_which: Option<usize> = None;
         let mut clicked: Option<([usize; 2], Order)> = None;
         let counter = self.counter;
         let sizes = self
@@ -527,7 +563,7 @@ impl Lesson for HeatLesson {
             ui.add_space(gap);
             if let (Some(textures), Some(maps), Some(size)) = (&self.textures, &self.maps, sizes) {
                 let summary = maps.maps[0].summary(counter);
-                let (under, click) = Self::map_ui(
+                let (under, click, save) = Self::map_ui(
                     ui,
                     pane,
                     &format!("Near first: {} per pixel", counter.label()),
@@ -539,6 +575,9 @@ impl Lesson for HeatLesson {
                         label: counter.label(),
                     },
                 );
+                if save {
+                    save_which = Some(0);
+                }
                 if let Some(pixel) = under {
                     hovered = Some((pixel, "near first"));
                     if click {
@@ -551,7 +590,7 @@ impl Lesson for HeatLesson {
         ui.horizontal(|ui| {
             if let (Some(textures), Some(maps), Some(size)) = (&self.textures, &self.maps, sizes) {
                 let summary = maps.maps[1].summary(counter);
-                let (under, click) = Self::map_ui(
+                let (under, click, save) = Self::map_ui(
                     ui,
                     pane,
                     &format!("File order: {} per pixel", counter.label()),
@@ -563,6 +602,9 @@ impl Lesson for HeatLesson {
                         label: counter.label(),
                     },
                 );
+                if save {
+                    save_which = Some(1);
+                }
                 if let Some(pixel) = under {
                     hovered = Some((pixel, "file order"));
                     if click {
@@ -570,7 +612,7 @@ impl Lesson for HeatLesson {
                     }
                 }
                 ui.add_space(gap);
-                let (under, click) = Self::map_ui(
+                let (under, click, save) = Self::map_ui(
                     ui,
                     pane,
                     "Near first minus file order",
@@ -581,6 +623,9 @@ impl Lesson for HeatLesson {
                         label: counter.label(),
                     },
                 );
+                if save {
+                    save_which = Some(2);
+                }
                 if let Some(pixel) = under {
                     hovered = Some((pixel, "both"));
                     if click {
@@ -613,6 +658,9 @@ impl Lesson for HeatLesson {
             }
             _ => None,
         };
+        if let Some(which) = save_which {
+            self.export = self.map_png(which);
+        }
         if let Some(([x, y], order)) = clicked {
             self.pick_pixel(x, y, order);
         }

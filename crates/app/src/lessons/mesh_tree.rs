@@ -313,6 +313,7 @@ impl MeshTreeLesson {
             if ui.button("reset view").clicked() {
                 self.view.reset();
             }
+            self.view.save_button(ui);
         });
     }
 
@@ -423,6 +424,10 @@ impl Lesson for MeshTreeLesson {
                     )
                 });
         self.stage.timeline.set_len(trace.frames());
+    }
+
+    fn take_export(&mut self) -> Option<crate::view3d::Export> {
+        self.view.take_export()
     }
 
     fn caption(&self) -> Option<String> {

@@ -353,6 +353,10 @@ impl Slab3dLesson {
 impl Lesson for Slab3dLesson {
     crate::staged!();
 
+    fn take_export(&mut self) -> Option<crate::view3d::Export> {
+        self.view.take_export()
+    }
+
     fn caption(&self) -> Option<String> {
         let shown = self.stage.timeline.shown.min(STEP_CAPTIONS.len() - 1);
         let record = self.stage.scene.record()?;
@@ -369,6 +373,7 @@ impl Lesson for Slab3dLesson {
     }
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+        self.view.save_button(ui);
         ui.label(egui::RichText::new("Edge cases").strong());
         ui.horizontal_wrapped(|ui| {
             for (index, (name, about, _, _)) in GALLERY.iter().enumerate() {

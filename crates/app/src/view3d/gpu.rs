@@ -175,9 +175,127 @@ pub struct ViewGpu {
     quads: Layer,
     /// What the target holds: a frame that would draw the same is not drawn again.
     drawn: Option<u64>,
+    /// A copy of the target on its way back from the GPU (for saving the view as a PNG).
+    readback: Option<Readback>,
 }
 
+/// A copy of the view's picture being read back: the buffer, its layout, and whether the GPU
+/// has handed it over.
+struct Readback {
+    buffer: wgpu::Buffer,
+    size: [u32; 2],
+    bytes_per_row: u32,
+    mapped: std::sync::Arc<std::sync::atomic::AtomicU8>,
+}
+
+/// A picture read back: width, height, RGBA pixels row by row from the top.
+pub type Picture = (usize, usize, Vec<[u8; 4]>);
+
+/// `Readback::mapped` states.
+const MAPPING: u8 = 0;
+const MAPPED: u8 = 1;
+const FAILED: u8 = 2;
+
 impl ViewGpu {
+    /// Starts reading the last picture back from the GPU (see [`ViewGpu::take_picture`]).
+    pub fn request_picture(&mut self, gpu: &Gpu) {
+        let Some(target) = &self.target else { return };
+        let state = &gpu.render_state;
+        let [width, height] = target.size;
+        // Rows of a texture-to-buffer copy are padded to 256 bytes.
+        let bytes_per_row = (width * 4).div_ceil(256) * 256;
+        let buffer = state.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("accelviz 3d picture"),
+            size: u64::from(bytes_per_row) * u64::from(height),
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut encoder = state
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("accelviz 3d picture"),
+            });
+        encoder.copy_texture_to_buffer(
+            wgpu::TexelCopyTextureInfo {
+                texture: &target.color,
+                mip_level: 0,
+                origin: wgpu::Origin3d::ZERO,
+                aspect: wgpu::TextureAspect::All,
+            },
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buffer,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(bytes_per_row),
+                    rows_per_image: Some(height),
+                },
+            },
+            wgpu::Extent3d {
+                width,
+                height,
+                depth_or_array_layers: 1,
+            },
+        );
+        state.queue.submit(Some(encoder.finish()));
+        let mapped = std::sync::Arc::new(std::sync::atomic::AtomicU8::new(MAPPING));
+        let flag = mapped.clone();
+        buffer.map_async(wgpu::MapMode::Read, .., move |result| {
+            let state = if result.is_ok() { MAPPED } else { FAILED };
+            flag.store(state, std::sync::atomic::Ordering::Release);
+        });
+        // On the desktop, wait for it here; in the browser the answer comes in a later frame.
+        #[cfg(not(target_arch = "wasm32"))]
+        let _ = state.device.poll(wgpu::PollType::Wait {
+            submission_index: None,
+            timeout: Some(std::time::Duration::from_secs(10)),
+        });
+        self.readback = Some(Readback {
+            buffer,
+            size: [width, height],
+            bytes_per_row,
+            mapped,
+        });
+    }
+
+    /// The picture asked for with [`ViewGpu::request_picture`], once the GPU has handed it
+    /// over: (width, height, RGBA pixels); `Some(Err)` if it could not.
+    pub fn take_picture(&mut self) -> Option<Result<Picture, String>> {
+        let readback = self.readback.as_ref()?;
+        match readback.mapped.load(std::sync::atomic::Ordering::Acquire) {
+            MAPPING => return None,
+            FAILED => {
+                self.readback = None;
+                return Some(Err("the GPU did not hand the picture back".to_owned()));
+            }
+            _ => {}
+        }
+        let readback = self.readback.take()?;
+        let [width, height] = readback.size.map(|x| x as usize);
+        let picture = {
+            let view = match readback.buffer.get_mapped_range(..) {
+                Ok(view) => view,
+                Err(error) => return Some(Err(error.to_string())),
+            };
+            let mut pixels = Vec::with_capacity(width * height);
+            for row in 0..height {
+                let start = row * readback.bytes_per_row as usize;
+                pixels.extend(
+                    view[start..start + width * 4]
+                        .chunks_exact(4)
+                        .map(|texel| [texel[0], texel[1], texel[2], 255]),
+                );
+            }
+            pixels
+        };
+        readback.buffer.unmap();
+        Some(Ok((width, height, picture)))
+    }
+
+    /// Whether a picture is on its way back.
+    pub fn picture_pending(&self) -> bool {
+        self.readback.is_some()
+    }
+
     /// Draws `scene` into a `size` (pixels) target and returns the egui texture showing it.
     pub fn draw(&mut self, gpu: &Gpu, size: [u32; 2], scene: &Scene3d<'_>) -> egui::TextureId {
         let state = &gpu.render_state;
@@ -190,8 +308,18 @@ impl ViewGpu {
         // The same camera, layers and size as the frame before: its picture is still there.
         let frame = super::revision_of((
             scene.view_proj.to_cols_array().map(f32::to_bits),
-            [scene.mesh.0, scene.highlights.0, scene.boxes.0, scene.segments.0, scene.quads.0],
-            [scene.mesh.1.len(), scene.highlights.1.len(), scene.boxes.1.len()],
+            [
+                scene.mesh.0,
+                scene.highlights.0,
+                scene.boxes.0,
+                scene.segments.0,
+                scene.quads.0,
+            ],
+            [
+                scene.mesh.1.len(),
+                scene.highlights.1.len(),
+                scene.boxes.1.len(),
+            ],
             [scene.segments.1.len(), scene.quads.1.len()],
             size,
             scene.line_width.to_bits(),

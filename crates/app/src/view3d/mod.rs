@@ -12,6 +12,9 @@ use glam::{DVec3, Mat4};
 
 pub use gpu::{DrawTriangle, Gpu, HiddenEdges, Instance, Scene3d, ViewGpu};
 
+/// A file a lesson hands the app to save: (suggested name, bytes), or why it could not make it.
+pub type Export = Result<(String, Vec<u8>), String>;
+
 /// Where the camera is: angles around the target and a distance in scene radii.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Orbit {
@@ -265,6 +268,32 @@ impl View3d {
             hovered,
             to_screen: projector(camera, rect, (center, radius)),
         }
+    }
+
+    /// A button that saves the view as a PNG (a download in the browser), for slides; the
+    /// file comes out of [`View3d::take_export`] once the GPU has handed the picture back.
+    pub fn save_button(&mut self, ui: &mut egui::Ui) {
+        let pending = self.gpu.picture_pending();
+        if ui
+            .add_enabled(!pending, egui::Button::new("save view as PNG"))
+            .on_hover_text("The view as it is drawn now, for slides")
+            .clicked()
+            && let Some(gpu) = Gpu::of(ui.ctx())
+        {
+            self.gpu.request_picture(&gpu);
+        }
+        if pending {
+            ui.ctx().request_repaint();
+        }
+    }
+
+    /// The view's picture as a PNG file (`view.png`), once asked for and read back.
+    pub fn take_export(&mut self) -> Option<Export> {
+        let picture = self.gpu.take_picture()?;
+        Some(picture.and_then(|(width, height, pixels)| {
+            let bytes = accelviz_scene::output::encode_png(width, height, &pixels)?;
+            Ok(("view.png".to_owned(), bytes))
+        }))
     }
 
     /// Puts the camera back where it started.
