@@ -128,11 +128,16 @@ try {
   page.on('pageerror', (error) => consoleErrors.push(`page error: ${error.message}`));
   fs.mkdirSync(shotDir, { recursive: true });
 
+  // WebGPU made unavailable, so the app runs on WebGL2 (as in browsers without WebGPU).
+  await page.addInitScript(() => {
+    Object.defineProperty(Navigator.prototype, 'gpu', { get: () => undefined });
+  });
   const loadStart = Date.now();
   await page.goto(url);
   await page.waitForFunction(() => document.title.includes('step'), null, { timeout: 120_000 });
   check(true, `the app started in ${((Date.now() - loadStart) / 1000).toFixed(1)} s: "${await page.title()}"`);
   check(!(await page.$('#loading')), 'the loading note is gone');
+  check(logLines.some((line) => line.includes('backend: Gl')), 'the app runs on WebGL2');
   await page.waitForTimeout(500);
   const first = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-start.png') }));
   check(colourCount(first) > 50, `the canvas shows the app (${colourCount(first)} colours in the screenshot)`);
@@ -152,6 +157,41 @@ try {
     check(title.includes(wanted) && colourCount(shot) > 50,
       `lesson ${lessonNumbers[index]} opens and draws: "${title}" (${colourCount(shot)} colours)`);
   }
+
+  // The last lesson is the heat maps': they are traced a slice a frame (no threads in the
+  // browser) and the app logs when the last band is in.
+  const heatStart = Date.now();
+  for (let tries = 0; tries < 600 && !logLines.some((line) => line.includes('heat maps')); tries++) {
+    await page.waitForTimeout(100);
+  }
+  const heatLine = logLines.find((line) => line.includes('heat maps')) ?? '';
+  const heat = heatLine.match(/heat maps (\d+)x(\d+) traced in (\d+) ms/);
+  check(heat !== null, `the heat maps are traced: "${heatLine.replace(/^.*accelviz: /, '')}" (waited ${((Date.now() - heatStart) / 1000).toFixed(1)} s)`);
+  await page.waitForTimeout(300);
+  const heatShot = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-heat-maps.png') }));
+  check(colourCount(heatShot) > 200, `the heat maps are drawn (${colourCount(heatShot)} colours)`);
+
+  // An OBJ dropped onto the page opens in lesson 12.
+  await page.mouse.click(60, 65 + 23 * 11);
+  await page.waitForFunction(() => document.title.includes('12. '), null, { timeout: 20_000 }).catch(() => {});
+  await page.waitForTimeout(500);
+  const beforeDrop = decodePng(await page.screenshot());
+  const obj = 'v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n';
+  await page.evaluate((text) => {
+    const transfer = new DataTransfer();
+    transfer.items.add(new File([text], 'dropped.obj', { type: 'text/plain' }));
+    const canvas = document.getElementById('accelviz_canvas');
+    for (const type of ['dragenter', 'dragover', 'drop']) {
+      canvas.dispatchEvent(new DragEvent(type, { dataTransfer: transfer, bubbles: true, cancelable: true }));
+    }
+  }, obj);
+  for (let tries = 0; tries < 100 && !logLines.some((line) => line.includes('opened dropped.obj')); tries++) {
+    await page.waitForTimeout(100);
+  }
+  check(logLines.some((line) => line.includes('accelviz: opened dropped.obj')), 'an OBJ dropped onto the page opens');
+  await page.waitForTimeout(500);
+  const afterDrop = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-dropped.png') }));
+  check(differingShare(beforeDrop, afterDrop) > 0.02, `the dropped mesh is drawn (${(100 * differingShare(beforeDrop, afterDrop)).toFixed(1)} % of pixels changed)`);
 
   // The BVH lesson, fourth in the list, for the step test.
   await page.mouse.click(60, 65 + 23 * 3);

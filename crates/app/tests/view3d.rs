@@ -367,11 +367,18 @@ fn the_view_and_a_heat_map_save_as_png() {
     assert_eq!(name, "view.png");
     let (width, height, colours) = decode_png(&bytes);
     assert!(width > 500 && height > 400, "{width}x{height}");
-    assert!(colours > 50, "the picture has the mesh and its boxes: {colours} colours");
+    assert!(
+        colours > 50,
+        "the picture has the mesh and its boxes: {colours} colours"
+    );
 
     let mut harness = lesson_harness_3d(heat_lesson());
     finish_heat_maps(&mut harness);
-    harness.get_all_by_label("save PNG").next().expect("a map's button").click();
+    harness
+        .get_all_by_label("save PNG")
+        .next()
+        .expect("a map's button")
+        .click();
     harness.run_steps(2);
     let (name, bytes) = harness
         .state_mut()
