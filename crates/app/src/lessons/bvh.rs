@@ -20,7 +20,7 @@ use crate::trace::{Trace, TraceState, describe_step, options_in};
 use crate::views::scene_view::{
     building_note, draw_ray_colored, draw_tested_shapes, label_shapes, primitive_name, t_hint_ui,
 };
-use crate::views::tree_diagram::diagram_ui;
+use crate::views::tree_diagram::{depth_range_ui, diagram_ui};
 use crate::views::tree_view::{TreeLook, draw_tree, node_under};
 
 /// The second ray's colour when both are shown.
@@ -135,22 +135,7 @@ impl BvhLesson {
 
     fn inspector_tree_ui(&mut self, ui: &mut egui::Ui, tree: &SceneTree) {
         let max_depth = tree.built.facts.max_depth();
-        // The depths whose boxes are drawn: a range, so one level can be shown at a time.
-        let (mut low, mut high) = self.depth_range;
-        high = high.min(max_depth);
-        low = low.min(high);
-        ui.add(egui::Slider::new(&mut low, 0..=max_depth).text("shallowest depth shown"));
-        ui.add(egui::Slider::new(&mut high, 0..=max_depth).text("deepest depth shown"));
-        if low > high {
-            // Dragging one past the other moves both.
-            if low != self.depth_range.0 {
-                high = low;
-            } else {
-                low = high;
-            }
-        }
-        // The deepest level stays "all the way down" when the tree grows.
-        self.depth_range = (low, if high >= max_depth { usize::MAX } else { high });
+        depth_range_ui(ui, &mut self.depth_range, max_depth);
         ui.separator();
         ui.heading("Tree");
         let frame = self.stage.timeline.shown;

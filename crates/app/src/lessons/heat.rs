@@ -10,7 +10,6 @@ use accelviz_core::camera::Camera;
 use accelviz_core::format::{count, number};
 use accelviz_core::heatmap::{Counter, HeatMap, difference_colors, diverging, sequential};
 use accelviz_core::{CATALOGUE, Order, Ray, Structure};
-use accelviz_scene::builtin::BUILTINS;
 use egui::{Color32, ColorImage, Rect, Sense, TextureHandle, TextureOptions, Vec2};
 use glam::DVec3;
 
@@ -19,7 +18,7 @@ use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
 use crate::trace::{Trace, describe_step, options_in};
 use crate::view3d::heat::{HeatJob, HeatKey, HeatMaps, ORDERS};
-use crate::view3d::mesh_scene::{MeshScene, MeshTree};
+use crate::view3d::mesh_scene::{MeshScene, MeshTree, mesh_and_structure_ui};
 use crate::view3d::{Content, HiddenEdges, View3d, revision_of, trace_overlay};
 
 /// A clicked pixel's ray, in the order it is traced.
@@ -202,35 +201,9 @@ impl HeatLesson {
 
     fn controls_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
-            let current = self.stage.scene.name.clone();
-            egui::ComboBox::from_label("mesh")
-                .selected_text(current.trim_start_matches("builtin:").to_owned())
-                .show_ui(ui, |ui| {
-                    for builtin in BUILTINS {
-                        let name = format!("builtin:{}", builtin.name);
-                        if ui
-                            .selectable_label(current == name, builtin.name)
-                            .on_hover_text(builtin.about)
-                            .clicked()
-                        {
-                            self.stage.scene.replace((builtin.make)());
-                            self.picked = None;
-                        }
-                    }
-                });
-            ui.separator();
-            egui::ComboBox::from_label("structure")
-                .selected_text(self.structure.name())
-                .show_ui(ui, |ui| {
-                    for entry in CATALOGUE {
-                        ui.selectable_value(
-                            &mut self.structure,
-                            entry.structure,
-                            format!("{} {}", entry.label, entry.family.label()),
-                        )
-                        .on_hover_text(entry.about);
-                    }
-                });
+            if mesh_and_structure_ui(ui, &mut self.stage.scene, &mut self.structure) {
+                self.picked = None;
+            }
             ui.separator();
             for counter in Counter::ALL {
                 ui.selectable_value(&mut self.counter, counter, counter.label());
@@ -289,6 +262,47 @@ impl HeatLesson {
             legend.ui(ui, size.x);
         });
         (under, clicked, save)
+    }
+
+    /// The pane of map `which`: near first (0), file order (1) or their difference (2);
+    /// what happened in it goes to `events[which]`.
+    fn map_pane(
+        &self,
+        ui: &mut egui::Ui,
+        which: usize,
+        pane: Vec2,
+        events: &mut [(Option<[usize; 2]>, bool, bool); 3],
+    ) {
+        let (Some(textures), Some(maps), Some(job)) = (&self.textures, &self.maps, &self.job)
+        else {
+            return;
+        };
+        let size = [job.key().width, job.key().height];
+        let counter = self.counter;
+        let (title, texture, legend) = match which {
+            0 | 1 => (
+                format!(
+                    "{}: {} per pixel",
+                    ["Near first", "File order"][which],
+                    counter.label()
+                ),
+                &textures.orders[which],
+                Legend::Sequential {
+                    max: textures.scale,
+                    mean: maps.maps[which].summary(counter).mean,
+                    label: counter.label(),
+                },
+            ),
+            _ => (
+                "Near first minus file order".to_owned(),
+                &textures.difference,
+                Legend::Diverging {
+                    scale: textures.difference_scale,
+                    label: counter.label(),
+                },
+            ),
+        };
+        events[which.min(2)] = Self::map_ui(ui, pane, &title, texture, size, legend);
     }
 
     /// One of the maps as a PNG: near first (0), file order (1) or their difference (2), in
@@ -547,10 +561,8 @@ impl Lesson for HeatLesson {
         let quantized = |points: f32| (((points * pixels_per_point) as usize) / 8 * 8).max(8);
         self.pane_pixels = Some([quantized(pane.x), quantized((pane.y - 44.0).max(10.0))]);
 
-        let mut hovered: Option<([usize; 2], &'static str)> = None;
-        let mut save_which: Option<usize> = None;
-        let mut clicked: Option<([usize; 2], Order)> = None;
-        let counter = self.counter;
+        // Per map pane: the pixel under the pointer, a click on it, a click on "save PNG".
+        let mut picked_pane = [(None, false, false); 3];
         let sizes = self
             .job
             .as_ref()
@@ -584,79 +596,33 @@ impl Lesson for HeatLesson {
                 );
             });
             ui.add_space(gap);
-            if let (Some(textures), Some(maps), Some(size)) = (&self.textures, &self.maps, sizes) {
-                let summary = maps.maps[0].summary(counter);
-                let (under, click, save) = Self::map_ui(
-                    ui,
-                    pane,
-                    &format!("Near first: {} per pixel", counter.label()),
-                    &textures.orders[0],
-                    size,
-                    Legend::Sequential {
-                        max: textures.scale,
-                        mean: summary.mean,
-                        label: counter.label(),
-                    },
-                );
-                if save {
-                    save_which = Some(0);
-                }
-                if let Some(pixel) = under {
-                    hovered = Some((pixel, "near first"));
-                    if click {
-                        clicked = Some((pixel, Order::NearFirst));
-                    }
-                }
-            }
+            self.map_pane(ui, 0, pane, &mut picked_pane);
         });
         ui.add_space(gap);
         ui.horizontal(|ui| {
-            if let (Some(textures), Some(maps), Some(size)) = (&self.textures, &self.maps, sizes) {
-                let summary = maps.maps[1].summary(counter);
-                let (under, click, save) = Self::map_ui(
-                    ui,
-                    pane,
-                    &format!("File order: {} per pixel", counter.label()),
-                    &textures.orders[1],
-                    size,
-                    Legend::Sequential {
-                        max: textures.scale,
-                        mean: summary.mean,
-                        label: counter.label(),
-                    },
-                );
-                if save {
-                    save_which = Some(1);
-                }
-                if let Some(pixel) = under {
-                    hovered = Some((pixel, "file order"));
-                    if click {
-                        clicked = Some((pixel, Order::FileOrder));
-                    }
-                }
-                ui.add_space(gap);
-                let (under, click, save) = Self::map_ui(
-                    ui,
-                    pane,
-                    "Near first minus file order",
-                    &textures.difference,
-                    size,
-                    Legend::Diverging {
-                        scale: textures.difference_scale,
-                        label: counter.label(),
-                    },
-                );
-                if save {
-                    save_which = Some(2);
-                }
-                if let Some(pixel) = under {
-                    hovered = Some((pixel, "both"));
-                    if click {
-                        clicked = Some((pixel, Order::NearFirst));
-                    }
+            self.map_pane(ui, 1, pane, &mut picked_pane);
+            ui.add_space(gap);
+            self.map_pane(ui, 2, pane, &mut picked_pane);
+        });
+        let mut hovered = None;
+        let mut clicked = None;
+        let mut save_which = None;
+        for (which, (under, click, save)) in picked_pane.into_iter().enumerate() {
+            if save {
+                save_which = Some(which);
+            }
+            if let Some(pixel) = under {
+                hovered = Some((pixel, ()));
+                if click {
+                    let order = if which == 1 {
+                        Order::FileOrder
+                    } else {
+                        Order::NearFirst
+                    };
+                    clicked = Some((pixel, order));
                 }
             }
-        });
+        }
         self.readout = match (hovered, &self.maps) {
             (Some(([x, y], _)), Some(maps)) => {
                 let counts: Vec<String> = ORDERS

@@ -12,7 +12,6 @@ use accelviz_core::bvh::BuildParams;
 use accelviz_core::camera::bounding_sphere_of_box;
 use accelviz_core::format::{count, number, point};
 use accelviz_core::{Aabb, CATALOGUE, Family, Order, Ray, Step, Structure, slab_record};
-use accelviz_scene::builtin::BUILTINS;
 use egui::Color32;
 use glam::DVec3;
 
@@ -21,11 +20,11 @@ use crate::canvas::{depth_color, palette};
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
 use crate::trace::{Trace, TraceState, describe_step, options_in, step_node};
-use crate::view3d::mesh_scene::{MeshScene, MeshTree};
+use crate::view3d::mesh_scene::{MeshScene, MeshTree, mesh_and_structure_ui};
 use crate::view3d::{
     Content, DrawTriangle, HiddenEdges, Instance, View3d, relative, revision_of, trace_overlay,
 };
-use crate::views::tree_diagram::{diagram_ui, traversal_emphasis};
+use crate::views::tree_diagram::{depth_range_ui, diagram_ui, traversal_emphasis};
 
 /// The ray of a clicked pixel.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -243,36 +242,10 @@ impl MeshTreeLesson {
 
     fn controls_ui(&mut self, ui: &mut egui::Ui) {
         ui.horizontal_wrapped(|ui| {
-            let current = self.stage.scene.name.clone();
-            egui::ComboBox::from_label("mesh")
-                .selected_text(current.trim_start_matches("builtin:").to_owned())
-                .show_ui(ui, |ui| {
-                    for builtin in BUILTINS {
-                        let name = format!("builtin:{}", builtin.name);
-                        if ui
-                            .selectable_label(current == name, builtin.name)
-                            .on_hover_text(builtin.about)
-                            .clicked()
-                        {
-                            self.stage.scene.replace((builtin.make)());
-                            self.picked = None;
-                            self.stage.timeline.rewind();
-                        }
-                    }
-                });
-            ui.separator();
-            egui::ComboBox::from_label("structure")
-                .selected_text(self.structure.name())
-                .show_ui(ui, |ui| {
-                    for entry in CATALOGUE {
-                        ui.selectable_value(
-                            &mut self.structure,
-                            entry.structure,
-                            format!("{} {}", entry.label, entry.family.label()),
-                        )
-                        .on_hover_text(entry.about);
-                    }
-                });
+            if mesh_and_structure_ui(ui, &mut self.stage.scene, &mut self.structure) {
+                self.picked = None;
+                self.stage.timeline.rewind();
+            }
             ui.separator();
             for (order, name) in [
                 (Order::NearFirst, "near first"),
@@ -468,19 +441,7 @@ impl Lesson for MeshTreeLesson {
             ui.colored_label(palette::MISS, format!("kD budget: {limits}"));
         }
         let max_depth = tree.built.facts.max_depth();
-        let (mut low, mut high) = self.depth_range;
-        high = high.min(max_depth);
-        low = low.min(high);
-        ui.add(egui::Slider::new(&mut low, 0..=max_depth).text("shallowest depth shown"));
-        ui.add(egui::Slider::new(&mut high, 0..=max_depth).text("deepest depth shown"));
-        if low > high {
-            if low != self.depth_range.0 {
-                high = low;
-            } else {
-                low = high;
-            }
-        }
-        self.depth_range = (low, if high >= max_depth { usize::MAX } else { high });
+        depth_range_ui(ui, &mut self.depth_range, max_depth);
         ui.separator();
         ui.heading("Tree");
         let shown = self

@@ -189,3 +189,43 @@ impl MeshTree {
         }
     }
 }
+
+/// The mesh and structure choosers every 3D lesson with a mesh shows. Returns whether the
+/// mesh was replaced (a traced ray then no longer fits it).
+pub fn mesh_and_structure_ui(
+    ui: &mut egui::Ui,
+    scene: &mut MeshScene,
+    structure: &mut Structure,
+) -> bool {
+    let mut replaced = false;
+    let current = scene.name.clone();
+    egui::ComboBox::from_label("mesh")
+        .selected_text(current.trim_start_matches("builtin:").to_owned())
+        .show_ui(ui, |ui| {
+            for builtin in BUILTINS {
+                let name = format!("builtin:{}", builtin.name);
+                if ui
+                    .selectable_label(current == name, builtin.name)
+                    .on_hover_text(builtin.about)
+                    .clicked()
+                {
+                    scene.replace((builtin.make)());
+                    replaced = true;
+                }
+            }
+        });
+    ui.separator();
+    egui::ComboBox::from_label("structure")
+        .selected_text(structure.name())
+        .show_ui(ui, |ui| {
+            for entry in accelviz_core::CATALOGUE {
+                ui.selectable_value(
+                    structure,
+                    entry.structure,
+                    format!("{} {}", entry.label, entry.family.label()),
+                )
+                .on_hover_text(entry.about);
+            }
+        });
+    replaced
+}

@@ -164,6 +164,25 @@ pub fn diagram_ui<V: Vector>(
     }
 }
 
+/// Two sliders for the depths whose boxes are drawn: a range, so one level can be shown at a
+/// time. Dragging one past the other moves both; the deepest stays "all the way down"
+/// (`usize::MAX`) when the tree grows.
+pub fn depth_range_ui(ui: &mut egui::Ui, range: &mut (usize, usize), max_depth: usize) {
+    let (mut low, mut high) = *range;
+    high = high.min(max_depth);
+    low = low.min(high);
+    ui.add(egui::Slider::new(&mut low, 0..=max_depth).text("shallowest depth shown"));
+    ui.add(egui::Slider::new(&mut high, 0..=max_depth).text("deepest depth shown"));
+    if low > high {
+        if low != range.0 {
+            high = low;
+        } else {
+            low = high;
+        }
+    }
+    *range = (low, if high >= max_depth { usize::MAX } else { high });
+}
+
 /// A tree node's colour after the steps shown: green if it was entered, red if its box was
 /// missed, the ray does not reach its cell, or it was skipped.
 pub fn traversal_emphasis(steps: &[Step<f64>], node_count: usize) -> Vec<Option<Color32>> {
