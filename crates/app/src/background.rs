@@ -172,6 +172,14 @@ impl<K: Clone + PartialEq + Send + 'static, T: Send + Sync + 'static> Derived<K,
         }
     }
 
+    /// Gives up on the work running and waiting: the current value stays, and what the
+    /// worker makes is thrown away when it is done.
+    pub fn cancel(&mut self) {
+        self.running = None;
+        self.waiting = None;
+        self.put_off = None;
+    }
+
     /// The newest value made (possibly for an older key while a newer one is being made).
     pub fn get(&self) -> Option<&Arc<T>> {
         self.current.as_ref().map(|(_, value)| value)

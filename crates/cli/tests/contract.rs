@@ -326,8 +326,8 @@ fn bad_input_fails_cleanly() {
         "unknown accelerator 'kd:octree'",
     );
     assert_fails(
-        &["bench", "--accel", "bvh:median", "--mesh", "builtin:teapot"],
-        "unknown built-in mesh 'teapot'",
+        &["bench", "--accel", "bvh:median", "--mesh", "builtin:kettle"],
+        "unknown built-in mesh 'kettle'",
     );
     // Slab.
     assert_fails(

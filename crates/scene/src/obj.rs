@@ -7,6 +7,7 @@
 //! out of range, each reported with its line.
 
 use std::io::BufRead;
+use std::sync::atomic::{AtomicU32, Ordering};
 
 use crate::Mesh;
 use crate::error::{LoadError, read_text};
@@ -19,7 +20,20 @@ pub fn load_obj(path: &str) -> Result<Mesh, LoadError> {
 
 /// Parses OBJ text; `path` names it in errors.
 pub fn parse_obj(text: &str, path: &str) -> Result<Mesh, LoadError> {
-    let face_count = check_lines(text, path)?;
+    parse_obj_with_progress(text, path, &AtomicU32::new(0))
+}
+
+/// Parses OBJ text like [`parse_obj`], keeping `progress` (per mille) up to date as it goes:
+/// half for the line check, half for tobj's pass, so a large file's reading can be shown.
+pub fn parse_obj_with_progress(
+    text: &str,
+    path: &str,
+    progress: &AtomicU32,
+) -> Result<Mesh, LoadError> {
+    let total = text.len().max(1) as u64;
+    let face_count = check_lines(text, path, &|done| {
+        progress.store((done as u64 * 500 / total) as u32, Ordering::Relaxed);
+    })?;
     let options = tobj::LoadOptions {
         single_index: false,
         triangulate: true,
@@ -30,6 +44,7 @@ pub fn parse_obj(text: &str, path: &str) -> Result<Mesh, LoadError> {
     // names no line in its errors, but it stops at the line it cannot read: the reader
     // counts the lines tobj took.
     let mut reader = LineCounter::new(text.as_bytes());
+    reader.progress = Some((progress, total));
     let (models, _materials) = tobj::load_obj_buf(&mut reader, &options, |_| {
         Err(tobj::LoadError::OpenFileFailed)
     })
@@ -60,16 +75,22 @@ pub fn parse_obj(text: &str, path: &str) -> Result<Mesh, LoadError> {
     })
 }
 
-/// Checks every `v` and `f` line; returns the number of faces.
-fn check_lines(text: &str, path: &str) -> Result<usize, LoadError> {
+/// Checks every `v` and `f` line; returns the number of faces. `done` hears how many bytes
+/// are checked, now and then.
+fn check_lines(text: &str, path: &str, done: &dyn Fn(usize)) -> Result<usize, LoadError> {
     let total_positions = text
         .lines()
         .filter(|line| line.split_whitespace().next() == Some("v"))
         .count();
     let mut counts = [0usize; 3]; // positions, texture coordinates, normals so far
     let mut faces = 0;
+    let mut checked = 0;
     for (line_index, line) in text.lines().enumerate() {
         let line_number = line_index + 1;
+        checked += line.len() + 1;
+        if line_index.is_multiple_of(65_536) {
+            done(checked);
+        }
         let fail = |problem: String| LoadError::at_line(path, line_number, problem);
         let mut words = line.split_whitespace();
         let Some(keyword) = words.next() else {
@@ -142,6 +163,8 @@ struct LineCounter<'a> {
     rest: &'a [u8],
     complete_lines: usize,
     inside_line: bool,
+    /// Where to report how far tobj has read (per mille, the second half), and the text's size.
+    progress: Option<(&'a AtomicU32, u64)>,
 }
 
 impl<'a> LineCounter<'a> {
@@ -150,6 +173,7 @@ impl<'a> LineCounter<'a> {
             rest: text,
             complete_lines: 0,
             inside_line: false,
+            progress: None,
         }
     }
 
@@ -180,6 +204,12 @@ impl BufRead for LineCounter<'_> {
             self.inside_line = last != b'\n';
         }
         self.rest = rest;
+        if let Some((progress, total)) = self.progress
+            && self.complete_lines.is_multiple_of(65_536)
+        {
+            let done = total - self.rest.len() as u64;
+            progress.store(500 + (done * 500 / total) as u32, Ordering::Relaxed);
+        }
     }
 }
 

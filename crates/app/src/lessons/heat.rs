@@ -18,7 +18,7 @@ use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
 use crate::trace::{Trace, describe_step, options_in};
 use crate::view3d::heat::{HeatJob, HeatKey, HeatMaps, ORDERS};
-use crate::view3d::mesh_scene::{MeshScene, MeshTree, mesh_and_structure_ui};
+use crate::view3d::mesh_scene::{MeshScene, MeshTree, loading_ui, mesh_and_structure_ui};
 use crate::view3d::{Content, HiddenEdges, View3d, revision_of, trace_overlay};
 
 /// A clicked pixel's ray, in the order it is traced.
@@ -514,6 +514,7 @@ impl Lesson for HeatLesson {
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
         self.controls_ui(ui);
+        loading_ui(ui, &mut self.stage.scene, &mut self.tree);
         let Some(tree) = self.tree.get().cloned() else {
             ui.label("Building…");
             return;

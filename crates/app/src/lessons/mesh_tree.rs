@@ -20,7 +20,7 @@ use crate::canvas::{depth_color, palette};
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
 use crate::trace::{Trace, TraceState, describe_step, options_in, step_node};
-use crate::view3d::mesh_scene::{MeshScene, MeshTree, mesh_and_structure_ui};
+use crate::view3d::mesh_scene::{MeshScene, MeshTree, loading_ui, mesh_and_structure_ui};
 use crate::view3d::{
     Content, DrawTriangle, HiddenEdges, Instance, View3d, relative, revision_of, trace_overlay,
 };
@@ -471,6 +471,7 @@ impl Lesson for MeshTreeLesson {
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
         self.controls_ui(ui);
+        loading_ui(ui, &mut self.stage.scene, &mut self.tree);
         let Some(tree) = self.tree.get().cloned() else {
             ui.label("Building…");
             return;

@@ -1,7 +1,8 @@
 //! A 3D lesson's scene: a mesh, built in or opened from an OBJ file; and a structure built
 //! over it ([`MeshTree`]), what 3D lessons draw, trace and measure.
 
-use std::sync::Arc;
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::{Arc, Mutex};
 
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::camera::bounding_sphere_of_box;
@@ -27,7 +28,33 @@ pub struct MeshScene {
     pub revision: u64,
     /// Its name: `builtin:NAME` or the file's name.
     pub name: String,
+    /// A large file being read on a worker thread.
+    pub loading: Option<MeshLoad>,
+    /// The mesh shown before the last one (mesh, revision, name), to go back to when its
+    /// build is cancelled.
+    previous: Option<(Arc<Mesh>, u64, String)>,
+    /// Why the last file read in the background could not be opened.
+    pub problem: Option<String>,
 }
+
+/// An OBJ file read on a worker thread: its name, how far it got, and its result.
+pub struct MeshLoad {
+    /// The file's name.
+    pub name: String,
+    /// Read so far, per mille.
+    progress: Arc<AtomicU32>,
+    result: Arc<Mutex<Option<Result<Mesh, String>>>>,
+}
+
+impl MeshLoad {
+    /// How much of the file is read, from 0 to 1.
+    pub fn progress(&self) -> f32 {
+        self.progress.load(Ordering::Relaxed) as f32 / 1000.0
+    }
+}
+
+/// Files larger than this (bytes) are read on a worker thread where there are workers.
+const READ_ASIDE_ABOVE: usize = 2 << 20;
 
 impl MeshScene {
     /// The mesh a lesson file names (`builtin:NAME`).
@@ -68,12 +95,50 @@ impl MeshScene {
             mesh: Arc::new(mesh),
             revision: next_revision(),
             name,
+            loading: None,
+            previous: None,
+            problem: None,
         }
     }
 
-    /// Shows `mesh` instead.
+    /// Shows `mesh` instead (the one shown now can be gone back to, see
+    /// [`MeshScene::go_back`]).
     pub fn replace(&mut self, mesh: Mesh) {
+        let previous = (self.mesh.clone(), self.revision, self.name.clone());
         *self = Self::new(mesh);
+        self.previous = Some(previous);
+    }
+
+    /// Shows the mesh before the last one again, with its revision (so what was built for
+    /// it is still good); stops a file being read.
+    pub fn go_back(&mut self) {
+        self.loading = None;
+        if let Some((mesh, revision, name)) = self.previous.take() {
+            self.mesh = mesh;
+            self.revision = revision;
+            self.name = name;
+        }
+    }
+
+    /// Takes in a file read on a worker thread, once it is read.
+    pub fn poll(&mut self) {
+        let Some(loading) = &self.loading else { return };
+        let result = loading
+            .result
+            .lock()
+            .ok()
+            .and_then(|mut result| result.take());
+        match result {
+            None => {}
+            Some(Ok(mesh)) => {
+                self.replace(mesh);
+                self.problem = None;
+            }
+            Some(Err(problem)) => {
+                self.loading = None;
+                self.problem = Some(problem);
+            }
+        }
     }
 }
 
@@ -97,6 +162,32 @@ impl SceneFile for MeshScene {
     }
 
     fn open(&mut self, name: &str, text: &str) -> Result<(), String> {
+        self.problem = None;
+        if text.len() > READ_ASIDE_ABOVE && crate::background::worker_threads() > 0 {
+            // A large file is read aside; the lesson shows how far, and can cancel it.
+            let progress = Arc::new(AtomicU32::new(0));
+            let result = Arc::new(Mutex::new(None));
+            let (name, text) = (name.to_owned(), text.to_owned());
+            let (worker_progress, worker_result, worker_name) =
+                (progress.clone(), result.clone(), name.clone());
+            std::thread::spawn(move || {
+                let mesh = accelviz_scene::obj::parse_obj_with_progress(
+                    &text,
+                    &worker_name,
+                    &worker_progress,
+                )
+                .map_err(|error| error.to_string());
+                if let Ok(mut slot) = worker_result.lock() {
+                    *slot = Some(mesh);
+                }
+            });
+            self.loading = Some(MeshLoad {
+                name,
+                progress,
+                result,
+            });
+            return Ok(());
+        }
         let mesh = accelviz_scene::obj::parse_obj(text, name).map_err(|error| error.to_string())?;
         self.replace(mesh);
         Ok(())
@@ -228,4 +319,57 @@ pub fn mesh_and_structure_ui(
             }
         });
     replaced
+}
+
+/// While a large mesh is read or its structure built: a progress line with a cancel button
+/// that goes back to the mesh shown before (the UI keeps drawing meanwhile). Also says why the
+/// last file read aside could not be opened.
+pub fn loading_ui(
+    ui: &mut egui::Ui,
+    scene: &mut MeshScene,
+    tree: &mut Derived<(u64, Structure), MeshTree>,
+) {
+    scene.poll();
+    if let Some(problem) = &scene.problem {
+        ui.colored_label(crate::canvas::palette::MISS, problem);
+    }
+    let building = tree.working_for();
+    let line = match (&scene.loading, building) {
+        (Some(loading), _) => Some((
+            format!("reading {}", loading.name),
+            Some(loading.progress()),
+        )),
+        (None, Some(working)) => Some((
+            format!(
+                "building the structure over {} triangles… {:.1} s",
+                scene.mesh.triangles.len(),
+                working.as_secs_f64()
+            ),
+            None,
+        )),
+        (None, None) => None,
+    };
+    let Some((text, progress)) = line else { return };
+    ui.horizontal(|ui| {
+        match progress {
+            Some(progress) => ui.add(
+                egui::ProgressBar::new(progress)
+                    .desired_width(260.0)
+                    .text(format!("{text}: {:.0} %", progress * 100.0)),
+            ),
+            None => {
+                ui.add(egui::Spinner::new());
+                ui.label(text)
+            }
+        };
+        if ui
+            .button("cancel")
+            .on_hover_text("Stop, and go back to the mesh shown before")
+            .clicked()
+        {
+            tree.cancel();
+            scene.go_back();
+        }
+    });
+    ui.ctx().request_repaint();
 }

@@ -1,0 +1,85 @@
+//! A large OBJ opened in a 3D lesson on the desktop: it is read and built on worker threads
+//! while frames keep coming, its progress is shown with a cancel button, and cancelling goes
+//! back to the mesh shown before. (Its own test binary: it turns worker threads on.)
+
+mod common;
+
+use accelviz_app::background::set_background;
+use accelviz_app::lesson::Lesson;
+use accelviz_app::lessons::mesh_tree::MeshTreeLesson;
+use common::{lesson_harness_3d, lesson_text};
+use egui_kittest::kittest::Queryable;
+
+/// A mesh of about `triangles` triangles as OBJ text.
+fn obj_text(triangles: usize) -> String {
+    let mesh = accelviz_scene::builtin::lumpy_grid_sphere(triangles);
+    let mut text = String::with_capacity(mesh.triangles.len() * 100);
+    for (index, triangle) in mesh.triangles.iter().enumerate() {
+        for [x, y, z] in triangle {
+            text.push_str(&format!("v {x} {y} {z}\n"));
+        }
+        let first = index * 3 + 1;
+        text.push_str(&format!("f {} {} {}\n", first, first + 1, first + 2));
+    }
+    text
+}
+
+#[test]
+fn a_large_mesh_loads_aside_with_progress_and_cancel() {
+    set_background(true);
+    let text = obj_text(120_000);
+    assert!(text.len() > 4 << 20, "{} bytes", text.len());
+
+    // Cancelled: back to the teapot.
+    let mut harness = lesson_harness_3d(MeshTreeLesson::new(lesson_text("12-mesh-bvh.ron")));
+    harness.run_steps(2);
+    harness
+        .state_mut()
+        .stage_mut()
+        .scene
+        .open("large.obj", &text)
+        .expect("starts reading");
+    harness.run_steps(1);
+    assert!(
+        harness
+            .query_by_label_contains("reading large.obj")
+            .is_some()
+            || harness
+                .query_by_label_contains("building the structure")
+                .is_some(),
+        "progress is shown"
+    );
+    harness.get_by_label("cancel").click();
+    harness.run_steps(2);
+    assert!(
+        harness.query_by_label("cancel").is_none(),
+        "nothing is loading"
+    );
+    assert!(
+        harness.query_by_label_contains("teapot: ").is_some(),
+        "the teapot is back"
+    );
+
+    // Let through: read, built, shown, while frames keep coming.
+    harness
+        .state_mut()
+        .stage_mut()
+        .scene
+        .open("large.obj", &text)
+        .expect("starts reading");
+    let mut frames = 0;
+    let arrived = |lesson: &MeshTreeLesson| {
+        lesson
+            .tree()
+            .is_some_and(|tree| tree.mesh.name == "large.obj")
+    };
+    while !arrived(harness.state()) {
+        harness.run_steps(1);
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        frames += 1;
+        assert!(frames < 3_000, "the mesh never arrived");
+    }
+    assert!(frames > 2, "frames kept coming while it loaded ({frames})");
+    let tree = harness.state().tree().expect("built");
+    assert!(tree.mesh.triangles.len() > 100_000);
+}
