@@ -16,7 +16,7 @@ use glam::DVec3;
 use crate::background::{Cached, Derived, worker_threads};
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
-use crate::trace::{Trace, describe_step, options_in};
+use crate::trace::{Trace, options_in};
 use crate::view3d::heat::{HeatJob, HeatKey, HeatMaps, ORDERS};
 use crate::view3d::mesh_scene::{MeshScene, MeshTree, loading_ui, mesh_and_structure_ui};
 use crate::view3d::{Content, HiddenEdges, View3d, revision_of, trace_overlay};
@@ -453,15 +453,10 @@ impl Lesson for HeatLesson {
 
     fn caption(&self) -> Option<String> {
         let tree = self.tree.get()?;
-        let Some(trace) = self.trace.get() else {
-            return Some(
-                "Click a pixel of a heat map: its ray is traced here, step by step.".into(),
-            );
-        };
-        Some(trace.caption(
+        Some(tree.caption(
+            self.trace.get(),
             self.stage.timeline.shown,
-            "Press step: the traversal starts by testing the root's box.",
-            |step| describe_step(step, |node| tree.node_name(node)),
+            "Click a pixel of a heat map: its ray is traced here, step by step.",
         ))
     }
 

@@ -19,7 +19,7 @@ use crate::background::{Cached, Derived};
 use crate::canvas::{depth_color, palette};
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
-use crate::trace::{Trace, TraceState, describe_step, options_in, step_node};
+use crate::trace::{Trace, TraceState, options_in, step_node};
 use crate::view3d::mesh_scene::{MeshScene, MeshTree, loading_ui, mesh_and_structure_ui};
 use crate::view3d::{
     Content, DrawTriangle, HiddenEdges, Instance, View3d, relative, revision_of, trace_overlay,
@@ -405,13 +405,10 @@ impl Lesson for MeshTreeLesson {
 
     fn caption(&self) -> Option<String> {
         let tree = self.tree.get()?;
-        let Some(trace) = self.trace.get() else {
-            return Some("Click a pixel of the mesh: its ray is traced here, step by step.".into());
-        };
-        Some(trace.caption(
+        Some(tree.caption(
+            self.trace.get(),
             self.stage.timeline.shown,
-            "Press step: the traversal starts by testing the root's box.",
-            |step| describe_step(step, |node| tree.node_name(node)),
+            "Click a pixel of the mesh: its ray is traced here, step by step.",
         ))
     }
 

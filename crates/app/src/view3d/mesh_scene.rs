@@ -272,6 +272,19 @@ impl MeshTree {
         });
     }
 
+    /// The timeline's caption for a clicked pixel's `trace` at `frame`, or `idle` before a
+    /// pixel is clicked.
+    pub fn caption(&self, trace: Option<&crate::trace::Trace>, frame: usize, idle: &str) -> String {
+        match trace {
+            None => idle.to_owned(),
+            Some(trace) => trace.caption(
+                frame,
+                "Press step: the traversal starts by testing the root's box.",
+                |step| crate::trace::describe_step(step, |node| self.node_name(node)),
+            ),
+        }
+    }
+
     /// A node's name: its path from the root (`root`, `LRL`).
     pub fn node_name(&self, node: u32) -> String {
         match self.built.facts.path_to(node) {
