@@ -76,7 +76,12 @@ impl MeshTreeLesson {
             order: Order::NearFirst,
             picked: None,
             trace: Cached::default(),
-            depth_range: (0, usize::MAX),
+            // A kD-tree opens on its first cuts: every plane at once hides the mesh.
+            depth_range: if structure.family() == Family::Kd {
+                (0, 4)
+            } else {
+                (0, usize::MAX)
+            },
             // A kD-tree is shown by its planes; its cells' outlines on request.
             show_inner: structure.family() == Family::Bvh,
             show_leaves: structure.family() == Family::Bvh,
