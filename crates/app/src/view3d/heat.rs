@@ -181,6 +181,7 @@ fn trace_next_band(shared: &Shared, tree: &MeshTree, key: &HeatKey) -> bool {
     }
     let rows = band * BAND_ROWS..((band + 1) * BAND_ROWS).min(key.height);
     let mut stacks = TraversalStacks::default();
+    let ordered = tree.ordered();
     let traced = ORDERS.map(|order| {
         let options = TraceOptions {
             order,
@@ -196,7 +197,7 @@ fn trace_next_band(shared: &Shared, tree: &MeshTree, key: &HeatKey) -> bool {
             |ray, counters| {
                 tree.built
                     .tree
-                    .trace(&tree.ordered, ray, &options, &mut stacks, counters);
+                    .trace(ordered, ray, &options, &mut stacks, counters);
             },
         );
         out

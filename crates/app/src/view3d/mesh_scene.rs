@@ -2,7 +2,7 @@
 //! over it ([`MeshTree`]), what 3D lessons draw, trace and measure.
 
 use std::sync::atomic::{AtomicU32, Ordering};
-use std::sync::{Arc, Mutex};
+use std::sync::{Arc, Mutex, OnceLock};
 
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::camera::bounding_sphere_of_box;
@@ -221,8 +221,9 @@ pub struct MeshTree {
     pub sphere: (DVec3, f64),
     /// The mesh as drawn (relative to the sphere, see [`relative`]).
     pub drawn: Vec<DrawTriangle>,
-    /// The triangles in the tree's leaf order, for tracing many rays fast (heat maps).
-    pub ordered: LeafOrdered<TriangleSet<DVec3>>,
+    /// The triangles in the tree's leaf order, made when first asked for (only the heat
+    /// maps trace that many rays).
+    ordered: OnceLock<LeafOrdered<TriangleSet<DVec3>>>,
 }
 
 impl MeshTree {
@@ -237,7 +238,6 @@ impl MeshTree {
         let built = Built::new(structure, &triangles, &params, &mut NoBuildObserver);
         let build_millis = started.elapsed().as_secs_f64() * 1e3;
         let stats = built.stats(0, &params.cost);
-        let ordered = built.tree.leaf_ordered(&triangles);
         let sphere = bounding_sphere_of_box(&mesh.bounds());
         let drawn = mesh
             .triangles
@@ -255,8 +255,14 @@ impl MeshTree {
             build_millis,
             sphere,
             drawn,
-            ordered,
+            ordered: OnceLock::new(),
         }
+    }
+
+    /// The triangles in the tree's leaf order, for tracing many rays fast.
+    pub fn ordered(&self) -> &LeafOrdered<TriangleSet<DVec3>> {
+        self.ordered
+            .get_or_init(|| self.built.tree.leaf_ordered(&self.triangles))
     }
 
     /// Asks `derived` for `structure` built over the scene's mesh (on a worker thread on
