@@ -57,6 +57,11 @@ pub trait SceneFile {
     /// Puts back the scene the lesson's file starts with.
     fn reset(&mut self, text: &LessonText);
 
+    /// How far a file being read aside has got (0 to 1), while one is.
+    fn reading(&self) -> Option<f32> {
+        None
+    }
+
     /// The 2D scene, for what the app does with 2D scenes only (placing a generated ray).
     fn as_flat(&mut self) -> Option<&mut EditableScene> {
         None

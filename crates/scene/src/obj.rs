@@ -6,8 +6,9 @@
 //! silently or report without a place: malformed or non-finite coordinates and face indices
 //! out of range, each reported with its line.
 
+use std::collections::HashMap;
+use std::fmt::Write as _;
 use std::io::BufRead;
-use std::sync::atomic::{AtomicU32, Ordering};
 
 use crate::Mesh;
 use crate::error::{LoadError, read_text};
@@ -20,19 +21,19 @@ pub fn load_obj(path: &str) -> Result<Mesh, LoadError> {
 
 /// Parses OBJ text; `path` names it in errors.
 pub fn parse_obj(text: &str, path: &str) -> Result<Mesh, LoadError> {
-    parse_obj_with_progress(text, path, &AtomicU32::new(0))
+    parse_obj_with_progress(text, path, &|_| {})
 }
 
-/// Parses OBJ text like [`parse_obj`], keeping `progress` (per mille) up to date as it goes:
-/// half for the line check, half for tobj's pass, so a large file's reading can be shown.
+/// Parses OBJ text like [`parse_obj`], telling `progress` how far it got (per mille) now and
+/// then: half for the line check, half for tobj's pass, so a large file's reading can be shown.
 pub fn parse_obj_with_progress(
     text: &str,
     path: &str,
-    progress: &AtomicU32,
+    progress: &dyn Fn(u32),
 ) -> Result<Mesh, LoadError> {
     let total = text.len().max(1) as u64;
     let face_count = check_lines(text, path, &|done| {
-        progress.store((done as u64 * 500 / total) as u32, Ordering::Relaxed);
+        progress((done as u64 * 500 / total) as u32);
     })?;
     let options = tobj::LoadOptions {
         single_index: false,
@@ -164,7 +165,7 @@ struct LineCounter<'a> {
     complete_lines: usize,
     inside_line: bool,
     /// Where to report how far tobj has read (per mille, the second half), and the text's size.
-    progress: Option<(&'a AtomicU32, u64)>,
+    progress: Option<(&'a dyn Fn(u32), u64)>,
 }
 
 impl<'a> LineCounter<'a> {
@@ -208,7 +209,7 @@ impl BufRead for LineCounter<'_> {
             && self.complete_lines.is_multiple_of(65_536)
         {
             let done = total - self.rest.len() as u64;
-            progress.store(500 + (done * 500 / total) as u32, Ordering::Relaxed);
+            progress(500 + (done * 500 / total) as u32);
         }
     }
 }
@@ -266,6 +267,29 @@ fn check_face_vertex(
     Ok(())
 }
 
+/// `mesh` as OBJ text: each distinct corner one `v` line, each triangle one `f` line, in
+/// order, so [`parse_obj`] reads the same triangles back.
+pub fn obj_text(mesh: &Mesh) -> String {
+    let mut text = String::with_capacity(mesh.triangles.len() * 60);
+    let mut numbers: HashMap<[u64; 3], usize> = HashMap::new();
+    let mut faces = String::with_capacity(mesh.triangles.len() * 30);
+    for triangle in &mesh.triangles {
+        faces.push('f');
+        for corner in triangle {
+            let next = numbers.len() + 1;
+            let number = *numbers.entry(corner.map(f64::to_bits)).or_insert_with(|| {
+                let [x, y, z] = corner;
+                let _ = writeln!(text, "v {x} {y} {z}");
+                next
+            });
+            let _ = write!(faces, " {number}");
+        }
+        faces.push('\n');
+    }
+    text.push_str(&faces);
+    text
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -283,6 +307,18 @@ mod tests {
             mesh.triangles[1],
             [[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [0.0, 1.0, 0.0]]
         );
+    }
+
+    #[test]
+    fn written_meshes_read_back_the_same() {
+        let mesh = crate::builtin::icosphere(2);
+        let text = obj_text(&mesh);
+        assert_eq!(
+            text.lines().filter(|line| line.starts_with("v ")).count(),
+            162
+        );
+        let read = parse_obj(&text, &mesh.name).unwrap();
+        assert_eq!(read.triangles, mesh.triangles);
     }
 
     #[test]

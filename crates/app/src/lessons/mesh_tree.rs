@@ -58,9 +58,14 @@ pub struct MeshTreeLesson {
     hovered: Option<u32>,
     /// The node the inspector shows.
     pub selected: Option<u32>,
-    /// The box outlines and planes last made, with the revisions they were made for.
-    drawn_boxes: Option<(u64, Arc<Vec<Instance>>)>,
-    drawn_planes: Option<(u64, Arc<Vec<Instance>>)>,
+    /// What the view draws over the mesh, made again only when what it shows changed (a
+    /// million-triangle mesh has a million boxes, and its root half a million triangles on
+    /// either side): box outlines, planes, the highlighted triangles and ray segments.
+    drawn_boxes: Cached<u64, Arc<Vec<Instance>>>,
+    drawn_planes: Cached<u64, Arc<Vec<Instance>>>,
+    drawn_overlay: Cached<u64, Arc<(Vec<DrawTriangle>, Vec<Instance>)>>,
+    /// The selected node's triangle count and subtree SAH cost (for the tree, node).
+    node_summary: Cached<(u64, u32), (usize, f64)>,
 }
 
 impl MeshTreeLesson {
@@ -89,8 +94,10 @@ impl MeshTreeLesson {
             hidden_edges: HiddenEdges::Dimmed,
             hovered: None,
             selected: Some(0),
-            drawn_boxes: None,
-            drawn_planes: None,
+            drawn_boxes: Cached::default(),
+            drawn_planes: Cached::default(),
+            drawn_overlay: Cached::default(),
+            node_summary: Cached::default(),
         }
     }
 
@@ -295,7 +302,7 @@ impl MeshTreeLesson {
         });
     }
 
-    fn node_ui(&self, ui: &mut egui::Ui, tree: &MeshTree) {
+    fn node_ui(&mut self, ui: &mut egui::Ui, tree: &MeshTree) {
         let Some(node) = self
             .selected
             .filter(|&node| (node as usize) < tree.built.facts.node_count())
@@ -321,16 +328,20 @@ impl MeshTreeLesson {
             point(&bounds.max.to_array()),
             number(bounds.area())
         ));
-        let below = tree.built.primitives_below(node);
-        ui.label(format!("{} triangles under it", count(below.len())));
-        ui.label(format!(
-            "SAH cost of its subtree: {}",
-            number(
-                tree.built
-                    .stats(node, &BuildParams::default().cost)
-                    .sah_cost
-            )
-        ));
+        let (below, sah_cost) =
+            *self
+                .node_summary
+                .get_or_make((self.tree.generation(), node), || match node {
+                    0 => (tree.root_triangles, tree.stats.sah_cost),
+                    _ => (
+                        tree.built.primitives_below(node).len(),
+                        tree.built
+                            .stats(node, &BuildParams::default().cost)
+                            .sah_cost,
+                    ),
+                });
+        ui.label(format!("{} triangles under it", count(below)));
+        ui.label(format!("SAH cost of its subtree: {}", number(sah_cost)));
         if let Some(reason) = facts.leaf_reason(node) {
             ui.label(format!("It is a leaf: {reason}."));
         }
@@ -496,19 +507,14 @@ impl Lesson for MeshTreeLesson {
             self.order,
             frame,
         ));
-        // Tens of thousands of boxes: made again only when what they show changed.
-        let boxes = match &self.drawn_boxes {
-            Some((revision, boxes)) if *revision == boxes_revision => boxes.clone(),
-            _ => {
-                let boxes = Arc::new(self.boxes(&tree, steps, current));
-                self.drawn_boxes = Some((boxes_revision, boxes.clone()));
-                boxes
-            }
-        };
-        let (highlights, segments) = match self.picked {
-            Some(picked) => trace_overlay(&tree, &picked.ray, steps),
-            None => (self.selected_triangles(&tree), Vec::new()),
-        };
+        // Taken out while made: making reads the lesson's other fields.
+        let mut drawn_boxes = std::mem::take(&mut self.drawn_boxes);
+        let boxes = drawn_boxes
+            .get_or_make(boxes_revision, || {
+                Arc::new(self.boxes(&tree, steps, current))
+            })
+            .clone();
+        self.drawn_boxes = drawn_boxes;
         let overlay_revision = revision_of((
             self.tree.generation(),
             self.picked.map(|picked| picked.revision),
@@ -516,6 +522,16 @@ impl Lesson for MeshTreeLesson {
             frame,
             self.selected,
         ));
+        let mut drawn_overlay = std::mem::take(&mut self.drawn_overlay);
+        let overlay = drawn_overlay
+            .get_or_make(overlay_revision, || {
+                Arc::new(match self.picked {
+                    Some(picked) => trace_overlay(&tree, &picked.ray, steps),
+                    None => (self.selected_triangles(&tree), Vec::new()),
+                })
+            })
+            .clone();
+        self.drawn_overlay = drawn_overlay;
         let eye = self.view.orbit.camera(tree.sphere.0, tree.sphere.1).eye;
         let planes_revision = revision_of((
             self.tree.generation(),
@@ -525,14 +541,11 @@ impl Lesson for MeshTreeLesson {
             self.selected,
             eye.to_array().map(f64::to_bits),
         ));
-        let planes = match &self.drawn_planes {
-            Some((revision, planes)) if *revision == planes_revision => planes.clone(),
-            _ => {
-                let planes = Arc::new(self.planes(&tree, eye));
-                self.drawn_planes = Some((planes_revision, planes.clone()));
-                planes
-            }
-        };
+        let mut drawn_planes = std::mem::take(&mut self.drawn_planes);
+        let planes = drawn_planes
+            .get_or_make(planes_revision, || Arc::new(self.planes(&tree, eye)))
+            .clone();
+        self.drawn_planes = drawn_planes;
         let size = ui.available_size();
         let response = self.view.ui(
             ui,
@@ -540,9 +553,9 @@ impl Lesson for MeshTreeLesson {
             &Content {
                 sphere: tree.sphere,
                 mesh: (revision_of((self.tree.generation(), "mesh")), &tree.drawn),
-                highlights: (overlay_revision, &highlights),
+                highlights: (overlay_revision, &overlay.0),
                 boxes: (boxes_revision, &boxes),
-                segments: (overlay_revision, &segments),
+                segments: (overlay_revision, &overlay.1),
                 quads: (planes_revision, &planes),
                 hidden_edges: self.hidden_edges,
             },

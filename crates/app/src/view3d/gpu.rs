@@ -15,6 +15,8 @@ const COLOR_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Bytes of one mesh vertex: position (3 × f32), normal (4 × i8), colour (4 × u8).
 const MESH_VERTEX_BYTES: u64 = 20;
+/// Bytes of a triangle's three vertices.
+const TRIANGLE_BYTES: u64 = 3 * MESH_VERTEX_BYTES;
 /// Bytes of one instance: a (3 × f32), b (3 × f32), colour (4 × u8).
 const INSTANCE_BYTES: u64 = 28;
 const UNIFORM_BYTES: u64 = 96;
@@ -105,53 +107,78 @@ pub struct Scene3d<'a> {
     pub background: [u8; 3],
 }
 
-/// A GPU buffer of one layer and the revision it holds.
+/// Most bytes one layer sends to the GPU in a frame. A million-triangle mesh is 60 MB of
+/// vertices; made and copied in one frame that frame took 90 ms of CPU time (`benches/view3d.rs`
+/// with `ACCELVIZ_BENCH_MILLION`). In pieces it goes up over a few frames, and no frame waits on
+/// it; the view is drawn once it is all there.
+const UPLOAD_BYTES_PER_FRAME: u64 = 6 << 20;
+
+/// A GPU buffer of one layer: the revision it holds, and how much of it has arrived.
 #[derive(Default)]
 struct Layer {
     buffer: Option<wgpu::Buffer>,
-    count: u32,
+    /// Items (triangles, instances) of the revision uploaded so far.
+    uploaded: u32,
+    /// Items the revision has.
+    total: u32,
     revision: Option<u64>,
 }
 
 impl Layer {
-    /// Uploads `bytes` (holding `count` items) unless `revision` is already there.
+    /// Uploads the next piece of `revision` (`total` items of `item_bytes` each, made by
+    /// `bytes` for a range of items) unless it is all there already.
     fn update(
         &mut self,
         gpu: &RenderState,
         revision: u64,
-        count: usize,
-        bytes: impl FnOnce() -> Vec<u8>,
+        total: usize,
+        item_bytes: u64,
+        bytes: impl FnOnce(std::ops::Range<usize>) -> Vec<u8>,
     ) {
-        if self.revision == Some(revision) {
+        if self.revision != Some(revision) {
+            self.revision = Some(revision);
+            self.uploaded = 0;
+            self.total = total as u32;
+            let size = total as u64 * item_bytes;
+            let fits = self
+                .buffer
+                .as_ref()
+                .is_some_and(|buffer| buffer.size() >= size);
+            if !fits && total > 0 {
+                self.buffer = Some(gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                    label: Some("accelviz 3d layer"),
+                    size: size.next_power_of_two().max(256),
+                    usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+                    mapped_at_creation: false,
+                }));
+            }
+        }
+        if self.complete() {
             return;
         }
-        self.revision = Some(revision);
-        self.count = count as u32;
-        if count == 0 {
-            return;
-        }
-        let bytes = bytes();
-        let size = bytes.len() as u64;
-        let fits = self
-            .buffer
-            .as_ref()
-            .is_some_and(|buffer| buffer.size() >= size);
-        if !fits {
-            self.buffer = Some(gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("accelviz 3d layer"),
-                size: size.next_power_of_two().max(256),
-                usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }));
-        }
-        if let Some(buffer) = &self.buffer {
-            gpu.queue.write_buffer(buffer, 0, &bytes);
-        }
+        let Some(buffer) = &self.buffer else { return };
+        let piece = (UPLOAD_BYTES_PER_FRAME / item_bytes).max(1) as u32;
+        let (start, end) = (self.uploaded, self.total.min(self.uploaded + piece));
+        let bytes = bytes(start as usize..end as usize);
+        gpu.queue
+            .write_buffer(buffer, u64::from(start) * item_bytes, &bytes);
+        self.uploaded = end;
     }
 
-    fn slice(&self, item_bytes: u64) -> Option<wgpu::BufferSlice<'_>> {
+    /// Whether the whole revision is on the GPU.
+    fn complete(&self) -> bool {
+        self.uploaded == self.total
+    }
+
+    /// The uploaded items' bytes, and how many items they are.
+    fn slice(&self, item_bytes: u64) -> Option<(wgpu::BufferSlice<'_>, u32)> {
         let buffer = self.buffer.as_ref()?;
-        (self.count > 0).then(|| buffer.slice(..u64::from(self.count) * item_bytes))
+        (self.uploaded > 0).then(|| {
+            (
+                buffer.slice(..u64::from(self.uploaded) * item_bytes),
+                self.uploaded,
+            )
+        })
     }
 }
 
@@ -296,6 +323,20 @@ impl ViewGpu {
         self.readback.is_some()
     }
 
+    /// Whether every layer of the last frame is on the GPU (if not, the view draws what has
+    /// arrived, and needs another frame for the rest).
+    pub fn uploaded(&self) -> bool {
+        [
+            &self.mesh,
+            &self.highlights,
+            &self.boxes,
+            &self.segments,
+            &self.quads,
+        ]
+        .iter()
+        .all(|layer| layer.complete())
+    }
+
     /// Draws `scene` into a `size` (pixels) target and returns the egui texture showing it.
     pub fn draw(&mut self, gpu: &Gpu, size: [u32; 2], scene: &Scene3d<'_>) -> egui::TextureId {
         let state = &gpu.render_state;
@@ -338,24 +379,29 @@ impl ViewGpu {
             target.texture_id,
         );
 
-        self.mesh
-            .update(state, scene.mesh.0, scene.mesh.1.len() * 3, || {
-                mesh_bytes(scene.mesh.1)
+        for (layer, (revision, triangles)) in [
+            (&mut self.mesh, scene.mesh),
+            (&mut self.highlights, scene.highlights),
+        ] {
+            layer.update(state, revision, triangles.len(), TRIANGLE_BYTES, |range| {
+                mesh_bytes(&triangles[range])
             });
-        self.highlights.update(
-            state,
-            scene.highlights.0,
-            scene.highlights.1.len() * 3,
-            || mesh_bytes(scene.highlights.1),
-        );
+        }
         for (layer, (revision, instances)) in [
             (&mut self.boxes, scene.boxes),
             (&mut self.segments, scene.segments),
             (&mut self.quads, scene.quads),
         ] {
-            layer.update(state, revision, instances.len(), || {
-                instance_bytes(instances)
+            layer.update(state, revision, instances.len(), INSTANCE_BYTES, |range| {
+                instance_bytes(&instances[range])
             });
+        }
+        if !self.uploaded() {
+            // Not all there yet: the picture before stays until it is, rather than drawing a
+            // part of a mesh once per piece (on a software GPU each of those draws would cost
+            // as much as the whole).
+            self.drawn = None;
+            return texture_id;
         }
 
         let (uniform_buffer, bind_group) = self.uniforms.get_or_insert_with(|| {
@@ -434,20 +480,20 @@ impl ViewGpu {
             });
             pass.set_bind_group(0, &*bind_group, &[]);
             // Opaque surfaces first, writing depth; then what is seen through or over them.
-            if let Some(slice) = self.mesh.slice(MESH_VERTEX_BYTES) {
+            if let Some((slice, triangles)) = self.mesh.slice(TRIANGLE_BYTES) {
                 pass.set_pipeline(&pipelines.mesh);
                 pass.set_vertex_buffer(0, slice);
-                pass.draw(0..self.mesh.count, 0..1);
+                pass.draw(0..triangles * 3, 0..1);
             }
-            if let Some(slice) = self.highlights.slice(MESH_VERTEX_BYTES) {
+            if let Some((slice, triangles)) = self.highlights.slice(TRIANGLE_BYTES) {
                 pass.set_pipeline(&pipelines.highlight);
                 pass.set_vertex_buffer(0, slice);
-                pass.draw(0..self.highlights.count, 0..1);
+                pass.draw(0..triangles * 3, 0..1);
             }
-            if let Some(slice) = self.quads.slice(INSTANCE_BYTES) {
+            if let Some((slice, quads)) = self.quads.slice(INSTANCE_BYTES) {
                 pass.set_pipeline(&pipelines.quads);
                 pass.set_vertex_buffer(0, slice);
-                pass.draw(0..6, 0..self.quads.count);
+                pass.draw(0..6, 0..quads);
             }
             for (layer, vertices, hidden, visible) in [
                 (&self.boxes, 72, &pipelines.boxes_hidden, &pipelines.boxes),
@@ -458,16 +504,16 @@ impl ViewGpu {
                     &pipelines.segments,
                 ),
             ] {
-                let Some(slice) = layer.slice(INSTANCE_BYTES) else {
+                let Some((slice, instances)) = layer.slice(INSTANCE_BYTES) else {
                     continue;
                 };
                 pass.set_vertex_buffer(0, slice);
                 if scene.hidden_edges == HiddenEdges::Dimmed {
                     pass.set_pipeline(hidden);
-                    pass.draw(0..vertices, 0..layer.count);
+                    pass.draw(0..vertices, 0..instances);
                 }
                 pass.set_pipeline(visible);
-                pass.draw(0..vertices, 0..layer.count);
+                pass.draw(0..vertices, 0..instances);
             }
         }
         state.queue.submit(Some(encoder.finish()));

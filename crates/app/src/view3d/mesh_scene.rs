@@ -174,7 +174,7 @@ impl SceneFile for MeshScene {
                 let mesh = accelviz_scene::obj::parse_obj_with_progress(
                     &text,
                     &worker_name,
-                    &worker_progress,
+                    &|permille| worker_progress.store(permille, Ordering::Relaxed),
                 )
                 .map_err(|error| error.to_string());
                 if let Ok(mut slot) = worker_result.lock() {
@@ -197,6 +197,10 @@ impl SceneFile for MeshScene {
         None
     }
 
+    fn reading(&self) -> Option<f32> {
+        self.loading.as_ref().map(MeshLoad::progress)
+    }
+
     fn reset(&mut self, text: &LessonText) {
         *self = Self::of_lesson(text);
     }
@@ -215,6 +219,9 @@ pub struct MeshTree {
     pub built: Built<DVec3>,
     /// Its statistics.
     pub stats: TreeStats,
+    /// How many triangles lie under the root (the inspector opens on it; counted on the
+    /// builder's thread, since a million-triangle tree takes tens of milliseconds).
+    pub root_triangles: usize,
     /// How long the build took.
     pub build_millis: f64,
     /// The mesh's bounding sphere: the view's centre and size.
@@ -238,6 +245,7 @@ impl MeshTree {
         let built = Built::new(structure, &triangles, &params, &mut NoBuildObserver);
         let build_millis = started.elapsed().as_secs_f64() * 1e3;
         let stats = built.stats(0, &params.cost);
+        let root_triangles = built.primitives_below(0).len();
         let sphere = bounding_sphere_of_box(&mesh.bounds());
         let drawn = mesh
             .triangles
@@ -252,6 +260,7 @@ impl MeshTree {
             triangles,
             built,
             stats,
+            root_triangles,
             build_millis,
             sphere,
             drawn,

@@ -242,6 +242,9 @@ impl View3d {
                     background: [246, 246, 246],
                 };
                 let texture = self.gpu.draw(&gpu, pixels, &scene);
+                if !self.gpu.uploaded() {
+                    ui.ctx().request_repaint();
+                }
                 ui.painter().image(
                     texture,
                     rect,
@@ -274,8 +277,10 @@ impl View3d {
     /// file comes out of [`View3d::take_export`] once the GPU has handed the picture back.
     pub fn save_button(&mut self, ui: &mut egui::Ui) {
         let pending = self.gpu.picture_pending();
+        // A mesh still on its way to the GPU would be saved half drawn.
+        let ready = self.gpu.uploaded();
         if ui
-            .add_enabled(!pending, egui::Button::new("save view as PNG"))
+            .add_enabled(!pending && ready, egui::Button::new("save view as PNG"))
             .on_hover_text("The view as it is drawn now, for slides")
             .clicked()
             && let Some(gpu) = Gpu::of(ui.ctx())
