@@ -22,7 +22,8 @@ use crate::stage::Stage;
 use crate::trace::{Trace, TraceState, options_in, step_node};
 use crate::view3d::mesh_scene::{MeshScene, MeshTree, loading_ui, mesh_and_structure_ui};
 use crate::view3d::{
-    Content, DrawTriangle, HiddenEdges, Instance, View3d, relative, revision_of, trace_overlay,
+    Content, DrawTriangle, HiddenEdges, Instance, Overlay, View3d, relative, revision_of,
+    trace_overlay,
 };
 use crate::views::tree_diagram::{depth_range_ui, diagram_ui, traversal_emphasis};
 
@@ -63,7 +64,7 @@ pub struct MeshTreeLesson {
     /// either side): box outlines, planes, the highlighted triangles and ray segments.
     drawn_boxes: Cached<u64, Arc<Vec<Instance>>>,
     drawn_planes: Cached<u64, Arc<Vec<Instance>>>,
-    drawn_overlay: Cached<u64, Arc<(Vec<DrawTriangle>, Vec<Instance>)>>,
+    drawn_overlay: Cached<u64, Arc<Overlay>>,
     /// The selected node's triangle count and subtree SAH cost (for the tree, node).
     node_summary: Cached<(u64, u32), (usize, f64)>,
 }

@@ -324,6 +324,9 @@ pub fn revision_of(key: impl std::hash::Hash) -> u64 {
     hasher.finish()
 }
 
+/// What a view draws over the mesh: highlighted triangles, and segments (rays, markers).
+pub type Overlay = (Vec<DrawTriangle>, Vec<Instance>);
+
 /// What a recorded traversal of `ray` adds to the view after `steps`: the triangles tested
 /// so far (orange) and the closest hit so far (green) drawn over the mesh, and the ray from
 /// its origin to that hit (or through the scene).
@@ -331,7 +334,7 @@ pub fn trace_overlay(
     tree: &mesh_scene::MeshTree,
     ray: &accelviz_core::Ray<DVec3>,
     steps: &[accelviz_core::Step<f64>],
-) -> (Vec<DrawTriangle>, Vec<Instance>) {
+) -> Overlay {
     let closest = crate::trace::closest_so_far(steps);
     let mut highlights = Vec::new();
     for step in steps {
