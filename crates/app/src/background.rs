@@ -50,11 +50,13 @@ fn deferred(size: usize) -> bool {
 /// Work that makes a `T`.
 type Work<T> = Box<dyn FnOnce() -> T + Send>;
 
-/// A job on a worker thread.
+/// A job on a worker thread (or elsewhere: a Web Worker, kept going by `handle`).
 struct Job<K, T> {
     key: K,
     started: Instant,
     result: std::sync::mpsc::Receiver<T>,
+    /// Keeps work done elsewhere going; dropped, it stops it.
+    _handle: Option<Box<dyn std::any::Any>>,
 }
 
 /// A value made from a key, remade when the key changes.
@@ -123,6 +125,41 @@ impl<K: Clone + PartialEq + Send + 'static, T: Send + Sync + 'static> Derived<K,
         }
     }
 
+    /// Like [`Derived::request`], for work done elsewhere (a Web Worker in the browser):
+    /// `start` is given where to send the value, and returns a handle that keeps the work
+    /// going; a newer key or [`Derived::cancel`] drops it, which stops the work. Returns
+    /// whether the work runs (or is known already).
+    pub fn request_elsewhere<H: 'static>(
+        &mut self,
+        key: &K,
+        start: impl FnOnce(std::sync::mpsc::Sender<T>) -> Result<H, String>,
+    ) -> bool {
+        self.poll();
+        let known = self.current.as_ref().is_some_and(|(made, _)| made == key)
+            || self.running.as_ref().is_some_and(|job| job.key == *key);
+        if known {
+            return true;
+        }
+        let (sender, result) = std::sync::mpsc::channel();
+        match start(sender) {
+            Ok(handle) => {
+                self.waiting = None;
+                self.put_off = None;
+                self.running = Some(Job {
+                    key: key.clone(),
+                    started: Instant::now(),
+                    result,
+                    _handle: Some(Box::new(handle)),
+                });
+                true
+            }
+            Err(problem) => {
+                log::error!("accelviz: cannot work aside: {problem}");
+                false
+            }
+        }
+    }
+
     /// Takes a finished job's result, and starts the waiting one; does work put off by the
     /// frame before.
     pub fn poll(&mut self) {
@@ -166,6 +203,7 @@ impl<K: Clone + PartialEq + Send + 'static, T: Send + Sync + 'static> Derived<K,
                     key,
                     started: Instant::now(),
                     result,
+                    _handle: None,
                 })
             }
             Err(error) => log::error!("accelviz: cannot start a worker thread: {error}"),

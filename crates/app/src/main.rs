@@ -74,6 +74,11 @@ const NO_DISPLAY: &str = "accelviz needs a display (X11 or Wayland) and found no
 fn main() {
     use wasm_bindgen::JsCast;
 
+    // In a Web Worker (`web/worker.js`, which reads and builds large meshes aside) there is
+    // no page: the worker calls the exports below.
+    if web_sys::window().is_none() {
+        return;
+    }
     eframe::WebLogger::init(log::LevelFilter::Info).ok();
     let document = web_sys::window().and_then(|window| window.document());
     let canvas = document
@@ -125,4 +130,26 @@ fn show_start_failure(reason: &str) {
         ));
         let _ = loading.set_attribute("class", "failed");
     }
+}
+
+/// For `web/worker.js`: reads OBJ `bytes` named `name`, calling `progress` with the per mille
+/// read; the triangles' corners, nine numbers a triangle.
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen]
+pub fn read_obj_aside(
+    name: &str,
+    bytes: &[u8],
+    progress: &js_sys::Function,
+) -> Result<Vec<f64>, String> {
+    accelviz_app::view3d::aside::work::read_obj(name, bytes, &|permille| {
+        let _ = progress.call1(&wasm_bindgen::JsValue::NULL, &permille.into());
+    })
+}
+
+/// For `web/worker.js`: builds the structure named `structure` over `triangles` (nine
+/// numbers each); the tree packed as bytes.
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen]
+pub fn build_tree_aside(triangles: &[f64], structure: &str) -> Result<Vec<u8>, String> {
+    accelviz_app::view3d::aside::work::build(triangles, structure)
 }

@@ -11,6 +11,7 @@ use accelviz_scene::Mesh;
 use glam::DVec3;
 use web_time::Instant;
 
+use super::aside::BuiltAside;
 use super::{DrawTriangle, relative};
 use crate::background::Derived;
 use crate::stage::KD_BUDGET;
@@ -37,24 +38,163 @@ pub struct MeshScene {
     pub problem: Option<String>,
 }
 
-/// An OBJ file read on a worker thread: its name, how far it got, and its result.
+/// An OBJ file read on a worker thread (a Web Worker in the browser): its name, how far it
+/// got, and its result.
 pub struct MeshLoad {
     /// The file's name.
     pub name: String,
     /// Read so far, per mille.
     progress: Arc<AtomicU32>,
-    result: Arc<Mutex<Option<Result<Mesh, String>>>>,
+    result: MeshSlot,
+    /// Keeps a Web Worker going; dropped (cancelled, or read), it stops the worker.
+    _work: Box<dyn std::any::Any>,
+}
+
+/// Where a mesh read aside is left.
+type MeshSlot = Arc<Mutex<Option<Result<Mesh, String>>>>;
+
+/// Reads `text` on a worker thread, reporting to `progress` and leaving the mesh in `result`;
+/// `None` where there are no worker threads (the tests).
+#[cfg(not(target_arch = "wasm32"))]
+fn read_aside(
+    name: &str,
+    text: &str,
+    progress: Arc<AtomicU32>,
+    result: MeshSlot,
+) -> Option<Box<dyn std::any::Any>> {
+    if crate::background::worker_threads() == 0 {
+        return None;
+    }
+    let (text, name) = (text.to_owned(), name.to_owned());
+    std::thread::spawn(move || {
+        let mesh = accelviz_scene::obj::parse_obj_with_progress(&text, &name, &|permille| {
+            progress.store(permille, Ordering::Relaxed)
+        })
+        .map_err(|error| error.to_string());
+        if let Ok(mut slot) = result.lock() {
+            *slot = Some(mesh);
+        }
+    });
+    // The thread needs nothing kept: it ends by itself, and a cancelled read is ignored.
+    Some(Box::new(()))
+}
+
+/// Reads `text` in a Web Worker (see [`super::aside`]), reporting to `progress` and leaving
+/// the mesh in `result`; `None` if no worker could start (the page then reads it itself).
+#[cfg(target_arch = "wasm32")]
+fn read_aside(
+    name: &str,
+    text: &str,
+    progress: Arc<AtomicU32>,
+    result: MeshSlot,
+) -> Option<Box<dyn std::any::Any>> {
+    let bytes = js_sys::Uint8Array::from(text.as_bytes());
+    let buffer = bytes.buffer();
+    let mesh_name = name.to_owned();
+    let started = super::aside::worker::start(
+        &[
+            ("job", "read".into()),
+            ("name", name.into()),
+            ("bytes", bytes.into()),
+        ],
+        &[buffer.into()],
+        move |permille| progress.store(permille, Ordering::Relaxed),
+        move |outcome| {
+            let mesh = outcome.map(|numbers| Mesh {
+                name: mesh_name,
+                triangles: super::aside::triangles_of(
+                    &js_sys::Float64Array::new(&numbers).to_vec(),
+                ),
+            });
+            if let Ok(mut slot) = result.lock() {
+                *slot = Some(mesh);
+            }
+        },
+    );
+    match started {
+        Ok(job) => Some(Box::new(job)),
+        Err(problem) => {
+            log::error!("accelviz: cannot read aside: {problem}");
+            None
+        }
+    }
 }
 
 impl MeshLoad {
+    /// Starts reading `text` (the file `name`) aside, if there is somewhere to do it.
+    fn start(name: &str, text: &str) -> Option<Self> {
+        let progress = Arc::new(AtomicU32::new(0));
+        let result: MeshSlot = Arc::new(Mutex::new(None));
+        let work = read_aside(name, text, progress.clone(), result.clone())?;
+        Some(Self {
+            name: name.to_owned(),
+            progress,
+            result,
+            _work: work,
+        })
+    }
+
     /// How much of the file is read, from 0 to 1.
     pub fn progress(&self) -> f32 {
         self.progress.load(Ordering::Relaxed) as f32 / 1000.0
     }
 }
 
-/// Files larger than this (bytes) are read on a worker thread where there are workers.
+/// Files larger than this (bytes) are read on a worker thread where there are workers, in a
+/// Web Worker in the browser.
 const READ_ASIDE_ABOVE: usize = 2 << 20;
+
+/// In the browser, structures over this many triangles or more are built in a Web Worker (on
+/// the page, the bunny's 70k took about 0.2 s: the page would stop for that long).
+#[cfg(target_arch = "wasm32")]
+const BUILD_ASIDE_FROM: usize = 50_000;
+
+/// Builds `structure` over `mesh` in a Web Worker, sending the tree to `sender` when it is
+/// back; if the worker fails, on the page instead (slow, but the lesson gets its tree).
+#[cfg(target_arch = "wasm32")]
+fn build_in_worker(
+    mesh: Arc<Mesh>,
+    structure: Structure,
+    sender: std::sync::mpsc::Sender<MeshTree>,
+) -> Result<super::aside::worker::WorkerJob, String> {
+    use super::aside::{flat_triangles, unpack};
+    let triangles = js_sys::Float64Array::from(&flat_triangles(&mesh.triangles)[..]);
+    let buffer = triangles.buffer();
+    super::aside::worker::start(
+        &[
+            ("job", "build".into()),
+            ("structure", structure.name().into()),
+            ("triangles", triangles.into()),
+        ],
+        &[buffer.into()],
+        |_| {},
+        move |outcome| {
+            let started = Instant::now();
+            let unpacked =
+                outcome.and_then(|bytes| unpack(&js_sys::Uint8Array::new(&bytes).to_vec()));
+            let tree = match unpacked {
+                Ok(aside) => {
+                    let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
+                    MeshTree::with_built(mesh, triangles, aside)
+                }
+                Err(problem) => {
+                    log::error!(
+                        "accelviz: the build aside failed ({problem}); building on the page"
+                    );
+                    MeshTree::build(mesh, structure)
+                }
+            };
+            log::info!(
+                "accelviz: {} built aside over {} triangles in {:.0} ms, taken in on the page in {:.0} ms",
+                structure.name(),
+                tree.mesh.triangles.len(),
+                tree.build_millis,
+                started.elapsed().as_secs_f64() * 1e3
+            );
+            let _ = sender.send(tree);
+        },
+    )
+}
 
 impl MeshScene {
     /// The mesh a lesson file names (`builtin:NAME`).
@@ -163,29 +303,11 @@ impl SceneFile for MeshScene {
 
     fn open(&mut self, name: &str, text: &str) -> Result<(), String> {
         self.problem = None;
-        if text.len() > READ_ASIDE_ABOVE && crate::background::worker_threads() > 0 {
+        if text.len() > READ_ASIDE_ABOVE
+            && let Some(loading) = MeshLoad::start(name, text)
+        {
             // A large file is read aside; the lesson shows how far, and can cancel it.
-            let progress = Arc::new(AtomicU32::new(0));
-            let result = Arc::new(Mutex::new(None));
-            let (name, text) = (name.to_owned(), text.to_owned());
-            let (worker_progress, worker_result, worker_name) =
-                (progress.clone(), result.clone(), name.clone());
-            std::thread::spawn(move || {
-                let mesh = accelviz_scene::obj::parse_obj_with_progress(
-                    &text,
-                    &worker_name,
-                    &|permille| worker_progress.store(permille, Ordering::Relaxed),
-                )
-                .map_err(|error| error.to_string());
-                if let Ok(mut slot) = worker_result.lock() {
-                    *slot = Some(mesh);
-                }
-            });
-            self.loading = Some(MeshLoad {
-                name,
-                progress,
-                result,
-            });
+            self.loading = Some(loading);
             return Ok(());
         }
         let mesh = accelviz_scene::obj::parse_obj(text, name).map_err(|error| error.to_string())?;
@@ -237,15 +359,30 @@ impl MeshTree {
     /// Builds `structure` over `mesh`.
     pub fn build(mesh: Arc<Mesh>, structure: Structure) -> Self {
         let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
+        let built = Self::build_structure(&triangles, structure);
+        Self::with_built(mesh, triangles, built)
+    }
+
+    /// What a build does with the triangles alone: the structure and what is measured of it
+    /// (the part a Web Worker does in the browser, see [`super::aside`]).
+    pub fn build_structure(triangles: &TriangleSet<DVec3>, structure: Structure) -> BuiltAside {
         let params = BuildParams {
             kd_budget: KD_BUDGET,
             ..BuildParams::default()
         };
         let started = Instant::now();
-        let built = Built::new(structure, &triangles, &params, &mut NoBuildObserver);
+        let built = Built::new(structure, triangles, &params, &mut NoBuildObserver);
         let build_millis = started.elapsed().as_secs_f64() * 1e3;
-        let stats = built.stats(0, &params.cost);
-        let root_triangles = built.primitives_below(0).len();
+        BuiltAside {
+            stats: built.stats(0, &params.cost),
+            root_triangles: built.primitives_below(0).len(),
+            built,
+            build_millis,
+        }
+    }
+
+    /// The mesh with a structure built over its `triangles`.
+    pub fn with_built(mesh: Arc<Mesh>, triangles: TriangleSet<DVec3>, aside: BuiltAside) -> Self {
         let sphere = bounding_sphere_of_box(&mesh.bounds());
         let drawn = mesh
             .triangles
@@ -258,10 +395,10 @@ impl MeshTree {
         Self {
             mesh,
             triangles,
-            built,
-            stats,
-            root_triangles,
-            build_millis,
+            built: aside.built,
+            stats: aside.stats,
+            root_triangles: aside.root_triangles,
+            build_millis: aside.build_millis,
             sphere,
             drawn,
             ordered: OnceLock::new(),
@@ -282,7 +419,16 @@ impl MeshTree {
         structure: Structure,
     ) {
         let mesh = scene.mesh.clone();
-        derived.request(&(scene.revision, structure), mesh.triangles.len(), || {
+        let key = (scene.revision, structure);
+        #[cfg(target_arch = "wasm32")]
+        if mesh.triangles.len() >= BUILD_ASIDE_FROM
+            && derived.request_elsewhere(&key, |sender| {
+                build_in_worker(mesh.clone(), structure, sender)
+            })
+        {
+            return;
+        }
+        derived.request(&key, mesh.triangles.len(), || {
             move || MeshTree::build(mesh, structure)
         });
     }

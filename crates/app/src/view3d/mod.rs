@@ -2,6 +2,7 @@
 //! textures; a click gives the ray through that pixel (the core's [`Camera`], the same one
 //! the heat maps and `bench --camera` use), so what is picked is what is traced.
 
+pub mod aside;
 pub mod gpu;
 pub mod heat;
 pub mod mesh_scene;

@@ -1,0 +1,521 @@
+//! Large meshes read and built aside in the browser. The page has one thread, and a million
+//! triangles take seconds to read and to build over: done there, the page would freeze. So a
+//! Web Worker (`web/worker.js`) runs this same WASM module and does it, while the page keeps
+//! drawing and can cancel (the worker is stopped). On the desktop worker threads do the same
+//! ([`crate::background`], [`super::mesh_scene`]).
+//!
+//! A worker has its own memory: what it makes comes back as bytes. A mesh is its corners,
+//! nine numbers a triangle ([`flat_triangles`]); a built structure is [`pack`]ed with what
+//! the builder's thread measured of it, and [`unpack`]ed into the same `Built` (tested: equal
+//! field for field), its facts made again from the tree.
+
+use accelviz_core::Tree;
+use accelviz_core::bvh::Bvh;
+use accelviz_core::bvh::BvhNode;
+use accelviz_core::kd::{KdBudgetExceeded, KdLimits, KdNode, KdTree};
+use accelviz_core::{Aabb, Built, LeafReason, Structure, TreeFacts, TreeStats};
+use glam::DVec3;
+
+/// A structure built aside, with what its builder's thread measured of it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BuiltAside {
+    /// The tree and its facts.
+    pub built: Built<DVec3>,
+    /// Its statistics.
+    pub stats: TreeStats,
+    /// Triangles under the root.
+    pub root_triangles: usize,
+    /// How long the build took.
+    pub build_millis: f64,
+}
+
+/// Marks packed bytes, and their layout's version.
+const MAGIC: &[u8; 8] = b"accelvz1";
+
+/// `built` as bytes (little-endian).
+pub fn pack(built: &BuiltAside) -> Vec<u8> {
+    let mut out = Writer::default();
+    out.bytes.extend_from_slice(MAGIC);
+    let name = built.built.structure.name();
+    out.u64(name.len() as u64);
+    out.bytes.extend_from_slice(name.as_bytes());
+    out.f64(built.build_millis);
+    out.u64(built.root_triangles as u64);
+    let stats = &built.stats;
+    for count in [
+        stats.node_count,
+        stats.leaf_count,
+        stats.max_depth,
+        stats.min_leaf_size,
+        stats.max_leaf_size,
+        stats.primitive_references,
+        stats.empty_leaf_count,
+    ] {
+        out.u64(count as u64);
+    }
+    for value in [stats.mean_leaf_size, stats.empty_leaf_share, stats.sah_cost] {
+        out.f64(value);
+    }
+    match &built.built.tree {
+        Tree::Bvh(bvh) => {
+            out.u64(0);
+            out.u64(bvh.nodes.len() as u64);
+            for node in &bvh.nodes {
+                out.aabb(&node.bounds);
+                out.u32(node.first);
+                out.u32(node.count);
+            }
+            out.u32s(&bvh.primitive_indices);
+        }
+        Tree::Kd(kd) => {
+            out.u64(1);
+            out.aabb(&kd.bounds);
+            out.u64(kd.nodes.len() as u64);
+            for node in &kd.nodes {
+                out.f64(node.split);
+                out.u32(node.axis);
+                out.u32(node.first);
+                out.u32(node.count);
+            }
+            out.u32s(&kd.primitive_indices);
+            out.u64(kd.limits.depth_limit as u64);
+            out.u64(kd.limits.leaves_at_depth_limit as u64);
+            let (tag, usual, budget) = match kd.limits.lowered_from {
+                None => (0, 0, 0),
+                Some((usual, KdBudgetExceeded::Nodes(budget))) => (1, usual, budget),
+                Some((usual, KdBudgetExceeded::References(budget))) => (2, usual, budget),
+            };
+            for number in [tag, usual, budget] {
+                out.u64(number as u64);
+            }
+        }
+    }
+    let reasons = &built.built.facts.leaf_reasons;
+    out.u64(reasons.len() as u64);
+    for reason in reasons {
+        // A tag and two numbers each.
+        let (tag, a, b) = match *reason {
+            None => (0, 0.0, 0.0),
+            Some(LeafReason::SmallEnough {
+                count,
+                max_leaf_size,
+            }) => (1, count as f64, max_leaf_size as f64),
+            Some(LeafReason::LeafCheaper {
+                leaf_cost,
+                split_cost: None,
+            }) => (2, leaf_cost, 0.0),
+            Some(LeafReason::LeafCheaper {
+                leaf_cost,
+                split_cost: Some(split_cost),
+            }) => (3, leaf_cost, split_cost),
+            Some(LeafReason::Inseparable { count }) => (4, count as f64, 0.0),
+            Some(LeafReason::DepthLimit { limit }) => (5, limit as f64, 0.0),
+        };
+        out.bytes.push(tag);
+        out.f64(a);
+        out.f64(b);
+    }
+    out.bytes
+}
+
+/// What [`pack`] made, back; or why the bytes are not that.
+pub fn unpack(bytes: &[u8]) -> Result<BuiltAside, String> {
+    let mut input = Reader { rest: bytes };
+    if input.take(MAGIC.len())? != MAGIC {
+        return Err("not a structure packed by this version of accelviz".to_owned());
+    }
+    let name_length = input.usize()?;
+    let name = std::str::from_utf8(input.take(name_length)?)
+        .map_err(|_| "the structure's name is not text".to_owned())?;
+    let structure = Structure::parse(name).map_err(|error| error.to_string())?;
+    let build_millis = input.f64()?;
+    let root_triangles = input.usize()?;
+    let mut counts = [0usize; 7];
+    for count in &mut counts {
+        *count = input.usize()?;
+    }
+    let [mean_leaf_size, empty_leaf_share, sah_cost] = [input.f64()?, input.f64()?, input.f64()?];
+    let [
+        node_count,
+        leaf_count,
+        max_depth,
+        min_leaf_size,
+        max_leaf_size,
+        primitive_references,
+        empty_leaf_count,
+    ] = counts;
+    let stats = TreeStats {
+        node_count,
+        leaf_count,
+        max_depth,
+        min_leaf_size,
+        max_leaf_size,
+        mean_leaf_size,
+        primitive_references,
+        empty_leaf_count,
+        empty_leaf_share,
+        sah_cost,
+    };
+    let tree = match input.u64()? {
+        0 => {
+            let count = input.count(56)?;
+            let mut nodes = Vec::with_capacity(count);
+            for _ in 0..count {
+                nodes.push(BvhNode {
+                    bounds: input.aabb()?,
+                    first: input.u32()?,
+                    count: input.u32()?,
+                });
+            }
+            Tree::Bvh(Bvh {
+                nodes,
+                primitive_indices: input.u32s()?,
+            })
+        }
+        1 => {
+            let bounds = input.aabb()?;
+            let count = input.count(20)?;
+            let mut nodes = Vec::with_capacity(count);
+            for _ in 0..count {
+                nodes.push(KdNode {
+                    split: input.f64()?,
+                    axis: input.u32()?,
+                    first: input.u32()?,
+                    count: input.u32()?,
+                });
+            }
+            let primitive_indices = input.u32s()?;
+            let depth_limit = input.usize()?;
+            let leaves_at_depth_limit = input.usize()?;
+            let (tag, usual, budget) = (input.u64()?, input.usize()?, input.usize()?);
+            let lowered_from = match tag {
+                0 => None,
+                1 => Some((usual, KdBudgetExceeded::Nodes(budget))),
+                2 => Some((usual, KdBudgetExceeded::References(budget))),
+                _ => return Err(format!("unknown kD budget {tag}")),
+            };
+            Tree::Kd(KdTree {
+                bounds,
+                nodes,
+                primitive_indices,
+                limits: KdLimits {
+                    depth_limit,
+                    leaves_at_depth_limit,
+                    lowered_from,
+                },
+            })
+        }
+        other => return Err(format!("unknown tree kind {other}")),
+    };
+    let count = input.count(17)?;
+    let mut reasons = Vec::with_capacity(count);
+    for _ in 0..count {
+        let tag = input.take(1)?[0];
+        let (a, b) = (input.f64()?, input.f64()?);
+        reasons.push(match tag {
+            0 => None,
+            1 => Some(LeafReason::SmallEnough {
+                count: a as usize,
+                max_leaf_size: b as usize,
+            }),
+            2 => Some(LeafReason::LeafCheaper {
+                leaf_cost: a,
+                split_cost: None,
+            }),
+            3 => Some(LeafReason::LeafCheaper {
+                leaf_cost: a,
+                split_cost: Some(b),
+            }),
+            4 => Some(LeafReason::Inseparable { count: a as usize }),
+            5 => Some(LeafReason::DepthLimit { limit: a as usize }),
+            _ => return Err(format!("unknown leaf reason {tag}")),
+        });
+    }
+    if !input.rest.is_empty() {
+        return Err(format!("{} bytes too many", input.rest.len()));
+    }
+    let facts = TreeFacts::with_leaf_reasons(&tree, reasons);
+    Ok(BuiltAside {
+        built: Built {
+            structure,
+            tree,
+            facts,
+        },
+        stats,
+        root_triangles,
+        build_millis,
+    })
+}
+
+/// A mesh's triangles as nine numbers each (the corners in order), to send to a worker.
+pub fn flat_triangles(triangles: &[[[f64; 3]; 3]]) -> Vec<f64> {
+    triangles.iter().flatten().flatten().copied().collect()
+}
+
+/// Triangles from [`flat_triangles`]' numbers (a partial triangle at the end is dropped).
+pub fn triangles_of(numbers: &[f64]) -> Vec<[[f64; 3]; 3]> {
+    numbers
+        .chunks_exact(9)
+        .map(|n| [[n[0], n[1], n[2]], [n[3], n[4], n[5]], [n[6], n[7], n[8]]])
+        .collect()
+}
+
+/// The work a worker does, called by `web/worker.js` through the exports in `main.rs`.
+pub mod work {
+    use super::{flat_triangles, pack, triangles_of};
+    use crate::view3d::mesh_scene::MeshTree;
+    use accelviz_core::{Structure, TriangleSet};
+
+    /// Reads OBJ `bytes` named `name`, telling `progress` how far it got (per mille, only
+    /// when that changes); the triangles' corners, nine numbers a triangle.
+    pub fn read_obj(name: &str, bytes: &[u8], progress: &dyn Fn(u32)) -> Result<Vec<f64>, String> {
+        let text = std::str::from_utf8(bytes)
+            .map_err(|_| format!("{name}: not a text file (it is not UTF-8)"))?;
+        let last = std::cell::Cell::new(u32::MAX);
+        let mesh = accelviz_scene::obj::parse_obj_with_progress(text, name, &|permille| {
+            if last.replace(permille) != permille {
+                progress(permille);
+            }
+        })
+        .map_err(|error| error.to_string())?;
+        Ok(flat_triangles(&mesh.triangles))
+    }
+
+    /// Builds the structure named `structure` over `triangles` (nine numbers each), packed.
+    pub fn build(triangles: &[f64], structure: &str) -> Result<Vec<u8>, String> {
+        let structure = Structure::parse(structure).map_err(|error| error.to_string())?;
+        let triangles = TriangleSet::from_f64(&triangles_of(triangles));
+        Ok(pack(&MeshTree::build_structure(&triangles, structure)))
+    }
+}
+
+/// Jobs sent to a Web Worker from the page.
+#[cfg(target_arch = "wasm32")]
+pub mod worker {
+    use std::cell::RefCell;
+    use std::rc::Rc;
+
+    use wasm_bindgen::JsCast;
+    use wasm_bindgen::prelude::{Closure, JsValue};
+
+    /// A job running in a Web Worker; dropping it stops the worker.
+    pub struct WorkerJob {
+        worker: web_sys::Worker,
+        _on_message: Closure<dyn FnMut(web_sys::MessageEvent)>,
+        _on_error: Closure<dyn FnMut(web_sys::Event)>,
+    }
+
+    impl Drop for WorkerJob {
+        fn drop(&mut self) {
+            self.worker.terminate();
+        }
+    }
+
+    /// What a worker sends back: its result's bytes (a typed array), or why there is none.
+    pub type Outcome = Result<JsValue, String>;
+
+    /// What hears a job's outcome, shared by the handlers that may hear it.
+    type OnDone = Rc<RefCell<Option<Box<dyn FnOnce(Outcome)>>>>;
+
+    /// Starts `web/worker.js` on `job` (an object of named fields, see there), handing it the
+    /// buffers in `transfer`; `on_progress` hears the per mille it reports, `on_done` its
+    /// outcome, once.
+    pub fn start(
+        job: &[(&str, JsValue)],
+        transfer: &[JsValue],
+        on_progress: impl Fn(u32) + 'static,
+        on_done: impl FnOnce(Outcome) + 'static,
+    ) -> Result<WorkerJob, String> {
+        let describe = |error: JsValue| format!("{error:?}");
+        let options = web_sys::WorkerOptions::new();
+        options.set_type(web_sys::WorkerType::Module);
+        let worker =
+            web_sys::Worker::new_with_options("./worker.js", &options).map_err(describe)?;
+        // Called once, by whichever of the message and error handlers hears the end first.
+        let on_done: OnDone = Rc::new(RefCell::new(Some(Box::new(on_done))));
+        let finish = {
+            let on_done = on_done.clone();
+            move |outcome: Outcome| {
+                if let Some(on_done) = on_done.borrow_mut().take() {
+                    on_done(outcome);
+                }
+            }
+        };
+        let finish_on_error = finish.clone();
+        let on_message = Closure::<dyn FnMut(web_sys::MessageEvent)>::new(
+            move |event: web_sys::MessageEvent| {
+                let data = event.data();
+                let field = |name: &str| {
+                    js_sys::Reflect::get(&data, &JsValue::from_str(name))
+                        .ok()
+                        .filter(|value| !value.is_undefined())
+                };
+                if let Some(progress) = field("progress").and_then(|value| value.as_f64()) {
+                    on_progress(progress as u32);
+                } else if let Some(done) = field("done") {
+                    finish(Ok(done));
+                } else {
+                    let problem = field("problem").and_then(|value| value.as_string());
+                    finish(Err(
+                        problem.unwrap_or_else(|| "the worker sent nothing".to_owned())
+                    ));
+                }
+            },
+        );
+        let on_error = Closure::<dyn FnMut(web_sys::Event)>::new(move |event: web_sys::Event| {
+            let message = event
+                .dyn_ref::<web_sys::ErrorEvent>()
+                .map(|error| error.message())
+                .unwrap_or_else(|| "worker.js could not be loaded".to_owned());
+            finish_on_error(Err(format!("the background worker failed: {message}")));
+        });
+        worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
+        worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
+        let message = js_sys::Object::new();
+        for (name, value) in job {
+            js_sys::Reflect::set(&message, &JsValue::from_str(name), value).map_err(describe)?;
+        }
+        let transfer: js_sys::Array = transfer.iter().collect();
+        worker
+            .post_message_with_transfer(&message, &transfer)
+            .map_err(describe)?;
+        Ok(WorkerJob {
+            worker,
+            _on_message: on_message,
+            _on_error: on_error,
+        })
+    }
+}
+
+#[derive(Default)]
+struct Writer {
+    bytes: Vec<u8>,
+}
+
+impl Writer {
+    fn u32(&mut self, value: u32) {
+        self.bytes.extend_from_slice(&value.to_le_bytes());
+    }
+
+    fn u64(&mut self, value: u64) {
+        self.bytes.extend_from_slice(&value.to_le_bytes());
+    }
+
+    fn f64(&mut self, value: f64) {
+        self.bytes.extend_from_slice(&value.to_le_bytes());
+    }
+
+    fn aabb(&mut self, bounds: &Aabb<DVec3>) {
+        for value in bounds
+            .min
+            .to_array()
+            .into_iter()
+            .chain(bounds.max.to_array())
+        {
+            self.f64(value);
+        }
+    }
+
+    fn u32s(&mut self, values: &[u32]) {
+        self.u64(values.len() as u64);
+        self.bytes.reserve(values.len() * 4);
+        for &value in values {
+            self.u32(value);
+        }
+    }
+}
+
+struct Reader<'a> {
+    rest: &'a [u8],
+}
+
+impl<'a> Reader<'a> {
+    fn take(&mut self, count: usize) -> Result<&'a [u8], String> {
+        if self.rest.len() < count {
+            return Err("the packed structure ends early".to_owned());
+        }
+        let (taken, rest) = self.rest.split_at(count);
+        self.rest = rest;
+        Ok(taken)
+    }
+
+    fn array<const N: usize>(&mut self) -> Result<[u8; N], String> {
+        let mut array = [0; N];
+        array.copy_from_slice(self.take(N)?);
+        Ok(array)
+    }
+
+    fn u32(&mut self) -> Result<u32, String> {
+        Ok(u32::from_le_bytes(self.array()?))
+    }
+
+    fn u64(&mut self) -> Result<u64, String> {
+        Ok(u64::from_le_bytes(self.array()?))
+    }
+
+    fn usize(&mut self) -> Result<usize, String> {
+        usize::try_from(self.u64()?).map_err(|_| "a count too large".to_owned())
+    }
+
+    /// A count of items of `item_bytes` each, checked against the bytes left (so a corrupt
+    /// count cannot ask for a huge allocation).
+    fn count(&mut self, item_bytes: usize) -> Result<usize, String> {
+        let count = self.usize()?;
+        if count.saturating_mul(item_bytes) > self.rest.len() {
+            return Err("the packed structure ends early".to_owned());
+        }
+        Ok(count)
+    }
+
+    fn f64(&mut self) -> Result<f64, String> {
+        Ok(f64::from_le_bytes(self.array()?))
+    }
+
+    fn aabb(&mut self) -> Result<Aabb<DVec3>, String> {
+        let mut values = [0.0; 6];
+        for value in &mut values {
+            *value = self.f64()?;
+        }
+        Ok(Aabb::new(
+            DVec3::new(values[0], values[1], values[2]),
+            DVec3::new(values[3], values[4], values[5]),
+        ))
+    }
+
+    fn u32s(&mut self) -> Result<Vec<u32>, String> {
+        let count = self.count(4)?;
+        (0..count).map(|_| self.u32()).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::view3d::mesh_scene::MeshTree;
+    use std::sync::Arc;
+
+    #[test]
+    fn every_structure_comes_back_equal() {
+        let mesh = Arc::new(accelviz_scene::builtin::teapot());
+        for entry in accelviz_core::CATALOGUE {
+            let tree = MeshTree::build(mesh.clone(), entry.structure);
+            let aside = BuiltAside {
+                built: tree.built.clone(),
+                stats: tree.stats,
+                root_triangles: tree.root_triangles,
+                build_millis: tree.build_millis,
+            };
+            let bytes = pack(&aside);
+            assert_eq!(unpack(&bytes).as_ref(), Ok(&aside), "{}", entry.label);
+            // Cut short or padded: an error, never a panic.
+            for cut in [0, 7, 8, 40, bytes.len() / 2, bytes.len() - 1] {
+                assert!(unpack(&bytes[..cut]).is_err(), "cut at {cut}");
+            }
+            let mut padded = bytes.clone();
+            padded.push(0);
+            assert!(unpack(&padded).is_err());
+        }
+        let flat = flat_triangles(&mesh.triangles);
+        assert_eq!(triangles_of(&flat), mesh.triangles);
+    }
+}
