@@ -16,6 +16,8 @@ use accelviz_core::kd::{KdBudgetExceeded, KdLimits, KdNode, KdTree};
 use accelviz_core::{Aabb, Built, LeafReason, Structure, TreeFacts, TreeStats};
 use glam::DVec3;
 
+use super::DrawTriangle;
+
 /// A structure built aside, with what its builder's thread measured of it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BuiltAside {
@@ -27,6 +29,10 @@ pub struct BuiltAside {
     pub root_triangles: usize,
     /// How long the build took.
     pub build_millis: f64,
+    /// The mesh's bounding sphere (centre, radius).
+    pub sphere: (DVec3, f64),
+    /// The mesh as drawn.
+    pub drawn: Vec<DrawTriangle>,
 }
 
 /// Marks packed bytes, and their layout's version.
@@ -115,6 +121,18 @@ pub fn pack(built: &BuiltAside) -> Vec<u8> {
         out.f64(a);
         out.f64(b);
     }
+    let (center, radius) = built.sphere;
+    for value in center.to_array().into_iter().chain([radius]) {
+        out.f64(value);
+    }
+    out.u64(built.drawn.len() as u64);
+    out.bytes.reserve(built.drawn.len() * 40);
+    for triangle in &built.drawn {
+        for value in triangle.corners.iter().flatten() {
+            out.bytes.extend_from_slice(&value.to_le_bytes());
+        }
+        out.bytes.extend_from_slice(&triangle.color);
+    }
     out.bytes
 }
 
@@ -158,15 +176,11 @@ pub fn unpack(bytes: &[u8]) -> Result<BuiltAside, String> {
     };
     let tree = match input.u64()? {
         0 => {
-            let count = input.count(56)?;
-            let mut nodes = Vec::with_capacity(count);
-            for _ in 0..count {
-                nodes.push(BvhNode {
-                    bounds: input.aabb()?,
-                    first: input.u32()?,
-                    count: input.u32()?,
-                });
-            }
+            let nodes = input.items(|node: &[u8; 56]| BvhNode {
+                bounds: aabb_at(node, 0),
+                first: u32_at(node, 48),
+                count: u32_at(node, 52),
+            })?;
             Tree::Bvh(Bvh {
                 nodes,
                 primitive_indices: input.u32s()?,
@@ -174,16 +188,12 @@ pub fn unpack(bytes: &[u8]) -> Result<BuiltAside, String> {
         }
         1 => {
             let bounds = input.aabb()?;
-            let count = input.count(20)?;
-            let mut nodes = Vec::with_capacity(count);
-            for _ in 0..count {
-                nodes.push(KdNode {
-                    split: input.f64()?,
-                    axis: input.u32()?,
-                    first: input.u32()?,
-                    count: input.u32()?,
-                });
-            }
+            let nodes = input.items(|node: &[u8; 20]| KdNode {
+                split: f64_at(node, 0),
+                axis: u32_at(node, 8),
+                first: u32_at(node, 12),
+                count: u32_at(node, 16),
+            })?;
             let primitive_indices = input.u32s()?;
             let depth_limit = input.usize()?;
             let leaves_at_depth_limit = input.usize()?;
@@ -207,13 +217,9 @@ pub fn unpack(bytes: &[u8]) -> Result<BuiltAside, String> {
         }
         other => return Err(format!("unknown tree kind {other}")),
     };
-    let count = input.count(17)?;
-    let mut reasons = Vec::with_capacity(count);
-    for _ in 0..count {
-        let tag = input.take(1)?[0];
-        let (a, b) = (input.f64()?, input.f64()?);
-        reasons.push(match tag {
-            0 => None,
+    let reasons = input.items(|reason: &[u8; 17]| {
+        let (a, b) = (f64_at(reason, 1), f64_at(reason, 9));
+        match reason[0] {
             1 => Some(LeafReason::SmallEnough {
                 count: a as usize,
                 max_leaf_size: b as usize,
@@ -228,9 +234,21 @@ pub fn unpack(bytes: &[u8]) -> Result<BuiltAside, String> {
             }),
             4 => Some(LeafReason::Inseparable { count: a as usize }),
             5 => Some(LeafReason::DepthLimit { limit: a as usize }),
-            _ => return Err(format!("unknown leaf reason {tag}")),
-        });
-    }
+            // 0, or a tag this version does not know: no reason given.
+            _ => None,
+        }
+    })?;
+    let sphere = (
+        DVec3::new(input.f64()?, input.f64()?, input.f64()?),
+        input.f64()?,
+    );
+    let drawn = input.items(|triangle: &[u8; 40]| {
+        let corner = |at: usize| [0, 4, 8].map(|offset| f32_at(triangle, at + offset));
+        DrawTriangle {
+            corners: [corner(0), corner(12), corner(24)],
+            color: [triangle[36], triangle[37], triangle[38], triangle[39]],
+        }
+    })?;
     if !input.rest.is_empty() {
         return Err(format!("{} bytes too many", input.rest.len()));
     }
@@ -244,12 +262,14 @@ pub fn unpack(bytes: &[u8]) -> Result<BuiltAside, String> {
         stats,
         root_triangles,
         build_millis,
+        sphere,
+        drawn,
     })
 }
 
 /// A mesh's triangles as nine numbers each (the corners in order), to send to a worker.
-pub fn flat_triangles(triangles: &[[[f64; 3]; 3]]) -> Vec<f64> {
-    triangles.iter().flatten().flatten().copied().collect()
+pub fn flat_triangles(triangles: &[[[f64; 3]; 3]]) -> &[f64] {
+    triangles.as_flattened().as_flattened()
 }
 
 /// Triangles from [`flat_triangles`]' numbers (a partial triangle at the end is dropped).
@@ -265,6 +285,7 @@ pub mod work {
     use super::{flat_triangles, pack, triangles_of};
     use crate::view3d::mesh_scene::MeshTree;
     use accelviz_core::{Structure, TriangleSet};
+    use accelviz_scene::Mesh;
 
     /// Reads OBJ `bytes` named `name`, telling `progress` how far it got (per mille, only
     /// when that changes); the triangles' corners, nine numbers a triangle.
@@ -278,14 +299,20 @@ pub mod work {
             }
         })
         .map_err(|error| error.to_string())?;
-        Ok(flat_triangles(&mesh.triangles))
+        Ok(flat_triangles(&mesh.triangles).to_vec())
     }
 
     /// Builds the structure named `structure` over `triangles` (nine numbers each), packed.
     pub fn build(triangles: &[f64], structure: &str) -> Result<Vec<u8>, String> {
         let structure = Structure::parse(structure).map_err(|error| error.to_string())?;
-        let triangles = TriangleSet::from_f64(&triangles_of(triangles));
-        Ok(pack(&MeshTree::build_structure(&triangles, structure)))
+        let mesh = Mesh {
+            name: String::new(),
+            triangles: triangles_of(triangles),
+        };
+        let triangles = TriangleSet::from_f64(&mesh.triangles);
+        Ok(pack(&MeshTree::build_structure(
+            &mesh, &triangles, structure,
+        )))
     }
 }
 
@@ -445,10 +472,6 @@ impl<'a> Reader<'a> {
         Ok(array)
     }
 
-    fn u32(&mut self) -> Result<u32, String> {
-        Ok(u32::from_le_bytes(self.array()?))
-    }
-
     fn u64(&mut self) -> Result<u64, String> {
         Ok(u64::from_le_bytes(self.array()?))
     }
@@ -483,9 +506,48 @@ impl<'a> Reader<'a> {
     }
 
     fn u32s(&mut self) -> Result<Vec<u32>, String> {
-        let count = self.count(4)?;
-        (0..count).map(|_| self.u32()).collect()
+        self.items(|bytes: &[u8; 4]| u32::from_le_bytes(*bytes))
     }
+
+    /// A counted run of items of `N` bytes each, each made by `item` (in one pass over the
+    /// bytes: a million-node tree is read in the browser's page, where time is frames).
+    fn items<const N: usize, T>(&mut self, item: impl Fn(&[u8; N]) -> T) -> Result<Vec<T>, String> {
+        let count = self.count(N)?;
+        let bytes = self.take(count * N)?;
+        Ok(bytes
+            .chunks_exact(N)
+            .map(|chunk| item(chunk.try_into().unwrap_or(&[0; N])))
+            .collect())
+    }
+}
+
+fn u32_at(bytes: &[u8], at: usize) -> u32 {
+    let mut array = [0; 4];
+    array.copy_from_slice(&bytes[at..at + 4]);
+    u32::from_le_bytes(array)
+}
+
+fn f32_at(bytes: &[u8], at: usize) -> f32 {
+    let mut array = [0; 4];
+    array.copy_from_slice(&bytes[at..at + 4]);
+    f32::from_le_bytes(array)
+}
+
+fn f64_at(bytes: &[u8], at: usize) -> f64 {
+    let mut array = [0; 8];
+    array.copy_from_slice(&bytes[at..at + 8]);
+    f64::from_le_bytes(array)
+}
+
+fn aabb_at(bytes: &[u8], at: usize) -> Aabb<DVec3> {
+    let corner = |at: usize| {
+        DVec3::new(
+            f64_at(bytes, at),
+            f64_at(bytes, at + 8),
+            f64_at(bytes, at + 16),
+        )
+    };
+    Aabb::new(corner(at), corner(at + 24))
 }
 
 #[cfg(test)]
@@ -504,6 +566,8 @@ mod tests {
                 stats: tree.stats,
                 root_triangles: tree.root_triangles,
                 build_millis: tree.build_millis,
+                sphere: tree.sphere,
+                drawn: tree.drawn.clone(),
             };
             let bytes = pack(&aside);
             assert_eq!(unpack(&bytes).as_ref(), Ok(&aside), "{}", entry.label);

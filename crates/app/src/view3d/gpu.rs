@@ -52,7 +52,7 @@ impl Gpu {
 const GPU_KEY: &str = "accelviz-view3d-gpu";
 
 /// A triangle as drawn: its corners (relative to the scene's origin) and its colour (sRGB).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DrawTriangle {
     /// Corners.
     pub corners: [[f32; 3]; 3],

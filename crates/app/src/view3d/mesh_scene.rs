@@ -100,11 +100,17 @@ fn read_aside(
         &[buffer.into()],
         move |permille| progress.store(permille, Ordering::Relaxed),
         move |outcome| {
-            let mesh = outcome.map(|numbers| Mesh {
-                name: mesh_name,
-                triangles: super::aside::triangles_of(
-                    &js_sys::Float64Array::new(&numbers).to_vec(),
-                ),
+            let mesh = outcome.map(|numbers| {
+                // Copied once, straight into the triangles' memory.
+                let numbers = js_sys::Float64Array::new(&numbers);
+                let mut triangles = vec![[[0.0; 3]; 3]; numbers.length() as usize / 9];
+                numbers
+                    .subarray(0, triangles.len() as u32 * 9)
+                    .copy_to(triangles.as_flattened_mut().as_flattened_mut());
+                Mesh {
+                    name: mesh_name,
+                    triangles,
+                }
             });
             if let Ok(mut slot) = result.lock() {
                 *slot = Some(mesh);
@@ -158,7 +164,7 @@ fn build_in_worker(
     sender: std::sync::mpsc::Sender<MeshTree>,
 ) -> Result<super::aside::worker::WorkerJob, String> {
     use super::aside::{flat_triangles, unpack};
-    let triangles = js_sys::Float64Array::from(&flat_triangles(&mesh.triangles)[..]);
+    let triangles = js_sys::Float64Array::from(flat_triangles(&mesh.triangles));
     let buffer = triangles.buffer();
     super::aside::worker::start(
         &[
@@ -359,13 +365,18 @@ impl MeshTree {
     /// Builds `structure` over `mesh`.
     pub fn build(mesh: Arc<Mesh>, structure: Structure) -> Self {
         let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
-        let built = Self::build_structure(&triangles, structure);
+        let built = Self::build_structure(&mesh, &triangles, structure);
         Self::with_built(mesh, triangles, built)
     }
 
-    /// What a build does with the triangles alone: the structure and what is measured of it
-    /// (the part a Web Worker does in the browser, see [`super::aside`]).
-    pub fn build_structure(triangles: &TriangleSet<DVec3>, structure: Structure) -> BuiltAside {
+    /// What a build does on the builder's thread: the structure over `triangles` (`mesh`'s),
+    /// what is measured of it, and the mesh as drawn (the part a Web Worker does in the
+    /// browser, see [`super::aside`]).
+    pub fn build_structure(
+        mesh: &Mesh,
+        triangles: &TriangleSet<DVec3>,
+        structure: Structure,
+    ) -> BuiltAside {
         let params = BuildParams {
             kd_budget: KD_BUDGET,
             ..BuildParams::default()
@@ -373,16 +384,6 @@ impl MeshTree {
         let started = Instant::now();
         let built = Built::new(structure, triangles, &params, &mut NoBuildObserver);
         let build_millis = started.elapsed().as_secs_f64() * 1e3;
-        BuiltAside {
-            stats: built.stats(0, &params.cost),
-            root_triangles: built.primitives_below(0).len(),
-            built,
-            build_millis,
-        }
-    }
-
-    /// The mesh with a structure built over its `triangles`.
-    pub fn with_built(mesh: Arc<Mesh>, triangles: TriangleSet<DVec3>, aside: BuiltAside) -> Self {
         let sphere = bounding_sphere_of_box(&mesh.bounds());
         let drawn = mesh
             .triangles
@@ -392,6 +393,18 @@ impl MeshTree {
                 color: MESH_COLOR,
             })
             .collect();
+        BuiltAside {
+            stats: built.stats(0, &params.cost),
+            root_triangles: built.primitives_below(0).len(),
+            built,
+            build_millis,
+            sphere,
+            drawn,
+        }
+    }
+
+    /// The mesh with a structure built over its `triangles`.
+    pub fn with_built(mesh: Arc<Mesh>, triangles: TriangleSet<DVec3>, aside: BuiltAside) -> Self {
         Self {
             mesh,
             triangles,
@@ -399,8 +412,8 @@ impl MeshTree {
             stats: aside.stats,
             root_triangles: aside.root_triangles,
             build_millis: aside.build_millis,
-            sphere,
-            drawn,
+            sphere: aside.sphere,
+            drawn: aside.drawn,
             ordered: OnceLock::new(),
         }
     }
