@@ -99,6 +99,7 @@ fn view3d_costs(c: &mut Criterion) {
         b.iter(|| {
             let mesh = accelviz_scene::obj::parse_obj(&text, "bunny.obj").expect("parses");
             MeshTree::build(Arc::new(mesh), structure())
+                .build
                 .stats
                 .node_count
         })
@@ -109,7 +110,8 @@ fn view3d_costs(c: &mut Criterion) {
     let threads = std::thread::available_parallelism().map_or(1, usize::from);
     let key = HeatKey {
         tree: 1,
-        camera: accelviz_app::view3d::Orbit::default().camera(tree.sphere.0, tree.sphere.1),
+        camera: accelviz_app::view3d::Orbit::default()
+            .camera(tree.build.sphere.0, tree.build.sphere.1),
         width: 512,
         height: 512,
     };

@@ -40,7 +40,7 @@ fn the_mesh_and_its_boxes_at_two_depth_ranges_with_and_without_xray() {
 fn a_clicked_pixels_traversal_half_way() {
     let mut harness = lesson_harness_3d(mesh_lesson());
     harness.run();
-    let (center, _) = harness.state().tree().expect("built").sphere;
+    let (center, _) = harness.state().tree().expect("built").build.sphere;
     // A ray from the upper left front into the teapot's body.
     let origin = center + DVec3::new(-2.0, 2.5, 4.0);
     harness.state_mut().pick(origin, center - origin);
@@ -60,7 +60,7 @@ fn a_clicked_pixels_recorded_hit_is_brute_forces() {
     let mut harness = lesson_harness_3d(mesh_lesson());
     harness.run();
     let tree = harness.state().tree().expect("built").clone();
-    let (center, radius) = tree.sphere;
+    let (center, radius) = tree.build.sphere;
     let camera = harness.state().view.orbit.camera(center, radius);
     let (width, height) = (24, 18);
     let mut hits = 0;
@@ -147,9 +147,13 @@ fn heat_map_totals_are_the_counters_of_the_same_rays() {
                     .expect("a ray");
                 // The triangles in file order: the leaf-ordered copy the maps use must not
                 // change what is counted.
-                tree.built
-                    .tree
-                    .trace(&tree.triangles, &ray, &options, &mut stacks, &mut summed);
+                tree.build.built.tree.trace(
+                    &tree.triangles,
+                    &ray,
+                    &options,
+                    &mut stacks,
+                    &mut summed,
+                );
             }
         }
         assert_eq!(
@@ -257,7 +261,10 @@ fn kd_split_planes_clipped_to_their_cells_and_a_selected_cell() {
     let mut harness = lesson_harness_3d(MeshTreeLesson::new(lesson_text("13-kd-3d.ron")));
     harness.run();
     let tree = harness.state().tree().expect("built").clone();
-    assert_eq!(tree.built.structure.family(), accelviz_core::Family::Kd);
+    assert_eq!(
+        tree.build.built.structure.family(),
+        accelviz_core::Family::Kd
+    );
     harness.state_mut().depth_range = (0, 3);
     harness.run();
     let mut failures = Vec::new();
@@ -265,7 +272,7 @@ fn kd_split_planes_clipped_to_their_cells_and_a_selected_cell() {
         failures.push(error.to_string());
     }
     // A deeper node selected: its plane lit, its triangles drawn over the mesh.
-    let node = tree.built.facts.by_depth[5];
+    let node = tree.build.built.facts.by_depth[5];
     harness.state_mut().selected = Some(node);
     harness.run();
     if let Err(error) = harness.try_snapshot("kd_3d_selected_cell") {

@@ -130,7 +130,9 @@ impl HeatLesson {
 
     /// The camera the maps are made with for the current tree.
     fn camera(&self, tree: &MeshTree) -> Camera {
-        self.view.orbit.camera(tree.sphere.0, tree.sphere.1)
+        self.view
+            .orbit
+            .camera(tree.build.sphere.0, tree.build.sphere.1)
     }
 
     /// Remakes the textures when the maps or the counter changed.
@@ -438,7 +440,7 @@ impl Lesson for HeatLesson {
             .trace
             .get_or_make((self.tree.generation(), picked.revision), || {
                 Trace::of(
-                    &tree.built.tree,
+                    &tree.build.built.tree,
                     &tree.triangles,
                     &picked.ray,
                     &options_in(picked.order),
@@ -469,10 +471,10 @@ impl Lesson for HeatLesson {
             "{}: {} triangles; {} {}: {} nodes, SAH cost {}",
             tree.mesh.name.trim_start_matches("builtin:"),
             count(tree.mesh.triangles.len()),
-            tree.built.structure.entry().label,
-            tree.built.structure.family().label(),
-            count(tree.stats.node_count),
-            number(tree.stats.sah_cost)
+            tree.build.built.structure.entry().label,
+            tree.build.built.structure.family().label(),
+            count(tree.build.stats.node_count),
+            number(tree.build.stats.sah_cost)
         ));
         let Some(maps) = &self.maps else { return };
         ui.separator();
@@ -576,8 +578,11 @@ impl Lesson for HeatLesson {
                     ui,
                     image,
                     &Content {
-                        sphere: tree.sphere,
-                        mesh: (revision_of((self.tree.generation(), "mesh")), &tree.drawn),
+                        sphere: tree.build.sphere,
+                        mesh: (
+                            revision_of((self.tree.generation(), "mesh")),
+                            &tree.build.drawn,
+                        ),
                         highlights: (overlay, &highlights),
                         boxes: (0, &[]),
                         segments: (overlay, &segments),

@@ -132,7 +132,7 @@ impl MeshTreeLesson {
 
     /// Whether `node`'s box is drawn.
     fn shows(&self, tree: &MeshTree, node: u32) -> bool {
-        let facts = &tree.built.facts;
+        let facts = &tree.build.built.facts;
         let leaf = facts.is_leaf(node);
         self.depths()
             .contains(&(facts.depth[node as usize] as usize))
@@ -147,7 +147,7 @@ impl MeshTreeLesson {
     /// a box selects.
     fn box_under(&self, tree: &MeshTree, origin: DVec3, direction: DVec3) -> Option<u32> {
         let ray = Ray::try_new(origin, direction).ok()?;
-        let facts = &tree.built.facts;
+        let facts = &tree.build.built.facts;
         (0..facts.node_count() as u32)
             .filter(|&node| self.shows(tree, node))
             .filter_map(|node| {
@@ -165,7 +165,7 @@ impl MeshTreeLesson {
     /// green, missed and skipped ones red, the current step's node bright, the rest faint;
     /// hovered and selected nodes lit.
     fn boxes(&self, tree: &MeshTree, steps: &[Step<f64>], current: Option<u32>) -> Vec<Instance> {
-        let facts = &tree.built.facts;
+        let facts = &tree.build.built.facts;
         let emphasis = (!steps.is_empty()).then(|| traversal_emphasis(steps, facts.node_count()));
         let mut instances = Vec::new();
         for &node in &facts.by_depth {
@@ -190,8 +190,8 @@ impl MeshTreeLesson {
             };
             let bounds = facts.bounds[node as usize];
             instances.push(Instance {
-                a: relative(bounds.min, tree.sphere),
-                b: relative(bounds.max, tree.sphere),
+                a: relative(bounds.min, tree.build.sphere),
+                b: relative(bounds.max, tree.build.sphere),
                 color: [color.r(), color.g(), color.b(), color.a()],
             });
         }
@@ -204,11 +204,11 @@ impl MeshTreeLesson {
         if !self.show_planes {
             return Vec::new();
         }
-        let facts = &tree.built.facts;
+        let facts = &tree.build.built.facts;
         let mut planes: Vec<(f64, Instance)> = Vec::new();
         for node in 0..facts.node_count() as u32 {
             let depth = facts.depth[node as usize] as usize;
-            let Some((axis, position)) = tree.built.plane(node) else {
+            let Some((axis, position)) = tree.build.built.plane(node) else {
                 continue;
             };
             if !self.depths().contains(&depth) {
@@ -227,8 +227,8 @@ impl MeshTreeLesson {
             planes.push((
                 ((low + high) / 2.0 - eye).length(),
                 Instance {
-                    a: relative(low, tree.sphere),
-                    b: relative(high, tree.sphere),
+                    a: relative(low, tree.build.sphere),
+                    b: relative(high, tree.build.sphere),
                     color: [color.r(), color.g(), color.b(), alpha],
                 },
             ));
@@ -242,10 +242,11 @@ impl MeshTreeLesson {
         let Some(node) = self.selected.filter(|&node| node != 0) else {
             return Vec::new();
         };
-        tree.built
+        tree.build
+            .built
             .primitives_below(node)
             .into_iter()
-            .filter_map(|primitive| tree.drawn.get(primitive as usize))
+            .filter_map(|primitive| tree.build.drawn.get(primitive as usize))
             .map(|triangle| DrawTriangle {
                 color: [80, 170, 255, 255],
                 ..*triangle
@@ -290,8 +291,8 @@ impl MeshTreeLesson {
                 .clicked()
                 && let (Some(tree), Some(node)) = (self.tree.get(), self.selected)
             {
-                let bounds = tree.built.facts.bounds[node as usize];
-                let (center, radius) = tree.sphere;
+                let bounds = tree.build.built.facts.bounds[node as usize];
+                let (center, radius) = tree.build.sphere;
                 let (box_center, box_radius) = bounding_sphere_of_box(&bounds);
                 self.view.orbit.pan = (box_center - center) / radius;
                 self.view.orbit.distance = (2.8 * box_radius / radius).max(0.05);
@@ -306,11 +307,11 @@ impl MeshTreeLesson {
     fn node_ui(&mut self, ui: &mut egui::Ui, tree: &MeshTree) {
         let Some(node) = self
             .selected
-            .filter(|&node| (node as usize) < tree.built.facts.node_count())
+            .filter(|&node| (node as usize) < tree.build.built.facts.node_count())
         else {
             return;
         };
-        let facts = &tree.built.facts;
+        let facts = &tree.build.built.facts;
         let bounds = facts.bounds[node as usize];
         ui.heading(format!("Selected: {}", tree.node_name(node)));
         let kind = if facts.is_leaf(node) {
@@ -321,7 +322,7 @@ impl MeshTreeLesson {
         ui.label(format!(
             "{kind} at depth {}; {} from {} to {}, surface area {}",
             facts.depth[node as usize],
-            match tree.built.structure.family() {
+            match tree.build.built.structure.family() {
                 Family::Bvh => "box",
                 Family::Kd => "cell",
             },
@@ -333,10 +334,11 @@ impl MeshTreeLesson {
             *self
                 .node_summary
                 .get_or_make((self.tree.generation(), node), || match node {
-                    0 => (tree.root_triangles, tree.stats.sah_cost),
+                    0 => (tree.build.root_triangles, tree.build.stats.sah_cost),
                     _ => (
-                        tree.built.primitives_below(node).len(),
-                        tree.built
+                        tree.build.built.primitives_below(node).len(),
+                        tree.build
+                            .built
                             .stats(node, &BuildParams::default().cost)
                             .sah_cost,
                     ),
@@ -356,7 +358,7 @@ impl MeshTreeLesson {
         let Some(node) = state.current.and_then(|step| step_node(&step)) else {
             return;
         };
-        let bounds: Aabb<DVec3> = tree.built.facts.bounds[node as usize];
+        let bounds: Aabb<DVec3> = tree.build.built.facts.bounds[node as usize];
         let record = slab_record(&bounds, &picked.ray, false);
         ui.separator();
         ui.label(egui::RichText::new(format!("Slab test of {}", tree.node_name(node))).strong());
@@ -390,7 +392,7 @@ impl Lesson for MeshTreeLesson {
         let Some(tree) = self.tree.get().cloned() else {
             return;
         };
-        let nodes = tree.built.facts.node_count() as u32;
+        let nodes = tree.build.built.facts.node_count() as u32;
         if self.selected.is_some_and(|node| node >= nodes) {
             self.selected = Some(0);
         }
@@ -407,7 +409,7 @@ impl Lesson for MeshTreeLesson {
             self.trace
                 .get_or_make((self.tree.generation(), picked.revision, order), || {
                     Trace::of(
-                        &tree.built.tree,
+                        &tree.build.built.tree,
                         &tree.triangles,
                         &picked.ray,
                         &options_in(order),
@@ -434,7 +436,7 @@ impl Lesson for MeshTreeLesson {
             ui.label("Building…");
             return;
         };
-        let stats = &tree.stats;
+        let stats = &tree.build.stats;
         // The build time only on hover: it differs from run to run, the rest does not.
         ui.label(format!(
             "{}: {} triangles; {} nodes, {} leaves, depth {}, SAH cost {}",
@@ -445,8 +447,9 @@ impl Lesson for MeshTreeLesson {
             stats.max_depth,
             number(stats.sah_cost),
         ))
-        .on_hover_text(format!("built in {} ms", number(tree.build_millis)));
+        .on_hover_text(format!("built in {} ms", number(tree.build.build_millis)));
         if let Some(limits) = tree
+            .build
             .built
             .tree
             .kd_limits()
@@ -454,7 +457,7 @@ impl Lesson for MeshTreeLesson {
         {
             ui.colored_label(palette::MISS, format!("kD budget: {limits}"));
         }
-        let max_depth = tree.built.facts.max_depth();
+        let max_depth = tree.build.built.facts.max_depth();
         depth_range_ui(ui, &mut self.depth_range, max_depth);
         ui.separator();
         ui.heading("Tree");
@@ -465,7 +468,7 @@ impl Lesson for MeshTreeLesson {
         let label = |node: u32| tree.node_name(node);
         diagram_ui(
             ui,
-            &tree.built.facts,
+            &tree.build.built.facts,
             &label,
             shown,
             &mut self.hovered,
@@ -533,7 +536,11 @@ impl Lesson for MeshTreeLesson {
             })
             .clone();
         self.drawn_overlay = drawn_overlay;
-        let eye = self.view.orbit.camera(tree.sphere.0, tree.sphere.1).eye;
+        let eye = self
+            .view
+            .orbit
+            .camera(tree.build.sphere.0, tree.build.sphere.1)
+            .eye;
         let planes_revision = revision_of((
             self.tree.generation(),
             self.depth_range,
@@ -552,8 +559,11 @@ impl Lesson for MeshTreeLesson {
             ui,
             size,
             &Content {
-                sphere: tree.sphere,
-                mesh: (revision_of((self.tree.generation(), "mesh")), &tree.drawn),
+                sphere: tree.build.sphere,
+                mesh: (
+                    revision_of((self.tree.generation(), "mesh")),
+                    &tree.build.drawn,
+                ),
                 highlights: (overlay_revision, &overlay.0),
                 boxes: (boxes_revision, &boxes),
                 segments: (overlay_revision, &overlay.1),

@@ -18,20 +18,23 @@ use glam::DVec3;
 
 use super::DrawTriangle;
 
-/// A structure built aside, with what its builder's thread measured of it.
+/// What building a structure over a mesh makes, on the builder's thread (a worker thread, or
+/// a Web Worker whence it comes [`pack`]ed): the structure, what is measured of it, and the
+/// mesh as drawn.
 #[derive(Clone, Debug, PartialEq)]
-pub struct BuiltAside {
+pub struct MeshBuild {
     /// The tree and its facts.
     pub built: Built<DVec3>,
     /// Its statistics.
     pub stats: TreeStats,
-    /// Triangles under the root.
+    /// How many triangles lie under the root (the inspector opens on it; counted here, since
+    /// a million-triangle tree takes tens of milliseconds).
     pub root_triangles: usize,
     /// How long the build took.
     pub build_millis: f64,
-    /// The mesh's bounding sphere (centre, radius).
+    /// The mesh's bounding sphere (centre, radius): the view's centre and size.
     pub sphere: (DVec3, f64),
-    /// The mesh as drawn.
+    /// The mesh as drawn (relative to the sphere, see [`super::relative`]).
     pub drawn: Vec<DrawTriangle>,
 }
 
@@ -39,7 +42,7 @@ pub struct BuiltAside {
 const MAGIC: &[u8; 8] = b"accelvz1";
 
 /// `built` as bytes (little-endian).
-pub fn pack(built: &BuiltAside) -> Vec<u8> {
+pub fn pack(built: &MeshBuild) -> Vec<u8> {
     let mut out = Writer::default();
     out.bytes.extend_from_slice(MAGIC);
     let name = built.built.structure.name();
@@ -137,7 +140,7 @@ pub fn pack(built: &BuiltAside) -> Vec<u8> {
 }
 
 /// What [`pack`] made, back; or why the bytes are not that.
-pub fn unpack(bytes: &[u8]) -> Result<BuiltAside, String> {
+pub fn unpack(bytes: &[u8]) -> Result<MeshBuild, String> {
     let mut input = Reader { rest: bytes };
     if input.take(MAGIC.len())? != MAGIC {
         return Err("not a structure packed by this version of accelviz".to_owned());
@@ -253,7 +256,7 @@ pub fn unpack(bytes: &[u8]) -> Result<BuiltAside, String> {
         return Err(format!("{} bytes too many", input.rest.len()));
     }
     let facts = TreeFacts::with_leaf_reasons(&tree, reasons);
-    Ok(BuiltAside {
+    Ok(MeshBuild {
         built: Built {
             structure,
             tree,
@@ -561,16 +564,8 @@ mod tests {
         let mesh = Arc::new(accelviz_scene::builtin::teapot());
         for entry in accelviz_core::CATALOGUE {
             let tree = MeshTree::build(mesh.clone(), entry.structure);
-            let aside = BuiltAside {
-                built: tree.built.clone(),
-                stats: tree.stats,
-                root_triangles: tree.root_triangles,
-                build_millis: tree.build_millis,
-                sphere: tree.sphere,
-                drawn: tree.drawn.clone(),
-            };
-            let bytes = pack(&aside);
-            assert_eq!(unpack(&bytes).as_ref(), Ok(&aside), "{}", entry.label);
+            let bytes = pack(&tree.build);
+            assert_eq!(unpack(&bytes).as_ref(), Ok(&tree.build), "{}", entry.label);
             // Cut short or padded: an error, never a panic.
             for cut in [0, 7, 8, 40, bytes.len() / 2, bytes.len() - 1] {
                 assert!(unpack(&bytes[..cut]).is_err(), "cut at {cut}");
@@ -580,6 +575,6 @@ mod tests {
             assert!(unpack(&padded).is_err());
         }
         let flat = flat_triangles(&mesh.triangles);
-        assert_eq!(triangles_of(&flat), mesh.triangles);
+        assert_eq!(triangles_of(flat), mesh.triangles);
     }
 }

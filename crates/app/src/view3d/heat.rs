@@ -195,7 +195,8 @@ fn trace_next_band(shared: &Shared, tree: &MeshTree, key: &HeatKey) -> bool {
             rows.start,
             &mut out,
             |ray, counters| {
-                tree.built
+                tree.build
+                    .built
                     .tree
                     .trace(ordered, ray, &options, &mut stacks, counters);
             },

@@ -6,12 +6,12 @@ use std::sync::{Arc, Mutex, OnceLock};
 
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::camera::bounding_sphere_of_box;
-use accelviz_core::{Built, LeafOrdered, NoBuildObserver, Structure, TreeStats, TriangleSet};
+use accelviz_core::{Built, LeafOrdered, NoBuildObserver, Structure, TriangleSet};
 use accelviz_scene::Mesh;
 use glam::DVec3;
 use web_time::Instant;
 
-use super::aside::BuiltAside;
+use super::aside::MeshBuild;
 use super::{DrawTriangle, relative};
 use crate::background::Derived;
 use crate::stage::KD_BUDGET;
@@ -194,7 +194,7 @@ fn build_in_worker(
                 "accelviz: {} built aside over {} triangles in {:.0} ms, taken in on the page in {:.0} ms",
                 structure.name(),
                 tree.mesh.triangles.len(),
-                tree.build_millis,
+                tree.build.build_millis,
                 started.elapsed().as_secs_f64() * 1e3
             );
             let _ = sender.send(tree);
@@ -343,19 +343,8 @@ pub struct MeshTree {
     pub mesh: Arc<Mesh>,
     /// Its triangles as the core traces them.
     pub triangles: TriangleSet<DVec3>,
-    /// The tree and its facts.
-    pub built: Built<DVec3>,
-    /// Its statistics.
-    pub stats: TreeStats,
-    /// How many triangles lie under the root (the inspector opens on it; counted on the
-    /// builder's thread, since a million-triangle tree takes tens of milliseconds).
-    pub root_triangles: usize,
-    /// How long the build took.
-    pub build_millis: f64,
-    /// The mesh's bounding sphere: the view's centre and size.
-    pub sphere: (DVec3, f64),
-    /// The mesh as drawn (relative to the sphere, see [`relative`]).
-    pub drawn: Vec<DrawTriangle>,
+    /// The structure, what was measured of it, and the mesh as drawn.
+    pub build: MeshBuild,
     /// The triangles in the tree's leaf order, made when first asked for (only the heat
     /// maps trace that many rays).
     ordered: OnceLock<LeafOrdered<TriangleSet<DVec3>>>,
@@ -376,7 +365,7 @@ impl MeshTree {
         mesh: &Mesh,
         triangles: &TriangleSet<DVec3>,
         structure: Structure,
-    ) -> BuiltAside {
+    ) -> MeshBuild {
         let params = BuildParams {
             kd_budget: KD_BUDGET,
             ..BuildParams::default()
@@ -393,7 +382,7 @@ impl MeshTree {
                 color: MESH_COLOR,
             })
             .collect();
-        BuiltAside {
+        MeshBuild {
             stats: built.stats(0, &params.cost),
             root_triangles: built.primitives_below(0).len(),
             built,
@@ -404,16 +393,11 @@ impl MeshTree {
     }
 
     /// The mesh with a structure built over its `triangles`.
-    pub fn with_built(mesh: Arc<Mesh>, triangles: TriangleSet<DVec3>, aside: BuiltAside) -> Self {
+    pub fn with_built(mesh: Arc<Mesh>, triangles: TriangleSet<DVec3>, build: MeshBuild) -> Self {
         Self {
             mesh,
             triangles,
-            built: aside.built,
-            stats: aside.stats,
-            root_triangles: aside.root_triangles,
-            build_millis: aside.build_millis,
-            sphere: aside.sphere,
-            drawn: aside.drawn,
+            build,
             ordered: OnceLock::new(),
         }
     }
@@ -421,7 +405,7 @@ impl MeshTree {
     /// The triangles in the tree's leaf order, for tracing many rays fast.
     pub fn ordered(&self) -> &LeafOrdered<TriangleSet<DVec3>> {
         self.ordered
-            .get_or_init(|| self.built.tree.leaf_ordered(&self.triangles))
+            .get_or_init(|| self.build.built.tree.leaf_ordered(&self.triangles))
     }
 
     /// Asks `derived` for `structure` built over the scene's mesh (on a worker thread on
@@ -461,7 +445,7 @@ impl MeshTree {
 
     /// A node's name: its path from the root (`root`, `LRL`).
     pub fn node_name(&self, node: u32) -> String {
-        match self.built.facts.path_to(node) {
+        match self.build.built.facts.path_to(node) {
             path if path.is_empty() => "the root".to_owned(),
             path => format!("node {path}"),
         }

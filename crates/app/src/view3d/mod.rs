@@ -340,7 +340,7 @@ pub fn trace_overlay(
     let mut highlights = Vec::new();
     for step in steps {
         if let accelviz_core::Step::PrimitiveTested { primitive, .. } = *step
-            && let Some(triangle) = tree.drawn.get(primitive as usize)
+            && let Some(triangle) = tree.build.drawn.get(primitive as usize)
         {
             highlights.push(DrawTriangle {
                 color: [255, 170, 30, 255],
@@ -349,20 +349,20 @@ pub fn trace_overlay(
         }
     }
     if let Some((primitive, _)) = closest
-        && let Some(triangle) = tree.drawn.get(primitive as usize)
+        && let Some(triangle) = tree.build.drawn.get(primitive as usize)
     {
         highlights.push(DrawTriangle {
             color: [60, 220, 90, 255],
             ..*triangle
         });
     }
-    let (center, radius) = tree.sphere;
+    let (center, radius) = tree.build.sphere;
     let far = (ray.origin - center).length() + radius;
     let end = closest.map_or(far / ray.direction.length(), |(_, t)| t);
     let color = crate::canvas::palette::RAY;
     let segments = vec![Instance {
-        a: relative(ray.origin, tree.sphere),
-        b: relative(ray.at(end), tree.sphere),
+        a: relative(ray.origin, tree.build.sphere),
+        b: relative(ray.at(end), tree.build.sphere),
         color: [color.r(), color.g(), color.b(), 255],
     }];
     (highlights, segments)
