@@ -33,6 +33,11 @@ fn the_mesh_and_its_boxes_at_two_depth_ranges_with_and_without_xray() {
     check(&mut harness, "mesh_3d_depths_3_4_xray");
     harness.state_mut().hidden_edges = HiddenEdges::Hidden;
     check(&mut harness, "mesh_3d_depths_3_4_hidden");
+    // The triangles' edges, without boxes.
+    harness.state_mut().show_inner = false;
+    harness.state_mut().show_leaves = false;
+    harness.state_mut().wireframe = true;
+    check(&mut harness, "mesh_3d_wireframe");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 

@@ -588,6 +588,7 @@ impl Lesson for HeatLesson {
                         segments: (overlay, &segments),
                         quads: (0, &[]),
                         hidden_edges: HiddenEdges::Dimmed,
+                        wireframe: false,
                     },
                 );
                 ui.label(

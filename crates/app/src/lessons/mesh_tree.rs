@@ -56,6 +56,8 @@ pub struct MeshTreeLesson {
     pub show_planes: bool,
     /// How box edges behind the surface are drawn.
     pub hidden_edges: HiddenEdges,
+    /// Whether the mesh's triangle edges are drawn.
+    pub wireframe: bool,
     hovered: Option<u32>,
     /// The node the inspector shows.
     pub selected: Option<u32>,
@@ -93,6 +95,7 @@ impl MeshTreeLesson {
             show_leaves: structure.family() == Family::Bvh,
             show_planes: true,
             hidden_edges: HiddenEdges::Dimmed,
+            wireframe: false,
             hovered: None,
             selected: Some(0),
             drawn_boxes: Cached::default(),
@@ -279,6 +282,8 @@ impl MeshTreeLesson {
                         "Each inner node's plane, clipped to its cell, coloured by axis",
                     );
             }
+            ui.checkbox(&mut self.wireframe, "wireframe")
+                .on_hover_text("The mesh's triangle edges drawn over it");
             ui.selectable_value(&mut self.hidden_edges, HiddenEdges::Dimmed, "x-ray")
                 .on_hover_text("Box edges behind the surface drawn faint");
             ui.selectable_value(&mut self.hidden_edges, HiddenEdges::Hidden, "hide hidden")
@@ -569,6 +574,7 @@ impl Lesson for MeshTreeLesson {
                 segments: (overlay_revision, &overlay.1),
                 quads: (planes_revision, &planes),
                 hidden_edges: self.hidden_edges,
+                wireframe: self.wireframe,
             },
         );
         if let Some((origin, direction)) = response.hovered {

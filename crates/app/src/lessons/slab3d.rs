@@ -485,6 +485,7 @@ impl Lesson for Slab3dLesson {
                 segments: (key, &segments),
                 quads: (key, &planes),
                 hidden_edges: HiddenEdges::Dimmed,
+                wireframe: false,
             },
         );
         self.drag(ui, &response);

@@ -19,7 +19,7 @@ const MESH_VERTEX_BYTES: u64 = 20;
 const TRIANGLE_BYTES: u64 = 3 * MESH_VERTEX_BYTES;
 /// Bytes of one instance: a (3 × f32), b (3 × f32), colour (4 × u8).
 const INSTANCE_BYTES: u64 = 28;
-const UNIFORM_BYTES: u64 = 96;
+const UNIFORM_BYTES: u64 = 112;
 
 /// The GPU, as eframe made it, and the 3D view's pipelines (made when first needed, so the 2D
 /// lessons never wait for them).
@@ -103,6 +103,8 @@ pub struct Scene3d<'a> {
     pub line_width: f32,
     /// How box edges behind surfaces are drawn.
     pub hidden_edges: HiddenEdges,
+    /// Whether the mesh's triangle edges are drawn.
+    pub wireframe: bool,
     /// Background colour (sRGB).
     pub background: [u8; 3],
 }
@@ -365,6 +367,7 @@ impl ViewGpu {
             size,
             scene.line_width.to_bits(),
             scene.hidden_edges,
+            scene.wireframe,
             scene.background,
         ));
         if self.drawn == Some(frame) {
@@ -439,6 +442,10 @@ impl ViewGpu {
             light.y,
             light.z,
             0.35,
+            f32::from(u8::from(scene.wireframe)),
+            0.0,
+            0.0,
+            0.0,
         ] {
             uniforms.extend_from_slice(&value.to_le_bytes());
         }
@@ -735,7 +742,7 @@ impl Pipelines {
         };
         use wgpu::CompareFunction::{Greater, Less, LessEqual};
         Self {
-            mesh: pipeline("mesh", "vs_mesh", "fs_color", &mesh_layout, true, Less),
+            mesh: pipeline("mesh", "vs_mesh", "fs_mesh", &mesh_layout, true, Less),
             highlight: pipeline(
                 "highlight",
                 "vs_mesh",

@@ -178,6 +178,8 @@ pub struct Content<'a> {
     pub quads: (u64, &'a [Instance]),
     /// How box edges behind surfaces are drawn.
     pub hidden_edges: HiddenEdges,
+    /// Whether the mesh's triangle edges are drawn over it.
+    pub wireframe: bool,
 }
 
 /// Line width in points: readable on a projector.
@@ -240,6 +242,7 @@ impl View3d {
                     quads: content.quads,
                     line_width: LINE_WIDTH_POINTS * pixels_per_point,
                     hidden_edges: content.hidden_edges,
+                    wireframe: content.wireframe,
                     background: [246, 246, 246],
                 };
                 let texture = self.gpu.draw(&gpu, pixels, &scene);

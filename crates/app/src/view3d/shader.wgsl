@@ -10,6 +10,8 @@ struct Uniforms {
     viewport: vec4<f32>,
     // Direction towards the light (the eye), and the ambient share.
     light: vec4<f32>,
+    // x: 1 to draw the mesh's triangle edges (wireframe), 0 not; the rest unused.
+    style: vec4<f32>,
 };
 
 @group(0) @binding(0) var<uniform> uniforms: Uniforms;
@@ -27,16 +29,23 @@ fn linear_to_srgb(c: vec3<f32>) -> vec3<f32> {
 struct MeshOut {
     @builtin(position) position: vec4<f32>,
     @location(0) color: vec4<f32>,
+    // The corner's barycentric coordinates: (1,0,0), (0,1,0), (0,0,1), so a fragment's
+    // smallest one says how near it lies to an edge.
+    @location(1) corner: vec3<f32>,
 };
 
 @vertex
 fn vs_mesh(
+    @builtin(vertex_index) index: u32,
     @location(0) position: vec3<f32>,
     @location(1) normal: vec4<f32>,
     @location(2) color: vec4<f32>,
 ) -> MeshOut {
     var out: MeshOut;
     out.position = uniforms.view_proj * vec4<f32>(position, 1.0);
+    // Triangles are drawn without an index buffer: vertex 3k + i is corner i.
+    let corner = index % 3u;
+    out.corner = vec3<f32>(f32(corner == 0u), f32(corner == 1u), f32(corner == 2u));
     // Two-sided: a triangle seen from behind is lit like its front.
     let facing = abs(dot(normalize(normal.xyz), uniforms.light.xyz));
     let shade = uniforms.light.w + (1.0 - uniforms.light.w) * facing;
@@ -47,6 +56,17 @@ fn vs_mesh(
 @fragment
 fn fs_color(in: MeshOut) -> @location(0) vec4<f32> {
     return in.color;
+}
+
+// The mesh, with its triangles' edges drawn a pixel wide over it when asked (wireframe): the
+// distance to the nearest edge in pixels is the smallest barycentric coordinate over its
+// change per pixel (a screen-space derivative, which WebGL2 has too).
+@fragment
+fn fs_mesh(in: MeshOut) -> @location(0) vec4<f32> {
+    let pixels = in.corner / max(fwidth(in.corner), vec3<f32>(1e-6));
+    let edge = 1.0 - smoothstep(0.5, 1.5, min(pixels.x, min(pixels.y, pixels.z)));
+    let line = vec3<f32>(0.16, 0.2, 0.28);
+    return vec4<f32>(mix(in.color.rgb, line, edge * uniforms.style.x * 0.85), in.color.a);
 }
 
 // ---- lines and quads from instances (a, b, colour) ----
