@@ -16,8 +16,11 @@ use super::mesh_scene::MeshTree;
 
 /// Rows traced as one piece of work.
 const BAND_ROWS: usize = 8;
-/// How long the browser traces in one frame before it draws again.
-const BROWSER_SLICE_MS: f64 = 25.0;
+/// How long the browser traces in one frame at least, and at most: a slice as long as the
+/// rest of the frame took, within these, so tracing gets about half the page's time whether
+/// the page draws in 5 ms (a GPU) or in 300 ms (a software renderer, where 25 ms slices made
+/// 576×528 maps take 10 s), and the page still answers within a tenth of a second.
+const BROWSER_SLICE_MS: std::ops::RangeInclusive<f64> = 25.0..=100.0;
 
 /// The two traversal orders a heat map is made for, in the order of [`HeatMaps::maps`].
 pub const ORDERS: [Order; 2] = [Order::NearFirst, Order::FileOrder];
@@ -52,6 +55,8 @@ pub struct HeatJob {
     shared: Arc<Shared>,
     /// The browser traces on the UI thread, in slices; the desktop on workers.
     on_ui_thread: bool,
+    /// When the last slice ended (the browser): the time since is what the page took to draw.
+    last_slice: Mutex<Option<Instant>>,
 }
 
 /// A snapshot of a job's maps.
@@ -84,6 +89,7 @@ impl HeatJob {
             tree,
             shared,
             on_ui_thread: threads == 0,
+            last_slice: Mutex::new(None),
         };
         if threads > 0 {
             let (shared, tree) = (job.shared.clone(), job.tree.clone());
@@ -114,11 +120,18 @@ impl HeatJob {
             return;
         }
         let slice = Instant::now();
+        let Ok(mut last_slice) = self.last_slice.lock() else {
+            return;
+        };
+        let drawing_ms =
+            last_slice.map_or(0.0, |ended| slice.duration_since(ended).as_secs_f64() * 1e3);
+        let budget_ms = drawing_ms.clamp(*BROWSER_SLICE_MS.start(), *BROWSER_SLICE_MS.end());
         while trace_next_band(&self.shared, &self.tree, &self.key) {
-            if slice.elapsed().as_secs_f64() * 1e3 > BROWSER_SLICE_MS {
+            if slice.elapsed().as_secs_f64() * 1e3 > budget_ms {
                 break;
             }
         }
+        *last_slice = Some(Instant::now());
     }
 
     /// Traces every band left, here and now (tests; a caller that must have the maps).
