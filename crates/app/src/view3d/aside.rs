@@ -577,4 +577,32 @@ mod tests {
         let flat = flat_triangles(&mesh.triangles);
         assert_eq!(triangles_of(flat), mesh.triangles);
     }
+
+    #[test]
+    fn the_workers_read_and_build_are_the_apps() {
+        let mesh = accelviz_scene::builtin::teapot();
+        let text = accelviz_scene::obj::obj_text(&mesh);
+        let heard = std::cell::RefCell::new(Vec::new());
+        let numbers = work::read_obj("teapot.obj", text.as_bytes(), &|permille| {
+            heard.borrow_mut().push(permille)
+        })
+        .expect("reads");
+        assert_eq!(triangles_of(&numbers), mesh.triangles);
+        let heard = heard.into_inner();
+        assert!(heard.windows(2).all(|pair| pair[0] < pair[1]), "{heard:?}");
+
+        let structure = Structure::parse("kd:sah").expect("in the catalogue");
+        let mut from_worker =
+            unpack(&work::build(&numbers, &structure.name()).expect("builds")).expect("unpacks");
+        let on_page = MeshTree::build(Arc::new(mesh), structure).build;
+        from_worker.build_millis = on_page.build_millis;
+        assert_eq!(from_worker, on_page);
+
+        // Bad input: a message naming the file and line, or the structure.
+        let problem = work::read_obj("bad.obj", b"v 0 0 0\nv 1 x 0\n", &|_| {}).unwrap_err();
+        assert!(problem.contains("bad.obj:2"), "{problem}");
+        let problem = work::read_obj("binary.obj", &[0xff, 0xfe, 0], &|_| {}).unwrap_err();
+        assert!(problem.contains("binary.obj: not a text file"), "{problem}");
+        assert!(work::build(&numbers, "bvh:nonsense").is_err());
+    }
 }
