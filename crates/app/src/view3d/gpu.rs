@@ -110,9 +110,11 @@ pub struct Scene3d<'a> {
 }
 
 /// Most bytes one layer sends to the GPU in a frame. A million-triangle mesh is 60 MB of
-/// vertices; made and copied in one frame that frame took 90 ms of CPU time (`benches/view3d.rs`
-/// with `ACCELVIZ_BENCH_MILLION`). In pieces it goes up over a few frames, and no frame waits on
-/// it; the view is drawn once it is all there.
+/// vertices; made and copied at once, they stalled the frame the mesh arrived in (with the
+/// inspector's recount, since fixed, it took 215 ms: `benches/view3d.rs` with
+/// `ACCELVIZ_BENCH_MILLION`). In pieces they go up over a few frames and no frame waits on
+/// them; the view keeps its last picture until all are there (drawing each part would cost a
+/// software GPU as much as drawing the whole).
 const UPLOAD_BYTES_PER_FRAME: u64 = 6 << 20;
 
 /// A GPU buffer of one layer: the revision it holds, and how much of it has arrived.
@@ -325,8 +327,8 @@ impl ViewGpu {
         self.readback.is_some()
     }
 
-    /// Whether every layer of the last frame is on the GPU (if not, the view draws what has
-    /// arrived, and needs another frame for the rest).
+    /// Whether every layer of the last frame is on the GPU (if not, the view keeps its last
+    /// picture, and needs another frame for the rest).
     pub fn uploaded(&self) -> bool {
         [
             &self.mesh,

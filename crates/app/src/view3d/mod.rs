@@ -281,7 +281,7 @@ impl View3d {
     /// file comes out of [`View3d::take_export`] once the GPU has handed the picture back.
     pub fn save_button(&mut self, ui: &mut egui::Ui) {
         let pending = self.gpu.picture_pending();
-        // A mesh still on its way to the GPU would be saved half drawn.
+        // While a mesh is on its way to the GPU the view shows the picture before it.
         let ready = self.gpu.uploaded();
         if ui
             .add_enabled(!pending && ready, egui::Button::new("save view as PNG"))
