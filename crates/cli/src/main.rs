@@ -8,6 +8,7 @@ mod bench;
 mod heatmap;
 mod json;
 mod plot;
+mod quiz;
 mod sah;
 mod slab;
 mod spec;
@@ -49,6 +50,9 @@ enum Command {
     /// The cost of every pixel of the benchmark's camera (nodes visited, box tests or
     /// primitive tests) as a PNG, with every pixel's counts as CSV if asked.
     Heatmap(heatmap::HeatmapArgs),
+    /// Quiz questions made from a seed, with their answers: as text to print, or as JSON
+    /// (one object per line). The app's quiz mode asks the same questions.
+    Quiz(quiz::QuizArgs),
 }
 
 /// Traversal order.
@@ -247,6 +251,7 @@ fn run(cli: Cli) -> Result<String> {
         Some(Command::Sah(args)) => sah::run(&args),
         Some(Command::Tradeoff(args)) => tradeoff::run(&args),
         Some(Command::Heatmap(args)) => heatmap::run(&args),
+        Some(Command::Quiz(args)) => quiz::run(&args),
         None => bench::run(&bench::BenchArgs::default_run()),
     }
 }

@@ -720,3 +720,105 @@ fn heatmap_bad_input_leaves_no_file() {
         assert!(left.is_empty(), "{extra:?} left {left:?}");
     }
 }
+
+#[test]
+fn quiz_json_has_the_fixed_fields_of_each_kind() {
+    let fields: &[(&str, &[&str])] = &[
+        ("slab", &["box", "ray"]),
+        ("first-hit", &["shapes", "ray"]),
+        ("visit-order", &["shapes", "ray", "order", "nodes"]),
+        (
+            "sah-split",
+            &[
+                "shapes",
+                "node_box",
+                "node_shapes",
+                "axis",
+                "cost",
+                "candidates",
+            ],
+        ),
+    ];
+    for (kind, kind_fields) in fields {
+        let output = cli(&[
+            "quiz", "--kind", kind, "--seed", "3", "--count", "4", "--json",
+        ]);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let text = stdout(&output);
+        assert_eq!(text.lines().count(), 4, "{text}");
+        for (index, line) in text.lines().enumerate() {
+            let question: serde_json::Value = serde_json::from_str(line).unwrap();
+            assert_eq!(question["kind"], *kind);
+            assert_eq!(question["seed"].as_u64(), Some(3 + index as u64));
+            assert!(question["prompt"].is_string() && question.get("answer").is_some());
+            for field in *kind_fields {
+                assert!(
+                    question.get(*field).is_some(),
+                    "{kind} lacks {field}: {line}"
+                );
+            }
+        }
+    }
+    // Each kind's answer fields.
+    let answer = |kind: &str| {
+        let output = cli(&[
+            "quiz", "--kind", kind, "--seed", "1", "--json", "--level", "hard",
+        ]);
+        let question: serde_json::Value = serde_json::from_str(stdout(&output).trim()).unwrap();
+        question["answer"].clone()
+    };
+    let slab = answer("slab");
+    for field in ["hit", "t_enter", "t_exit", "enter_axis"] {
+        assert!(slab.get(field).is_some(), "{slab}");
+    }
+    assert!(answer("first-hit").get("shape").is_some());
+    assert!(answer("visit-order")["visited"].is_array());
+    assert!(answer("sah-split")["costs"].is_array());
+}
+
+#[test]
+fn quiz_text_is_for_print_and_mixes_kinds() {
+    let output = cli(&["quiz", "--seed", "7", "--count", "8"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = stdout(&output);
+    assert_eq!(
+        text.matches("Answer:").count(),
+        text.matches("Why:").count()
+    );
+    for kind in ["slab", "first-hit", "visit-order", "sah-split", "lecture"] {
+        assert!(
+            text.contains(&format!("[{kind} · seed")),
+            "{kind} missing:\n{text}"
+        );
+    }
+    // The same arguments, the same quiz.
+    assert_eq!(stdout(&cli(&["quiz", "--seed", "7", "--count", "8"])), text);
+}
+
+#[test]
+fn quiz_errors_name_the_valid_choices() {
+    assert_fails(
+        &["quiz", "--kind", "slabs", "--seed", "1"],
+        "unknown question kind 'slabs'; the kinds are: slab, first-hit, visit-order",
+    );
+    assert_fails(
+        &["quiz", "--seed", "1", "--level", "expert"],
+        "the levels are: easy, medium, hard",
+    );
+    assert_fails(
+        &["quiz", "--seed", "-1"],
+        "--seed: '-1' is not a whole number",
+    );
+    assert_fails(
+        &["quiz", "--seed", "x1"],
+        "--seed: 'x1' is not a whole number",
+    );
+    assert_fails(
+        &["quiz", "--seed", "1", "--count", "0"],
+        "--count: '0' is not a whole number from 1",
+    );
+    assert_fails(
+        &["quiz", "--seed", "1", "--count", "many"],
+        "--count: 'many' is not a whole number from 1",
+    );
+}

@@ -1,0 +1,248 @@
+//! BVH traversal, step by step: the animation pauses before each node is entered and asks
+//! which one comes next (OpenDSA's order-reproduction exercises, with child boxes revealed
+//! only once the traversal reaches them). The steps are the core's traversal, recorded.
+
+use accelviz_core::{Order, Step, Structure};
+use serde_json::{Map, json};
+
+use super::Draft;
+use super::first_hit::{clear_hits, shape_options};
+use crate::generate::{
+    Gen, Level, build, bvh_json, clear_steps, entered, final_hit, num, ray_json, record,
+};
+use crate::question::{
+    Ask, Choice, Expected, Figure, Highlight, SceneFigure, TreeFigure, node_label,
+};
+
+/// The most nodes a question asks about: past that, it is the same step again.
+const MOST_ASKED: usize = 8;
+
+/// The structures questions are asked on.
+pub(super) fn bvh_structure(generator: &mut Gen) -> Structure {
+    if generator.index(2) == 0 {
+        Structure::BvhMedian
+    } else {
+        Structure::BvhSahSweep
+    }
+}
+
+/// The name of an order, as the JSON spells it.
+pub(super) fn order_name(order: Order) -> &'static str {
+    match order {
+        Order::NearFirst => "near-first",
+        Order::FileOrder => "file-order",
+    }
+}
+
+/// Why the traversal entered `steps[at]`'s node, from the steps before it.
+fn why_entered(
+    figure: &TreeFigure,
+    steps: &[Step<f64>],
+    at: usize,
+    previous: Option<u32>,
+) -> String {
+    let facts = &figure.built.facts;
+    let Step::NodeEntered { node } = steps[at] else {
+        return String::new();
+    };
+    let label = node_label(facts, node);
+    let box_test = |wanted: u32| {
+        steps[..at].iter().rev().find_map(|step| match step {
+            Step::BoxTested {
+                node, t_enter, hit, ..
+            } if *node == wanted => Some((*t_enter, *hit)),
+            _ => None,
+        })
+    };
+    let parent = facts.parent[node as usize];
+    let culled: Vec<String> = steps[..at]
+        .iter()
+        .rev()
+        .take_while(|step| !matches!(step, Step::NodeEntered { .. }))
+        .filter_map(|step| match step {
+            Step::NodeCulled {
+                node,
+                t_enter,
+                t_closest,
+            } => Some(format!(
+                "{} was skipped: its box starts at t = {}, beyond the closest hit at t = {}",
+                node_label(facts, *node),
+                num(*t_enter),
+                num(*t_closest)
+            )),
+            _ => None,
+        })
+        .collect();
+    let culled = if culled.is_empty() {
+        String::new()
+    } else {
+        format!(" ({})", culled.join("; "))
+    };
+    if parent.is_some() && parent == previous {
+        let siblings = facts.children[parent.unwrap_or(0) as usize].unwrap_or([node, node]);
+        let sibling = if siblings[0] == node {
+            siblings[1]
+        } else {
+            siblings[0]
+        };
+        let (t_here, _) = box_test(node).unwrap_or((0.0, true));
+        match box_test(sibling) {
+            Some((t_there, true)) => match figure.order {
+                Order::NearFirst => format!(
+                    "Both children's boxes are hit; near first enters the one the ray reaches first: {label} at t = {} before {} at t = {}. The other waits on the stack.",
+                    num(t_here),
+                    node_label(facts, sibling),
+                    num(t_there)
+                ),
+                Order::FileOrder => format!(
+                    "Both children's boxes are hit; file order enters the left child first, {label}, wherever the ray meets it. The other waits on the stack."
+                ),
+            },
+            _ => format!(
+                "Of the two children only {label}'s box is hit (at t = {}); the other is not entered.",
+                num(t_here)
+            ),
+        }
+    } else {
+        format!(
+            "The subtree before is done, so the next node comes off the stack: {label}{culled}."
+        )
+    }
+}
+
+pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
+    let shapes = generator.shapes(generator.level.shape_count());
+    let ray = generator.ray_into(&shapes);
+    if !clear_hits(&shapes, &ray) {
+        return None;
+    }
+    let structure = bvh_structure(generator);
+    let order = if generator.index(2) == 0 {
+        Order::NearFirst
+    } else {
+        Order::FileOrder
+    };
+    let leaf_size = if generator.level == Level::Easy { 1 } else { 2 };
+    let built = build(structure, &shapes, leaf_size);
+    let steps = record(&built, &shapes, &ray, order);
+    if !clear_steps(&steps) {
+        return None;
+    }
+    let visited = entered(&steps);
+    if visited.len() < 3 {
+        return None;
+    }
+    let hit = final_hit(&steps);
+    let figure = TreeFigure {
+        built,
+        order,
+        steps: steps.clone(),
+        reveal_as_reached: true,
+    };
+    let facts = &figure.built.facts;
+    let mut asks = Vec::new();
+    let mut entered_so_far: Vec<u32> = Vec::new();
+    let mut previous = None;
+    for (at, step) in steps.iter().enumerate() {
+        let Step::NodeEntered { node } = *step else {
+            continue;
+        };
+        if !entered_so_far.is_empty() && asks.len() < MOST_ASKED {
+            // The nodes the student can see and has not seen entered: children of nodes
+            // entered so far.
+            let options: Vec<u32> = (0..facts.node_count() as u32)
+                .filter(|candidate| {
+                    !entered_so_far.contains(candidate)
+                        && facts.parent[*candidate as usize]
+                            .is_some_and(|parent| entered_so_far.contains(&parent))
+                })
+                .collect();
+            let correct = options.iter().position(|option| *option == node)?;
+            if options.len() < 2 {
+                // One node in sight: nothing to predict.
+                entered_so_far.push(node);
+                previous = Some(node);
+                continue;
+            }
+            asks.push(Ask {
+                prompt: format!(
+                    "Step {}: which node does the traversal ({}) enter next?",
+                    asks.len() + 1,
+                    order_name(order)
+                ),
+                expected: Expected::Choice {
+                    options: options
+                        .iter()
+                        .map(|option| Choice {
+                            label: format!("node {}", node_label(facts, *option)),
+                            node: Some(*option),
+                            shape: None,
+                        })
+                        .collect(),
+                    correct,
+                },
+                explanation: why_entered(&figure, &steps, at, previous),
+                highlight: Highlight {
+                    nodes: vec![node],
+                    frame: Some(at + 1),
+                    ..Highlight::default()
+                },
+                frame: at,
+            });
+        }
+        entered_so_far.push(node);
+        previous = Some(node);
+    }
+    let options = shape_options(&shapes);
+    let none = options.len() - 1;
+    asks.push(Ask {
+        prompt: "Which shape does the traversal return as the closest hit?".into(),
+        expected: Expected::Choice {
+            options,
+            correct: hit.map_or(none, |(shape, _)| shape as usize),
+        },
+        explanation: match hit {
+            Some((shape, t)) => format!(
+                "Shape {shape} at t = {}: every node left on the stack starts beyond it.",
+                num(t)
+            ),
+            None => "No leaf the ray reaches holds a shape it hits.".into(),
+        },
+        highlight: Highlight {
+            shapes: hit.map(|(shape, _)| vec![shape]).unwrap_or_default(),
+            t: hit.map(|(_, t)| t),
+            frame: Some(steps.len()),
+            ..Highlight::default()
+        },
+        // The last node entered, before its shapes are tested.
+        frame: steps
+            .iter()
+            .rposition(|step| matches!(step, Step::NodeEntered { .. }))
+            .map_or(0, |at| at + 1),
+    });
+    let mut fields = Map::new();
+    fields.insert("shapes".into(), crate::generate::shapes_json(&shapes));
+    fields.insert(
+        "ray".into(),
+        ray_json(&ray.origin.to_array(), &ray.direction.to_array()),
+    );
+    fields.insert("order".into(), json!(order_name(order)));
+    fields.insert("structure".into(), json!(figure.built.structure.name()));
+    fields.insert("nodes".into(), bvh_json(&figure.built));
+    let mut scene = SceneFigure::of(shapes);
+    scene.ray = Some(ray);
+    scene.tree = Some(figure);
+    Some(Draft {
+        prompt: format!(
+            "A BVH over the shapes, and a ray. The traversal pauses before each node it enters: which comes next? Order: {}.",
+            order_name(order)
+        ),
+        figure: Figure::Scene(Box::new(scene)),
+        asks,
+        fields,
+        answer: json!({
+            "visited": visited,
+            "shape": hit.map(|(shape, _)| shape),
+        }),
+    })
+}

@@ -1,0 +1,311 @@
+//! What a generated question holds: its figure, its steps with their answers and
+//! explanations, and its JSON for the CLI.
+
+use accelviz_core::{Aabb, Built, Order, Ray, ShapeSet, Step};
+use glam::DVec2;
+use serde_json::{Map, Value};
+
+use crate::generate::Level;
+
+/// One generated question.
+#[derive(Clone, Debug)]
+pub struct Question {
+    /// The kind's name (`slab`, `visit-order`, …).
+    pub kind: &'static str,
+    /// The seed it was generated from: the same seed and level give the same question.
+    pub seed: u64,
+    /// How hard.
+    pub level: Level,
+    /// What the question is about, in a sentence or two.
+    pub prompt: String,
+    /// What the canvas shows.
+    pub figure: Figure,
+    /// The steps, asked and graded in order.
+    pub asks: Vec<Ask>,
+    /// The kind's fixed JSON fields (the box, the ray, the shapes, the nodes, …).
+    pub fields: Map<String, Value>,
+    /// The kind's answer, as JSON.
+    pub answer: Value,
+}
+
+impl Question {
+    /// One line of JSON: `kind`, `seed`, `level`, `prompt`, the kind's fields and `answer`.
+    pub fn to_json(&self) -> String {
+        let mut object = Map::new();
+        object.insert("kind".into(), Value::from(self.kind));
+        object.insert("seed".into(), Value::from(self.seed));
+        object.insert("level".into(), Value::from(self.level.name()));
+        object.insert("prompt".into(), Value::from(self.prompt.clone()));
+        for (key, value) in &self.fields {
+            object.insert(key.clone(), value.clone());
+        }
+        object.insert("answer".into(), self.answer.clone());
+        Value::Object(object).to_string()
+    }
+
+    /// The question for print: the prompt, the figure's numbers, each step with its answer
+    /// and explanation.
+    pub fn to_text(&self) -> String {
+        let mut text = format!(
+            "[{} · seed {} · {}]\n{}\n",
+            self.kind,
+            self.seed,
+            self.level.name(),
+            self.prompt
+        );
+        text.push_str(&self.figure.describe());
+        for (number, ask) in self.asks.iter().enumerate() {
+            text.push_str(&format!("\n{}. {}\n", number + 1, ask.prompt));
+            if let Expected::Choice { options, .. } = &ask.expected {
+                for (index, option) in options.iter().enumerate() {
+                    text.push_str(&format!("   ({}) {}\n", option_letter(index), option.label));
+                }
+            }
+            text.push_str(&format!("   Answer: {}\n", ask.expected.model_answer()));
+            text.push_str(&format!("   Why: {}\n", ask.explanation));
+        }
+        text
+    }
+}
+
+/// The letter of a choice: `a`, `b`, … (the keys that pick it in the app).
+pub fn option_letter(index: usize) -> char {
+    char::from(b'a' + (index % 26) as u8)
+}
+
+/// What the canvas draws for a question.
+#[derive(Clone, Debug)]
+pub enum Figure {
+    /// A box and a ray (the slab test), in 2D or 3D.
+    Slab {
+        /// The box's smallest corner (2 or 3 coordinates).
+        min: Vec<f64>,
+        /// The box's largest corner.
+        max: Vec<f64>,
+        /// The ray's origin.
+        origin: Vec<f64>,
+        /// The ray's direction (no zero component).
+        direction: Vec<f64>,
+    },
+    /// A 2D scene of shapes, maybe with a ray, a tree and a node's candidate splits.
+    Scene(Box<SceneFigure>),
+}
+
+/// A 2D scene for a question.
+#[derive(Clone, Debug)]
+pub struct SceneFigure {
+    /// The shapes, numbered from 0.
+    pub shapes: ShapeSet<DVec2>,
+    /// The ray (from t = 0, no end), if the question has one.
+    pub ray: Option<Ray<DVec2>>,
+    /// The tree and its recorded traversal, if the question has one.
+    pub tree: Option<TreeFigure>,
+    /// The node the question is about: its box and shapes (the others are drawn faint).
+    pub node: Option<(Aabb<DVec2>, Vec<u32>)>,
+    /// Candidate splits (axis, position), labelled `a`, `b`, … in the canvas as in the choices.
+    pub candidates: Vec<(usize, f64)>,
+}
+
+impl SceneFigure {
+    /// A scene of shapes with nothing else yet.
+    pub fn of(shapes: ShapeSet<DVec2>) -> Self {
+        Self {
+            shapes,
+            ray: None,
+            tree: None,
+            node: None,
+            candidates: Vec::new(),
+        }
+    }
+}
+
+/// A tree in a question, with the traversal the question steps through.
+#[derive(Clone, Debug)]
+pub struct TreeFigure {
+    /// The tree and its facts, built by the core's catalogue.
+    pub built: Built<DVec2>,
+    /// The order the recorded traversal used.
+    pub order: Order,
+    /// The traversal's steps, as the core's `Recorder` recorded them.
+    pub steps: Vec<Step<f64>>,
+    /// Whether nodes are shown only once the traversal has reached them (their parent was
+    /// entered), as in OpenDSA's search exercises.
+    pub reveal_as_reached: bool,
+}
+
+impl Figure {
+    fn describe(&self) -> String {
+        let list = |values: &[f64]| {
+            values
+                .iter()
+                .map(|value| crate::generate::num(*value))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        match self {
+            Figure::Slab {
+                min,
+                max,
+                origin,
+                direction,
+            } => format!(
+                "Box from ({}) to ({}); ray from ({}) in direction ({}).\n",
+                list(min),
+                list(max),
+                list(origin),
+                list(direction)
+            ),
+            Figure::Scene(scene) => {
+                let mut text = String::new();
+                for (index, shape) in scene.shapes.shapes.iter().enumerate() {
+                    text.push_str(&format!(
+                        "  shape {index}: {}\n",
+                        crate::generate::describe_shape(shape)
+                    ));
+                }
+                if let Some(ray) = &scene.ray {
+                    text.push_str(&format!(
+                        "  ray from ({}) in direction ({})\n",
+                        list(&ray.origin.to_array()),
+                        list(&ray.direction.to_array())
+                    ));
+                }
+                if let Some(tree) = &scene.tree {
+                    let facts = &tree.built.facts;
+                    for node in 0..facts.node_count() as u32 {
+                        text.push_str(&format!(
+                            "  node {}: {}\n",
+                            node_label(facts, node),
+                            crate::generate::describe_node(&tree.built, node)
+                        ));
+                    }
+                }
+                text
+            }
+        }
+    }
+}
+
+/// A node's name as students see it: `root`, or its path from the root (`L`, `LR`, …).
+pub fn node_label(facts: &accelviz_core::TreeFacts<DVec2>, node: u32) -> String {
+    let path = facts.path_to(node);
+    if path.is_empty() { "root".into() } else { path }
+}
+
+/// One graded step of a question.
+#[derive(Clone, Debug)]
+pub struct Ask {
+    /// The question asked at this step.
+    pub prompt: String,
+    /// The right answer.
+    pub expected: Expected,
+    /// Why it is right, shown once the step is answered.
+    pub explanation: String,
+    /// What the canvas marks with the explanation.
+    pub highlight: Highlight,
+    /// How many of the traversal's recorded steps the canvas shows while asking (0 without a
+    /// traversal): the animation pauses just before the step asked about.
+    pub frame: usize,
+}
+
+/// What an answer must be.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Expected {
+    /// One of several options.
+    Choice {
+        /// The options, in the order shown.
+        options: Vec<Choice>,
+        /// The right one.
+        correct: usize,
+    },
+    /// A number, right within a tolerance.
+    Number {
+        /// The value.
+        value: f64,
+        /// How far from it an answer may be.
+        tolerance: f64,
+    },
+}
+
+impl Expected {
+    /// Whether `response` is right.
+    pub fn accepts(&self, response: &Response) -> bool {
+        match (self, response) {
+            (Expected::Choice { correct, .. }, Response::Choice(chosen)) => chosen == correct,
+            (Expected::Number { value, tolerance }, Response::Number(given)) => {
+                given.is_finite() && (given - value).abs() <= *tolerance
+            }
+            _ => false,
+        }
+    }
+
+    /// The right answer, as text.
+    pub fn model_answer(&self) -> String {
+        match self {
+            Expected::Choice { options, correct } => {
+                format!("({}) {}", option_letter(*correct), options[*correct].label)
+            }
+            Expected::Number { value, .. } => crate::generate::num(*value),
+        }
+    }
+
+    /// A response as text, for the review of mistakes.
+    pub fn describe(&self, response: &Response) -> String {
+        match (self, response) {
+            (Expected::Choice { options, .. }, Response::Choice(chosen)) => options
+                .get(*chosen)
+                .map_or_else(|| "?".into(), |option| option.label.clone()),
+            (_, Response::Number(value)) => crate::generate::num(*value),
+            (_, Response::Choice(chosen)) => format!("option {chosen}"),
+        }
+    }
+}
+
+/// One option of a choice.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Choice {
+    /// What the option says.
+    pub label: String,
+    /// The tree node it names, so a click on that node in the canvas picks it.
+    pub node: Option<u32>,
+    /// The shape it names, so a click on that shape picks it.
+    pub shape: Option<u32>,
+}
+
+impl Choice {
+    /// An option that names nothing in the canvas.
+    pub fn text(label: impl Into<String>) -> Self {
+        Self {
+            label: label.into(),
+            node: None,
+            shape: None,
+        }
+    }
+}
+
+/// A student's answer to one step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Response {
+    /// The option chosen.
+    Choice(usize),
+    /// The number given.
+    Number(f64),
+}
+
+/// What the canvas marks when a step's answer is revealed.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Highlight {
+    /// Tree nodes to mark.
+    pub nodes: Vec<u32>,
+    /// Shapes to mark.
+    pub shapes: Vec<u32>,
+    /// The slab test's axis to mark.
+    pub axis: Option<usize>,
+    /// A point on the ray, by its `t`.
+    pub t: Option<f64>,
+    /// A candidate split to mark (its index in [`SceneFigure::candidates`]).
+    pub candidate: Option<usize>,
+    /// How many traversal steps to show with the explanation (the step just asked about
+    /// included).
+    pub frame: Option<usize>,
+}
