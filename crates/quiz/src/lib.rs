@@ -20,13 +20,15 @@
 //!
 //! No file IO and no UI: the app saves progress where its platform can, the CLI prints.
 
+pub mod build;
 mod generate;
 pub mod kinds;
 mod progress;
 mod question;
 mod session;
 
-pub use generate::{Level, LevelError};
+pub use build::{BuildExercise, BuildScore, NodeChoice, Pick};
+pub use generate::{Level, LevelError, num};
 pub use kinds::{KINDS, KindEntry, KindError, generate, kind_names};
 pub use progress::{PROGRESS_FORMAT, Progress, ProgressError};
 pub use question::{

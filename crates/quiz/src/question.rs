@@ -56,8 +56,8 @@ impl Question {
         text.push_str(&self.figure.describe());
         for (number, ask) in self.asks.iter().enumerate() {
             text.push_str(&format!("\n{}. {}\n", number + 1, ask.prompt));
-            if let Expected::Choice { options, .. } = &ask.expected {
-                for (index, option) in options.iter().enumerate() {
+            {
+                for (index, option) in ask.expected.options().iter().enumerate() {
                     text.push_str(&format!("   ({}) {}\n", option_letter(index), option.label));
                 }
             }
@@ -89,6 +89,8 @@ pub enum Figure {
     },
     /// A 2D scene of shapes, maybe with a ray, a tree and a node's candidate splits.
     Scene(Box<SceneFigure>),
+    /// A tree for the student to build, as it starts.
+    Build(Box<crate::build::BuildExercise>),
 }
 
 /// A 2D scene for a question.
@@ -182,6 +184,41 @@ impl Figure {
                 }
                 text
             }
+            Figure::Build(exercise) => {
+                let mut text = String::new();
+                for (index, shape) in exercise.shapes().shapes.iter().enumerate() {
+                    text.push_str(&format!(
+                        "  shape {index}: {}\n",
+                        crate::generate::describe_shape(shape)
+                    ));
+                }
+                // The model answer for print: the builder's pick at every node.
+                let mut model = (**exercise).clone();
+                while let Some(choice) = model.next_choice() {
+                    model.pick(choice.builder);
+                }
+                text.push_str(&format!(
+                    "  The SAH builder's tree (SAH cost {}):\n",
+                    crate::generate::num(model.score().builder_cost)
+                ));
+                for (choice, index) in model.decided() {
+                    let node = if choice.path.is_empty() {
+                        "root"
+                    } else {
+                        &choice.path
+                    };
+                    let pick = match choice.picks[*index] {
+                        crate::build::Pick::Leaf => format!("leaf {:?}", choice.shapes),
+                        crate::build::Pick::Split { axis, position } => format!(
+                            "split at {} = {}",
+                            crate::generate::AXES[axis],
+                            crate::generate::num(position)
+                        ),
+                    };
+                    text.push_str(&format!("    {node}: {pick}\n"));
+                }
+                text
+            }
         }
     }
 }
@@ -218,6 +255,14 @@ pub enum Expected {
         /// The right one.
         correct: usize,
     },
+    /// One of several options, each with a cost: any option as cheap as the cheapest is
+    /// right (the build exercise's picks, graded by their SAH cost).
+    Costed {
+        /// The options, in the order shown.
+        options: Vec<Choice>,
+        /// Each option's cost.
+        costs: Vec<f64>,
+    },
     /// A number, right within a tolerance.
     Number {
         /// The value.
@@ -232,6 +277,12 @@ impl Expected {
     pub fn accepts(&self, response: &Response) -> bool {
         match (self, response) {
             (Expected::Choice { correct, .. }, Response::Choice(chosen)) => chosen == correct,
+            (Expected::Costed { costs, .. }, Response::Choice(chosen)) => {
+                let cheapest = costs.iter().copied().fold(f64::INFINITY, f64::min);
+                costs
+                    .get(*chosen)
+                    .is_some_and(|cost| *cost <= cheapest + 1e-9 * (1.0 + cheapest.abs()))
+            }
             (Expected::Number { value, tolerance }, Response::Number(given)) => {
                 given.is_finite() && (given - value).abs() <= *tolerance
             }
@@ -245,14 +296,40 @@ impl Expected {
             Expected::Choice { options, correct } => {
                 format!("({}) {}", option_letter(*correct), options[*correct].label)
             }
+            Expected::Costed { options, .. } => {
+                let best = self.correct_option().unwrap_or(0);
+                format!("({}) {}", option_letter(best), options[best].label)
+            }
             Expected::Number { value, .. } => crate::generate::num(*value),
+        }
+    }
+
+    /// The options of a choice (none for a number).
+    pub fn options(&self) -> &[Choice] {
+        match self {
+            Expected::Choice { options, .. } | Expected::Costed { options, .. } => options,
+            Expected::Number { .. } => &[],
+        }
+    }
+
+    /// The right option of a choice (the first cheapest of a costed one).
+    pub fn correct_option(&self) -> Option<usize> {
+        match self {
+            Expected::Choice { correct, .. } => Some(*correct),
+            Expected::Costed { costs, .. } => {
+                (0..costs.len()).min_by(|a, b| costs[*a].total_cmp(&costs[*b]))
+            }
+            Expected::Number { .. } => None,
         }
     }
 
     /// A response as text, for the review of mistakes.
     pub fn describe(&self, response: &Response) -> String {
         match (self, response) {
-            (Expected::Choice { options, .. }, Response::Choice(chosen)) => options
+            (
+                Expected::Choice { options, .. } | Expected::Costed { options, .. },
+                Response::Choice(chosen),
+            ) => options
                 .get(*chosen)
                 .map_or_else(|| "?".into(), |option| option.label.clone()),
             (_, Response::Number(value)) => crate::generate::num(*value),

@@ -5,10 +5,18 @@
 //! model answer is shown, and the question goes on from the model's state, so one slip does
 //! not cost the rest of the question.
 
+use crate::build::BuildExercise;
 use crate::generate::Level;
 use crate::kinds::{KINDS, KindError, generate};
 use crate::progress::Progress;
-use crate::question::{Ask, Question, Response};
+use crate::question::{Ask, Figure, Question, Response};
+
+fn exercise_of(question: &Question) -> Option<BuildExercise> {
+    match &question.figure {
+        Figure::Build(exercise) => Some((**exercise).clone()),
+        _ => None,
+    }
+}
 
 /// One answered step.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -59,6 +67,10 @@ pub struct Session {
     level: Level,
     kinds: Vec<&'static str>,
     questions: Vec<Question>,
+    /// Each question's steps so far: a build exercise's grow as the student picks.
+    asks: Vec<Vec<Ask>>,
+    /// The build exercise of the current question, as the student has built it so far.
+    exercise: Option<BuildExercise>,
     position: usize,
     step: usize,
     revealed: bool,
@@ -98,10 +110,14 @@ impl Session {
                 generate(kind, seed.wrapping_add(index as u64), level)
             })
             .collect::<Result<Vec<_>, _>>()?;
+        let asks = questions.iter().map(|q| q.asks.clone()).collect();
+        let exercise = exercise_of(&questions[0]);
         Ok(Self {
             seed,
             level,
             kinds,
+            asks,
+            exercise,
             questions,
             position: 0,
             step: 0,
@@ -149,9 +165,19 @@ impl Session {
 
     /// The step being asked or just answered, unless the quiz is over.
     pub fn ask(&self) -> Option<&Ask> {
-        self.questions
+        self.asks
             .get(self.position)
-            .and_then(|question| question.asks.get(self.step))
+            .and_then(|asks| asks.get(self.step))
+    }
+
+    /// The steps of question `index` so far (a build exercise's grow as the student picks).
+    pub fn asks_of(&self, index: usize) -> &[Ask] {
+        self.asks.get(index).map_or(&[], Vec::as_slice)
+    }
+
+    /// The current question's build exercise, as built so far.
+    pub fn exercise(&self) -> Option<&BuildExercise> {
+        self.exercise.as_ref()
     }
 
     /// True once the current step is answered and its explanation is shown.
@@ -182,12 +208,10 @@ impl Session {
         self.verdicts.len()
     }
 
-    /// Steps in the whole quiz.
+    /// Steps in the whole quiz, as far as they are known (a build exercise has as many as
+    /// the student's tree has nodes to decide).
     pub fn total_steps(&self) -> usize {
-        self.questions
-            .iter()
-            .map(|question| question.asks.len())
-            .sum()
+        self.asks.iter().map(Vec::len).sum()
     }
 
     /// Right answers in a row, up to now.
@@ -236,6 +260,13 @@ impl Session {
         }
         self.verdicts.push(verdict);
         self.revealed = true;
+        // A build exercise takes the student's pick, right or not, and asks the next node.
+        if let (Some(exercise), Response::Choice(index)) = (&mut self.exercise, response)
+            && exercise.pick(index)
+            && let Some(next) = exercise.next_ask()
+        {
+            self.asks[self.position].push(next);
+        }
         Outcome::Graded(verdict)
     }
 
@@ -247,9 +278,10 @@ impl Session {
         }
         self.revealed = false;
         self.step += 1;
-        if self.step >= self.questions[self.position].asks.len() {
+        if self.step >= self.asks[self.position].len() {
             self.step = 0;
             self.position += 1;
+            self.exercise = self.questions.get(self.position).and_then(exercise_of);
         }
         true
     }

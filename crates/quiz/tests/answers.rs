@@ -539,6 +539,57 @@ fn check_leaf_or_split(question: &Value) {
     );
 }
 
+/// The builder's tree in the JSON is greedy SAH: at every node the cheapest of the leaf and
+/// every split by centres (recomputed here), and its SAH cost is the sum over its nodes.
+fn check_build(question: &Value) {
+    let shapes = question["shapes"].as_array().unwrap();
+    let all: Vec<u64> = (0..shapes.len() as u64).collect();
+    let root_perimeter = perimeter_of(shapes, &all);
+    let cost = &question["cost"];
+    let (c_trav, c_isect) = (
+        cost["c_trav"].as_f64().unwrap(),
+        cost["c_isect"].as_f64().unwrap(),
+    );
+    let nodes = question["answer"]["nodes"].as_array().unwrap();
+    assert_eq!(indices(&nodes[0]["shapes"]), all);
+    let mut total = 0.0;
+    for node in nodes {
+        let members = indices(&node["shapes"]);
+        let weight = perimeter_of(shapes, &members) / root_perimeter;
+        // The cheapest split, tried between every two neighbouring centres on each axis.
+        let node_question = serde_json::json!({
+            "shapes": shapes, "node_shapes": members, "cost": cost,
+        });
+        let mut best = f64::INFINITY;
+        for axis in 0..2 {
+            let mut centres: Vec<f64> = members
+                .iter()
+                .map(|m| centre(&shapes[*m as usize], axis))
+                .collect();
+            centres.sort_by(f64::total_cmp);
+            for pair in centres.windows(2) {
+                if pair[0] < pair[1] {
+                    best = best.min(split_cost(&node_question, axis, 0.5 * (pair[0] + pair[1])).0);
+                }
+            }
+        }
+        let leaf_cost = members.len() as f64 * c_isect;
+        if node.get("leaf").is_some() {
+            assert!(members.len() == 1 || best >= leaf_cost, "{question}");
+            total += weight * leaf_cost;
+        } else {
+            let axis = node["axis"].as_u64().unwrap() as usize;
+            let (split, _) = split_cost(&node_question, axis, node["position"].as_f64().unwrap());
+            assert!(close(split, best) && split < leaf_cost, "{question}");
+            total += weight * c_trav;
+        }
+    }
+    assert!(
+        close(question["answer"]["sah_cost"].as_f64().unwrap(), total),
+        "{question}"
+    );
+}
+
 /// What every question has: the fixed fields, steps with a right answer among the options,
 /// and the same question again from the same seed.
 fn check_common(kind: &str, seed: u64, level: Level) -> Value {
@@ -559,6 +610,9 @@ fn check_common(kind: &str, seed: u64, level: Level) -> Value {
                     *correct < options.len() && options.len() >= 2,
                     "{kind} {seed}"
                 );
+            }
+            Expected::Costed { options, costs } => {
+                assert!(options.len() == costs.len() && options.len() >= 2);
             }
             Expected::Number { value, tolerance } => {
                 assert!(value.is_finite() && *tolerance >= 0.0)
@@ -594,6 +648,7 @@ fn every_kind_is_right_for_hundreds_of_seeds() {
                     "kd-traversal" => check_kd_traversal(&question),
                     "sah-split" => check_sah_split(&question),
                     "leaf-or-split" => check_leaf_or_split(&question),
+                    "build" => check_build(&question),
                     other => panic!("no independent check for kind {other}"),
                 }
             }

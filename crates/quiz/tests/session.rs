@@ -10,16 +10,21 @@ use accelviz_quiz::{
 /// The right response to the current step.
 fn right(session: &Session) -> Response {
     match &session.ask().expect("asking").expected {
-        Expected::Choice { correct, .. } => Response::Choice(*correct),
         Expected::Number { value, .. } => Response::Number(*value),
+        choice => Response::Choice(choice.correct_option().unwrap()),
     }
 }
 
 /// A wrong response to the current step.
 fn wrong(session: &Session) -> Response {
     match &session.ask().expect("asking").expected {
-        Expected::Choice { correct, options } => Response::Choice((correct + 1) % options.len()),
         Expected::Number { value, tolerance } => Response::Number(value + 10.0 * tolerance + 1.0),
+        Expected::Costed { costs, .. } => {
+            // The dearest option.
+            let dearest = (0..costs.len()).max_by(|a, b| costs[*a].total_cmp(&costs[*b]));
+            Response::Choice(dearest.unwrap())
+        }
+        Expected::Choice { correct, options } => Response::Choice((correct + 1) % options.len()),
     }
 }
 
@@ -66,20 +71,26 @@ fn a_whole_quiz_ends_and_counts_every_step() {
     sorted.sort_unstable();
     sorted.dedup();
     assert_eq!(sorted.len(), KINDS.len());
-    let total = session.total_steps();
     let mut answered = 0;
+    let mut meant_right = 0;
     while !session.is_finished() {
-        let response = if answered % 3 == 2 {
-            wrong(&session)
-        } else {
+        let right_now = answered % 3 != 2;
+        let response = if right_now {
             right(&session)
+        } else {
+            wrong(&session)
         };
-        session.answer(response);
+        let Outcome::Graded(verdict) = session.answer(response) else {
+            panic!("not graded")
+        };
+        assert_eq!(verdict.correct, right_now);
+        meant_right += usize::from(right_now);
         session.move_on();
         answered += 1;
     }
-    assert_eq!(answered, total);
-    assert_eq!(session.score(), total - total / 3);
+    // Every step, a build exercise's as they came, was asked once.
+    assert_eq!(answered, session.total_steps());
+    assert_eq!(session.score(), meant_right);
     assert!(session.ask().is_none());
     assert_eq!(session.answer(Response::Choice(0)), Outcome::NotAsking);
 }
@@ -164,4 +175,67 @@ fn a_quiz_needs_a_question() {
         Session::new(1, Level::Easy, 0, &[]).unwrap_err(),
         SessionError::Empty
     );
+}
+
+#[test]
+fn a_tree_built_by_the_builders_picks_scores_one_and_a_lazy_one_less() {
+    for seed in 0..30 {
+        for level in Level::ALL {
+            // The builder's picks: the student's tree is the builder's.
+            let mut session = Session::new(seed, level, 1, &["build"]).unwrap();
+            let mut steps = 0;
+            while !session.is_finished() {
+                session.answer(right(&session));
+                session.move_on();
+                steps += 1;
+            }
+            assert_eq!(session.score(), steps);
+            // A finished quiz keeps no exercise; take the question again to see the tree.
+            let mut again = Session::new(seed, level, 1, &["build"]).unwrap();
+            while again.exercise().is_some_and(|e| !e.is_done()) {
+                again.answer(right(&again));
+                if again.exercise().is_some_and(|e| e.is_done()) {
+                    break;
+                }
+                again.move_on();
+            }
+            let exercise = again.exercise().unwrap();
+            exercise.validate().unwrap();
+            let score = exercise.score();
+            assert!((score.ratio - 1.0).abs() < 1e-9, "{score:?}");
+            // A leaf at the root: one step, and the cost of testing every shape.
+            let mut lazy = Session::new(seed, level, 1, &["build"]).unwrap();
+            lazy.answer(Response::Choice(0));
+            let exercise = lazy.exercise().unwrap();
+            assert!(exercise.is_done());
+            exercise.validate().unwrap();
+            let score = exercise.score();
+            let shapes = exercise.shapes().shapes.len() as f64;
+            assert!((score.student_cost - shapes).abs() < 1e-9, "{score:?}");
+            assert!(score.ratio < 1.0, "{score:?}");
+        }
+    }
+}
+
+#[test]
+fn a_costly_pick_is_kept_and_the_next_node_asked() {
+    let mut session = Session::new(4, Level::Medium, 1, &["build"]).unwrap();
+    let before = session.total_steps();
+    assert_eq!(before, 1);
+    let response = wrong(&session);
+    let Outcome::Graded(verdict) = session.answer(response) else {
+        panic!("graded")
+    };
+    let exercise = session.exercise().unwrap();
+    let (choice, picked) = &exercise.decided()[0];
+    // The dearest pick is kept (the student's tree is the student's), and scored wrong
+    // unless it was also the cheapest.
+    assert_eq!(Response::Choice(*picked), response);
+    assert_eq!(
+        verdict.correct,
+        choice.costs[*picked] <= choice.costs[choice.builder]
+    );
+    if !exercise.is_done() {
+        assert_eq!(session.total_steps(), 2);
+    }
 }

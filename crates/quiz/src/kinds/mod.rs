@@ -1,5 +1,6 @@
 //! The question kinds: each listed once in [`KINDS`], with the generator in its own file.
 
+mod build_yourself;
 mod first_hit;
 mod kd_traversal;
 mod leaf_or_split;
@@ -76,6 +77,12 @@ pub const KINDS: &[KindEntry] = &[
         title: "The lecture's quiz",
         about: "Why visit the near side first? What happens in file order?",
         generate: lecture::generate,
+    },
+    KindEntry {
+        name: "build",
+        title: "Build the tree yourself",
+        about: "Pick each node's split or keep a leaf; scored on SAH cost against the builder.",
+        generate: build_yourself::generate,
     },
 ];
 
