@@ -22,10 +22,25 @@ pub struct AccelvizApp {
     files: FileChannel,
     /// The in-app file panel, when open.
     pub file_panel: Option<FilePanel>,
-    /// What was last reported to the log (lesson, step), so each change is logged once.
-    reported: Option<(usize, usize, usize)>,
+    /// What was last reported to the log (lesson or quiz, and step), so each change is logged
+    /// once.
+    reported: Option<String>,
     /// Where the last frame put the inspector and the canvas's panel.
     pub last_layout: FrameLayout,
+    /// What the window shows: the lessons or the quiz.
+    pub mode: Mode,
+    /// The quiz (read from where it was saved the first time it is shown).
+    pub quiz: crate::quiz::QuizMode,
+}
+
+/// What the window shows.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Mode {
+    /// The selected lesson.
+    #[default]
+    Lessons,
+    /// The quiz.
+    Quiz,
 }
 
 /// Where a frame put its panels.
@@ -68,6 +83,8 @@ impl AccelvizApp {
                 inspector: egui::Rect::NOTHING,
                 canvas: egui::Rect::NOTHING,
             },
+            mode: Mode::Lessons,
+            quiz: crate::quiz::QuizMode::new(),
         }
     }
 
@@ -104,6 +121,10 @@ impl AccelvizApp {
     /// Everything the app draws in a frame.
     pub fn contents_ui(&mut self, ui: &mut Ui) {
         self.selected = self.selected.min(self.lessons.len().saturating_sub(1));
+        if self.mode == Mode::Quiz {
+            self.quiz_ui(ui);
+            return;
+        }
         self.take_export();
         self.take_dropped_files(ui.ctx());
         self.apply_file_events();
@@ -175,6 +196,37 @@ impl AccelvizApp {
         self.report_position(ui);
     }
 
+    /// The quiz: its panel on the right, its figure in the middle.
+    fn quiz_ui(&mut self, ui: &mut Ui) {
+        egui::Panel::top("top bar").show(ui, |ui| {
+            ui.horizontal(|ui| {
+                ui.label(RichText::new("accelviz").strong().size(16.0));
+                ui.separator();
+                ui.label(RichText::new("Quiz").size(16.0));
+            });
+        });
+        egui::Panel::left("lessons")
+            .resizable(false)
+            .exact_size(210.0)
+            .show(ui, |ui| self.lesson_list_ui(ui));
+        self.quiz.handle_keys(ui);
+        self.last_layout.inspector = egui::Panel::right("inspector")
+            .resizable(true)
+            .default_size(INSPECTOR_WIDTH.1)
+            .min_size(INSPECTOR_WIDTH.0)
+            .max_size(INSPECTOR_WIDTH.2)
+            .show(ui, |ui| {
+                egui::ScrollArea::vertical().show(ui, |ui| self.quiz.panel_ui(ui));
+            })
+            .response
+            .rect;
+        self.last_layout.canvas = egui::CentralPanel::default()
+            .show(ui, |ui| self.quiz.canvas_ui(ui))
+            .response
+            .rect;
+        self.report_position(ui);
+    }
+
     fn top_bar_ui(&mut self, ui: &mut Ui) {
         ui.horizontal(|ui| {
             ui.label(RichText::new("accelviz").strong().size(16.0));
@@ -240,10 +292,21 @@ impl AccelvizApp {
         // Full-width entries: easy to hit from a projector's remote mouse.
         ui.with_layout(egui::Layout::top_down_justified(egui::Align::LEFT), |ui| {
             for (index, title) in self.titles().into_iter().enumerate() {
-                if ui.selectable_label(self.selected == index, title).clicked() {
+                let current = self.mode == Mode::Lessons && self.selected == index;
+                if ui.selectable_label(current, title).clicked() {
                     self.selected = index;
+                    self.mode = Mode::Lessons;
                     self.status = None;
                 }
+            }
+            ui.add_space(8.0);
+            ui.label(RichText::new("Test yourself").strong());
+            if ui
+                .selectable_label(self.mode == Mode::Quiz, "Quiz: predict each step")
+                .on_hover_text("Questions made from a seed, graded step by step")
+                .clicked()
+            {
+                self.mode = Mode::Quiz;
             }
         });
         ui.add_space(12.0);
@@ -397,31 +460,57 @@ impl AccelvizApp {
     /// them in the page title on the web.
     fn report_position(&mut self, ui: &Ui) {
         // Read at the end of the frame: a click in the lesson list may have changed the lesson.
-        let (shown, len) = self
-            .lesson()
-            .filter(|lesson| lesson.caption().is_some())
-            .map_or((0, 0), |lesson| {
-                let timeline = &lesson.stage().timeline;
-                (timeline.shown, timeline.len)
-            });
-        let selected = self.selected;
-        if self.reported == Some((selected, shown, len)) {
+        let (line, title) = if self.mode == Mode::Quiz {
+            let line = self.quiz.session().map_or_else(
+                || "accelviz: quiz".to_owned(),
+                |session| {
+                    format!(
+                        "accelviz: quiz seed {}, question {} of {}, step {}, score {} of {}",
+                        session.seed(),
+                        (session.position() + 1).min(session.questions().len()),
+                        session.questions().len(),
+                        session.step() + 1,
+                        session.score(),
+                        session.answered()
+                    )
+                },
+            );
+            (
+                line.clone(),
+                line.trim_start_matches("accelviz: ").to_owned(),
+            )
+        } else {
+            let (shown, len) = self
+                .lesson()
+                .filter(|lesson| lesson.caption().is_some())
+                .map_or((0, 0), |lesson| {
+                    let timeline = &lesson.stage().timeline;
+                    (timeline.shown, timeline.len)
+                });
+            let title = self
+                .titles()
+                .get(self.selected)
+                .cloned()
+                .unwrap_or_default();
+            let line = format!(
+                "accelviz: lesson {} ({title}), step {shown} of {len}",
+                self.selected + 1
+            );
+            (line, format!("{title}, step {shown} of {len}"))
+        };
+        if self.reported.as_deref() == Some(line.as_str()) {
             return;
         }
-        self.reported = Some((selected, shown, len));
-        let title = self.titles().get(selected).cloned().unwrap_or_default();
-        let line = format!(
-            "accelviz: lesson {} ({title}), step {shown} of {len}",
-            selected + 1
-        );
         log::info!("{line}");
         // The desktop names the window; the browser's page title says the step as well.
         if cfg!(target_arch = "wasm32") {
-            crate::files::set_page_title(&format!("accelviz: {title}, step {shown} of {len}"));
+            crate::files::set_page_title(&format!("accelviz: {title}"));
         } else {
+            let name = title.split(", step").next().unwrap_or(&title).to_owned();
             ui.ctx()
-                .send_viewport_cmd(egui::ViewportCommand::Title(format!("accelviz: {title}")));
+                .send_viewport_cmd(egui::ViewportCommand::Title(format!("accelviz: {name}")));
         }
+        self.reported = Some(line);
     }
 }
 

@@ -15,6 +15,7 @@ pub mod editor;
 pub mod files;
 pub mod lesson;
 pub mod lessons;
+pub mod quiz;
 pub mod registry;
 pub mod stage;
 pub mod timeline;

@@ -106,6 +106,11 @@ pub struct SceneFigure {
     pub node: Option<(Aabb<DVec2>, Vec<u32>)>,
     /// Candidate splits (axis, position), labelled `a`, `b`, … in the canvas as in the choices.
     pub candidates: Vec<(usize, f64)>,
+    /// Each candidate's two children's boxes (left, right): what its cost is made of.
+    pub candidate_boxes: Vec<[Aabb<DVec2>; 2]>,
+    /// Whether the candidates are drawn before the step is answered (not when where the best
+    /// split lies is part of the answer).
+    pub candidates_before_answer: bool,
 }
 
 impl SceneFigure {
@@ -117,7 +122,33 @@ impl SceneFigure {
             tree: None,
             node: None,
             candidates: Vec::new(),
+            candidate_boxes: Vec::new(),
+            candidates_before_answer: true,
         }
+    }
+
+    /// Sets the candidate splits of the node's shapes, with each one's children's boxes (a
+    /// shape goes left when its box's centre is below the position).
+    pub fn with_candidates(mut self, candidates: Vec<(usize, f64)>) -> Self {
+        let members = self
+            .node
+            .as_ref()
+            .map(|(_, members)| members.clone())
+            .unwrap_or_default();
+        self.candidate_boxes = candidates
+            .iter()
+            .map(|(axis, position)| {
+                let mut sides = [Aabb::empty(), Aabb::empty()];
+                for member in &members {
+                    let bounds = self.shapes.shapes[*member as usize].bounds();
+                    let side = usize::from(bounds.center()[*axis] >= *position);
+                    sides[side] = sides[side].union(bounds);
+                }
+                sides
+            })
+            .collect();
+        self.candidates = candidates;
+        self
     }
 }
 

@@ -407,6 +407,7 @@ impl Lesson for BvhLesson {
                 selected: self.selected,
                 steps: shown,
                 structure_alpha: if both { 120 } else { 230 },
+                mark_current: true,
             },
         );
         for traced in traces.into_iter().flatten().skip(1) {

@@ -27,6 +27,9 @@ pub struct TreeLook<'a> {
     /// How opaque the boxes or splits in their depth colours are drawn: 230 plainly, less
     /// when a traversal is the point, 0 not at all (only the traversal and the lit nodes).
     pub structure_alpha: u8,
+    /// Whether the node of the last step shown is marked as the current one (a quiz asking
+    /// which node comes next does not give it away).
+    pub mark_current: bool,
 }
 
 impl Default for TreeLook<'_> {
@@ -37,6 +40,7 @@ impl Default for TreeLook<'_> {
             selected: None,
             steps: &[],
             structure_alpha: 230,
+            mark_current: true,
         }
     }
 }
@@ -183,7 +187,11 @@ fn draw_traversal(canvas: &Canvas, tree: &SceneTree, look: &TreeLook) {
             );
         }
     }
-    let current = look.steps.last().and_then(crate::trace::step_node);
+    let current = look
+        .steps
+        .last()
+        .filter(|_| look.mark_current)
+        .and_then(crate::trace::step_node);
     if let Some(node) = current.filter(|&node| in_range(node)) {
         node_outline(canvas, tree, node, Stroke::new(4.0, palette::CURRENT), None);
     }

@@ -93,7 +93,10 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 num(best.position),
                 num(best.cost)
             ),
-            highlight: Highlight::default(),
+            highlight: Highlight {
+                candidate: Some(0),
+                ..Highlight::default()
+            },
             frame: 0,
         },
         Ask {
@@ -103,7 +106,10 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 correct: if leaf { 0 } else { 1 },
             },
             explanation: verdict,
-            highlight: Highlight::default(),
+            highlight: Highlight {
+                candidate: Some(0),
+                ..Highlight::default()
+            },
             frame: 0,
         },
     ];
@@ -117,7 +123,8 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     );
     let mut scene = SceneFigure::of(shapes);
     scene.node = Some((node_box, node_shapes));
-    scene.candidates = vec![(best.axis, best.position)];
+    let mut scene = scene.with_candidates(vec![(best.axis, best.position)]);
+    scene.candidates_before_answer = false;
     Some(Draft {
         prompt: format!(
             "A BVH node holds {count} shapes. Will the SAH builder split it, or keep it a leaf?"

@@ -197,7 +197,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     );
     let mut scene = SceneFigure::of(shapes);
     scene.node = Some((node_box, node_shapes));
-    scene.candidates = candidates.iter().map(|c| (axis, c.position)).collect();
+    let scene = scene.with_candidates(candidates.iter().map(|c| (axis, c.position)).collect());
     Some(Draft {
         prompt: format!(
             "Split this BVH node along {}: a shape goes left when its box's centre is below the split. Each side's box bounds its shapes.",

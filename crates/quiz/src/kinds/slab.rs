@@ -34,6 +34,15 @@ fn slabs<V: Vector>(min: &[f64], max: &[f64], origin: &[f64], direction: &[f64])
     })
 }
 
+/// A number to subtract or divide by: in parentheses when negative, `(−2)`.
+fn signed(value: f64) -> String {
+    if value < 0.0 {
+        format!("({})", num(value))
+    } else {
+        num(value)
+    }
+}
+
 pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     let dimensions = if generator.level == Level::Hard { 3 } else { 2 };
     let mut min = Vec::new();
@@ -83,8 +92,8 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 name = AXES[axis],
                 lo = num(min[axis]),
                 hi = num(max[axis]),
-                o = num(origin[axis]),
-                d = num(direction[axis]),
+                o = signed(origin[axis]),
+                d = signed(direction[axis]),
                 a = num((min[axis] - origin[axis]) / direction[axis]),
                 b = num((max[axis] - origin[axis]) / direction[axis]),
                 near = num(slabs.t_near[axis]),

@@ -1,0 +1,542 @@
+//! A question's figure on the canvas, with the shared drawings the lessons use: the slab
+//! test's box, planes and intervals; a scene with its tree and the traversal paused at the
+//! step asked about (nodes not yet reached hidden when the question says so); a node's
+//! candidate splits, lettered as the choices are; a tree being built. A click on a node, a
+//! shape or a split picks the option that names it.
+
+use std::sync::Arc;
+
+use accelviz_core::{Aabb, Ray, ShapeSet, Step, TreeFacts, slab_record};
+use accelviz_quiz::{Ask, BuildExercise, Figure, Highlight, Pick, Question, option_letter};
+use egui::{Color32, Stroke, Ui, Vec2};
+use glam::{DVec2, DVec3};
+
+use crate::canvas::{Canvas, View2d, depth_color, faded, palette};
+use crate::stage::SceneTree;
+use crate::views::number_lines::{IntervalRow, number_lines_height, number_lines_ui};
+use crate::views::scene_view::{draw_ray, draw_tested_shapes};
+use crate::views::tree_view::{TreeLook, draw_tree, light, node_outline};
+
+/// What the figure shows this frame.
+pub struct FigureState<'a> {
+    /// The question.
+    pub question: &'a Question,
+    /// The step asked (or reviewed).
+    pub ask: Option<&'a Ask>,
+    /// Whether the step's answer is shown: its highlight is drawn.
+    pub revealed: bool,
+    /// How many recorded traversal steps are shown (while asking, the step's own frame; once
+    /// answered, its highlight's; in a review, where the student has stepped to).
+    pub frame: usize,
+    /// The tree being built, for a build question.
+    pub exercise: Option<&'a BuildExercise>,
+    /// The question's tree, wrapped for the shared tree drawing.
+    pub tree: Option<&'a SceneTree>,
+}
+
+/// The question's tree as the shared drawing wants it.
+pub fn scene_tree(question: &Question) -> Option<SceneTree> {
+    let Figure::Scene(scene) = &question.figure else {
+        return None;
+    };
+    let tree = scene.tree.as_ref()?;
+    let settings = accelviz_scene::document::SceneSettings::default();
+    let stats = tree.built.stats(0, &accelviz_core::SahCost::default());
+    Some(SceneTree {
+        shapes: Arc::new(scene.shapes.clone()),
+        settings,
+        built: tree.built.clone(),
+        stats,
+        build_millis: 0.0,
+    })
+}
+
+/// The world every quiz scene lies in (shapes in [0, 20]², rays from just outside).
+fn scene_bounds() -> Aabb<DVec2> {
+    Aabb::new(DVec2::splat(-1.5), DVec2::splat(21.5))
+}
+
+/// Draws the figure; returns the option a click picked, if any.
+pub fn figure_ui(ui: &mut Ui, view: &mut View2d, state: &FigureState) -> Option<usize> {
+    match &state.question.figure {
+        Figure::Slab {
+            min,
+            max,
+            origin,
+            direction,
+        } => {
+            slab_ui(ui, view, state, min, max, origin, direction);
+            None
+        }
+        Figure::Scene(scene) => {
+            let canvas = Canvas::allocate(ui, ui.available_size(), view, &scene_bounds(), true);
+            let picked = scene_ui(ui, &canvas, state, scene);
+            canvas.finish();
+            picked
+        }
+        Figure::Build(_) => {
+            let canvas = Canvas::allocate(ui, ui.available_size(), view, &scene_bounds(), true);
+            let picked = state
+                .exercise
+                .and_then(|exercise| build_ui(ui, &canvas, state, exercise));
+            canvas.finish();
+            picked
+        }
+    }
+}
+
+fn highlight<'a>(state: &'a FigureState) -> Option<&'a Highlight> {
+    state
+        .revealed
+        .then(|| state.ask.map(|ask| &ask.highlight))
+        .flatten()
+}
+
+/// The option whose node, shape or split lies under a click.
+fn clicked_option(
+    canvas: &Canvas,
+    state: &FigureState,
+    shapes: &ShapeSet<DVec2>,
+    candidates: &[(usize, f64)],
+    cell: &Aabb<DVec2>,
+) -> Option<usize> {
+    let ask = state.ask?;
+    if state.revealed || !canvas.response.clicked() {
+        return None;
+    }
+    let at = canvas.to_world(canvas.response.interact_pointer_pos()?);
+    let reach = canvas.world_length(8.0);
+    let options = ask.expected.options();
+    // A node: the deepest offered one whose box holds the click.
+    if let Some(tree) = state.tree {
+        let facts = &tree.built.facts;
+        let node = options
+            .iter()
+            .enumerate()
+            .filter_map(|(index, option)| Some((index, option.node?)))
+            .filter(|(_, node)| facts.bounds[*node as usize].contains_point(at))
+            .max_by_key(|(_, node)| facts.depth[*node as usize]);
+        if let Some((index, _)) = node {
+            return Some(index);
+        }
+    }
+    // A shape: one whose box (grown a little, for thin segments) holds the click.
+    let shape = options.iter().position(|option| {
+        option.shape.is_some_and(|shape| {
+            shapes.shapes.get(shape as usize).is_some_and(|shape| {
+                let bounds = shape.bounds();
+                Aabb::new(
+                    bounds.min - DVec2::splat(reach),
+                    bounds.max + DVec2::splat(reach),
+                )
+                .contains_point(at)
+            })
+        })
+    });
+    if shape.is_some() {
+        return shape;
+    }
+    // A split line near the click, within the cell.
+    if !cell.contains_point(at) {
+        return None;
+    }
+    candidates
+        .iter()
+        .enumerate()
+        .map(|(index, (axis, position))| (index, (at[*axis] - position).abs()))
+        .filter(|(_, distance)| *distance <= reach)
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(index, _)| index)
+}
+
+/// The nodes a student has seen: the root and the children of every node entered so far.
+fn reached(facts: &TreeFacts<DVec2>, steps: &[Step<f64>]) -> Vec<u32> {
+    let mut seen = vec![0];
+    for step in steps {
+        if let Step::NodeEntered { node } | Step::CellEntered { node, .. } = step
+            && let Some(children) = facts.children[*node as usize]
+        {
+            seen.extend(children);
+        }
+    }
+    seen
+}
+
+fn scene_ui(
+    ui: &Ui,
+    canvas: &Canvas,
+    state: &FigureState,
+    scene: &accelviz_quiz::SceneFigure,
+) -> Option<usize> {
+    let lit = highlight(state);
+    let figure_tree = scene.tree.as_ref();
+    let steps: &[Step<f64>] =
+        figure_tree.map_or(&[], |tree| &tree.steps[..state.frame.min(tree.steps.len())]);
+    // The node asked about, and its candidate splits.
+    let cell = scene
+        .node
+        .as_ref()
+        .map_or_else(scene_bounds, |(bounds, _)| *bounds);
+    if let Some((bounds, _)) = &scene.node {
+        canvas.box_outline(
+            bounds,
+            Stroke::new(2.0, faded(palette::CURRENT, 200)),
+            Some(faded(palette::CURRENT, 18)),
+        );
+    }
+    // The tree, with what the traversal has done so far.
+    if let (Some(tree), Some(figure_tree)) = (state.tree, figure_tree) {
+        let facts = &tree.built.facts;
+        let visible: Vec<u32> = if figure_tree.reveal_as_reached {
+            reached(facts, steps)
+        } else {
+            (0..facts.node_count() as u32).collect()
+        };
+        if figure_tree.reveal_as_reached {
+            for &node in &visible {
+                let color = depth_color(facts.depth[node as usize] as usize);
+                node_outline(
+                    canvas,
+                    tree,
+                    node,
+                    Stroke::new(1.5, faded(color, 200)),
+                    None,
+                );
+            }
+        }
+        let look = TreeLook {
+            steps,
+            structure_alpha: if figure_tree.reveal_as_reached {
+                0
+            } else {
+                150
+            },
+            mark_current: state.revealed,
+            ..TreeLook::default()
+        };
+        draw_tree(canvas, tree, &look);
+        if let Some(lit) = lit {
+            for &node in &lit.nodes {
+                if (node as usize) < facts.node_count() {
+                    light(canvas, tree, node, false);
+                }
+            }
+        }
+        // Nodes named by their paths, so "node LR" can be found: every visible BVH node, at
+        // its box's top left corner moved in by its depth as the boxes are; of a kD-tree (whose
+        // cells share corners) the nodes the step names and their parents.
+        let named: Vec<u32> = match tree.built.tree.family() {
+            accelviz_core::Family::Bvh => visible.clone(),
+            accelviz_core::Family::Kd => {
+                let mut named: Vec<u32> = state
+                    .ask
+                    .map(|ask| {
+                        ask.expected
+                            .options()
+                            .iter()
+                            .filter_map(|o| o.node)
+                            .collect()
+                    })
+                    .unwrap_or_default();
+                named.extend(lit.map(|lit| lit.nodes.clone()).unwrap_or_default());
+                let parents: Vec<u32> = named
+                    .iter()
+                    .filter_map(|node| facts.parent[*node as usize])
+                    .collect();
+                named.extend(parents);
+                named.sort_unstable();
+                named.dedup();
+                named
+            }
+        };
+        if facts.node_count() <= 63 {
+            for &node in &named {
+                let bounds = &facts.bounds[node as usize];
+                let depth = facts.depth[node as usize] as usize;
+                let inward = canvas.world_length(3.0 * depth as f32 + 4.0);
+                let name = accelviz_quiz::node_label(facts, node);
+                canvas.label(
+                    DVec2::new(bounds.min.x + inward, bounds.max.y - inward),
+                    &name,
+                    depth_color(depth),
+                );
+            }
+        }
+    }
+    // The shapes, coloured by the tests shown, numbered.
+    draw_tested_shapes(ui, canvas, &scene.shapes, steps, None);
+    let inside = scene.node.as_ref().map(|(_, members)| members);
+    for (index, shape) in scene.shapes.shapes.iter().enumerate() {
+        let faint = inside.is_some_and(|members| !members.contains(&(index as u32)));
+        let color = if faint {
+            Color32::from_gray(120)
+        } else {
+            ui.visuals().strong_text_color()
+        };
+        canvas.label(shape.bounds().center(), &index.to_string(), color);
+    }
+    if let Some(lit) = lit {
+        for &shape in &lit.shapes {
+            if let Some(shape) = scene.shapes.shapes.get(shape as usize) {
+                canvas.shape(
+                    shape,
+                    faded(palette::HIT, 120),
+                    Stroke::new(3.5, palette::HIT),
+                );
+            }
+        }
+    }
+    // Once answered, the lit split's two children's boxes: what its cost is made of.
+    if let Some(index) = lit.and_then(|lit| lit.candidate)
+        && let Some(sides) = scene.candidate_boxes.get(index)
+    {
+        for (side, color) in sides.iter().zip([palette::X_AXIS, palette::SPHERE]) {
+            canvas.box_outline(side, Stroke::new(2.5, color), Some(faded(color, 40)));
+        }
+    }
+    // The candidate splits, lettered as the choices.
+    let candidates: &[(usize, f64)] = if scene.candidates_before_answer || lit.is_some() {
+        &scene.candidates
+    } else {
+        &[]
+    };
+    for (index, (axis, position)) in candidates.iter().enumerate() {
+        let chosen = lit.and_then(|lit| lit.candidate) == Some(index);
+        let (width, color) = if chosen {
+            (4.0, palette::HIT)
+        } else {
+            (2.0, palette::AXES[*axis])
+        };
+        canvas.split_line(&cell, *axis, *position, Stroke::new(width, color));
+        let end = if *axis == 0 {
+            DVec2::new(*position, cell.max.y)
+        } else {
+            DVec2::new(cell.max.x, *position)
+        };
+        canvas.label(end, &format!("({})", option_letter(index)), color);
+    }
+    // The ray: solid up to the closest hit so far.
+    if let Some(ray) = &scene.ray {
+        let closest = crate::trace::closest_so_far(steps).map(|(_, t)| t);
+        draw_ray(canvas, ray, lit.and_then(|lit| lit.t).or(closest));
+        if let Some(t) = lit.and_then(|lit| lit.t) {
+            canvas.ray_mark(ray.origin, ray.direction, t, palette::HIT, "", 0.0);
+        }
+    }
+    clicked_option(canvas, state, &scene.shapes, &scene.candidates, &cell)
+}
+
+fn build_ui(
+    ui: &Ui,
+    canvas: &Canvas,
+    state: &FigureState,
+    exercise: &BuildExercise,
+) -> Option<usize> {
+    let shapes = exercise.shapes();
+    // The student's tree so far, by depth.
+    let tree = exercise.tree();
+    let facts = TreeFacts::of(&tree);
+    for node in 0..facts.node_count() {
+        let color = depth_color(facts.depth[node] as usize);
+        let bounds = facts.bounds[node];
+        let grow = DVec2::splat(canvas.world_length(3.0) * (4.0 - facts.depth[node].min(4) as f64));
+        canvas.box_outline(
+            &Aabb::new(bounds.min - grow, bounds.max + grow),
+            Stroke::new(1.5, faded(color, 200)),
+            None,
+        );
+    }
+    draw_tested_shapes(ui, canvas, shapes, &[], None);
+    for (index, shape) in shapes.shapes.iter().enumerate() {
+        canvas.label(
+            shape.bounds().center(),
+            &index.to_string(),
+            ui.visuals().strong_text_color(),
+        );
+    }
+    // The node asked about (or, once answered, the one just decided) with its splits.
+    let (choice, picked) = if state.revealed {
+        // The node just decided (not the one-shape leaves decided with it).
+        let (choice, picked) = exercise
+            .decided()
+            .iter()
+            .rev()
+            .find(|(choice, _)| choice.picks.len() > 1)?;
+        (choice.clone(), Some(*picked))
+    } else {
+        (exercise.next_choice()?, None)
+    };
+    canvas.box_outline(
+        &choice.bounds,
+        Stroke::new(2.5, palette::CURRENT),
+        Some(faded(palette::CURRENT, 18)),
+    );
+    let mut lines = Vec::new();
+    for (index, pick) in choice.picks.iter().enumerate() {
+        let Pick::Split { axis, position } = *pick else {
+            continue;
+        };
+        lines.push((axis, position));
+        let (width, color) = if picked.is_some() && index == choice.builder {
+            (4.0, palette::HIT)
+        } else if picked == Some(index) {
+            (4.0, palette::RAY)
+        } else {
+            (1.5, faded(palette::AXES[axis], 200))
+        };
+        canvas.split_line(&choice.bounds, axis, position, Stroke::new(width, color));
+        let end = if axis == 0 {
+            DVec2::new(position, choice.bounds.max.y)
+        } else {
+            DVec2::new(choice.bounds.max.x, position)
+        };
+        canvas.label(end, &format!("({})", option_letter(index)), color);
+    }
+    // Lines are the options after the leaf.
+    clicked_option(canvas, state, shapes, &lines, &choice.bounds).map(|line| line + 1)
+}
+
+/// The slab test's numbers, from the core's record.
+struct SlabNumbers {
+    t_near: Vec<f64>,
+    t_far: Vec<f64>,
+    t_enter: f64,
+    t_exit: f64,
+}
+
+fn slab_numbers(
+    min: &[f64],
+    max: &[f64],
+    origin: &[f64],
+    direction: &[f64],
+) -> Option<SlabNumbers> {
+    fn record<V: accelviz_core::Vector<Scalar = f64>>(
+        min: &[f64],
+        max: &[f64],
+        origin: &[f64],
+        direction: &[f64],
+    ) -> Option<SlabNumbers> {
+        let ray = Ray::try_new(V::from_f64_slice(origin), V::from_f64_slice(direction)).ok()?;
+        let bounds = Aabb::new(V::from_f64_slice(min), V::from_f64_slice(max));
+        let record = slab_record(&bounds, &ray, false);
+        let dimensions = min.len();
+        Some(SlabNumbers {
+            t_near: record.t_near.to_f64_array()[..dimensions].to_vec(),
+            t_far: record.t_far.to_f64_array()[..dimensions].to_vec(),
+            t_enter: record.t_enter,
+            t_exit: record.t_exit,
+        })
+    }
+    if min.len() == 3 {
+        record::<DVec3>(min, max, origin, direction)
+    } else {
+        record::<DVec2>(min, max, origin, direction)
+    }
+}
+
+fn slab_ui(
+    ui: &mut Ui,
+    view: &mut View2d,
+    state: &FigureState,
+    min: &[f64],
+    max: &[f64],
+    origin: &[f64],
+    direction: &[f64],
+) {
+    let lit = highlight(state);
+    let numbers = slab_numbers(min, max, origin, direction);
+    let rows = min.len() + 1;
+    let lines_height = if lit.is_some() {
+        number_lines_height(rows)
+    } else {
+        0.0
+    };
+    let axis_names = ["x slab", "y slab", "z slab"];
+    if min.len() == 2 {
+        let (o, d) = (
+            DVec2::new(origin[0], origin[1]),
+            DVec2::new(direction[0], direction[1]),
+        );
+        let bounds = Aabb::new(DVec2::new(min[0], min[1]), DVec2::new(max[0], max[1]));
+        let reach = numbers
+            .as_ref()
+            .map_or(1.0, |n| n.t_exit.max(n.t_enter).max(1.0));
+        let fit = bounds.union(Aabb::from_points([o, o + d * (reach + 0.5)]));
+        let fit = Aabb::new(fit.min - DVec2::splat(1.0), fit.max + DVec2::splat(1.0));
+        let size = ui.available_size() - Vec2::new(0.0, lines_height + 8.0);
+        let canvas = Canvas::allocate(ui, size.max(Vec2::splat(80.0)), view, &fit, true);
+        // The slabs: each axis's two planes across the view, the box where they overlap.
+        let far = Aabb::new(fit.min - DVec2::splat(1e3), fit.max + DVec2::splat(1e3));
+        for axis in 0..2 {
+            let strong = lit.and_then(|lit| lit.axis) == Some(axis);
+            let stroke = Stroke::new(
+                if strong { 3.0 } else { 1.2 },
+                faded(palette::AXES[axis], if strong { 255 } else { 150 }),
+            );
+            for position in [min[axis], max[axis]] {
+                canvas.split_line(&far, axis, position, stroke);
+            }
+        }
+        canvas.box_outline(
+            &bounds,
+            Stroke::new(2.5, palette::BOX),
+            Some(faded(palette::BOX, 30)),
+        );
+        canvas.ray(o, d, f64::INFINITY, Stroke::new(2.5, palette::RAY));
+        canvas.label(o, "o", palette::RAY);
+        if let (Some(lit), Some(numbers)) = (lit, &numbers) {
+            for axis in 0..2 {
+                let color = palette::AXES[axis];
+                canvas.ray_mark(o, d, numbers.t_near[axis], color, "", 0.0);
+                canvas.ray_mark(o, d, numbers.t_far[axis], color, "", 0.0);
+            }
+            if let Some(t) = lit.t {
+                canvas.ray_mark(o, d, t, palette::HIT, "", 0.0);
+                canvas.label(
+                    o + d * t,
+                    &format!("t = {}", accelviz_quiz::num(t)),
+                    palette::HIT,
+                );
+            }
+        }
+        canvas.finish();
+    } else {
+        // In 3D the numbers carry the question; the box and ray are listed.
+        ui.label(
+            egui::RichText::new(format!(
+                "Box from ({}) to ({})\nRay from ({}) in direction ({})",
+                list(min),
+                list(max),
+                list(origin),
+                list(direction)
+            ))
+            .size(18.0),
+        );
+    }
+    if let (Some(_), Some(numbers)) = (lit, &numbers) {
+        ui.add_space(8.0);
+        let mut rows: Vec<IntervalRow> = (0..min.len())
+            .map(|axis| IntervalRow {
+                name: axis_names[axis],
+                color: palette::AXES[axis],
+                interval: (numbers.t_near[axis], numbers.t_far[axis]),
+                visible: true,
+            })
+            .collect();
+        rows.push(IntervalRow {
+            name: "all slabs",
+            color: palette::BOX,
+            interval: (numbers.t_enter, numbers.t_exit),
+            visible: true,
+        });
+        number_lines_ui(ui, &rows, lines_height);
+    }
+}
+
+fn list(values: &[f64]) -> String {
+    values
+        .iter()
+        .map(|value| accelviz_quiz::num(*value))
+        .collect::<Vec<_>>()
+        .join(", ")
+}

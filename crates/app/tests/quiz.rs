@@ -1,0 +1,239 @@
+//! Quiz mode: a whole quiz taken with the keyboard alone (a right answer, a wrong one, the
+//! review, the next question), the score, progress saved after every answer and restored in a
+//! new app, a damaged progress file set aside; snapshots of a question and of an explanation.
+
+#![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
+
+mod common;
+
+use std::path::PathBuf;
+
+use accelviz_app::AccelvizApp;
+use accelviz_app::app::Mode;
+use accelviz_app::quiz::store::ProgressStore;
+use accelviz_app::quiz::{QuizMode, letter_key};
+use accelviz_quiz::{Expected, Level, Session};
+use egui::Key;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+
+/// A progress file of the test's own.
+fn progress_file(name: &str) -> PathBuf {
+    let folder = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("quiz");
+    std::fs::create_dir_all(&folder).unwrap();
+    // Nothing from an earlier run: not the file, nor what was set aside.
+    for entry in std::fs::read_dir(&folder).unwrap().filter_map(Result::ok) {
+        if entry
+            .file_name()
+            .to_string_lossy()
+            .starts_with(&format!("{name}.json"))
+        {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+    folder.join(format!("{name}.json"))
+}
+
+/// The whole app showing the quiz, its progress kept in `path`.
+fn quiz_app(path: &std::path::Path) -> Harness<'static, AccelvizApp> {
+    let mut harness = common::app_harness();
+    harness.state_mut().quiz = QuizMode::with_store(ProgressStore::File(path.to_path_buf()));
+    harness.state_mut().mode = Mode::Quiz;
+    harness.run();
+    harness
+}
+
+fn session(harness: &Harness<'_, AccelvizApp>) -> Session {
+    harness.state().quiz.session().unwrap().clone()
+}
+
+/// Presses `key` alone, and lets the app answer.
+fn press(harness: &mut Harness<'_, AccelvizApp>, key: Key) {
+    harness.key_press(key);
+    harness.run();
+}
+
+/// Types `text` into the focused field.
+fn type_text(harness: &mut Harness<'_, AccelvizApp>, text: &str) {
+    harness
+        .input_mut()
+        .events
+        .push(egui::Event::Text(text.to_owned()));
+    harness.run();
+}
+
+/// Answers the current step with the keyboard only: its letter, or the number typed into the
+/// field (focused when the step appears) and Enter. `right` picks the right answer or not.
+fn answer_by_keyboard(harness: &mut Harness<'_, AccelvizApp>, right: bool) {
+    let ask = session(harness).ask().unwrap().clone();
+    match &ask.expected {
+        Expected::Number { value, tolerance } => {
+            let given = if right {
+                *value
+            } else {
+                value + 10.0 * tolerance + 3.0
+            };
+            type_text(harness, &format!("{given}"));
+            press(harness, Key::Enter);
+        }
+        expected => {
+            let correct = expected.correct_option().unwrap();
+            let chosen = if right {
+                correct
+            } else {
+                (correct + 1) % expected.options().len()
+            };
+            press(harness, letter_key(chosen).unwrap());
+        }
+    }
+}
+
+#[test]
+fn a_whole_quiz_by_keyboard_alone_with_the_review() {
+    let path = progress_file("keyboard");
+    let mut harness = quiz_app(&path);
+    {
+        let quiz = &mut harness.state_mut().quiz;
+        quiz.seed_text = "5".into();
+        quiz.count = 3;
+        quiz.start();
+    }
+    harness.run();
+    let total = session(&harness).total_steps();
+    assert!(total >= 3);
+    // A right answer, then Enter to move on.
+    answer_by_keyboard(&mut harness, true);
+    let after_right = session(&harness);
+    assert!(after_right.is_revealed());
+    assert_eq!((after_right.score(), after_right.streak()), (1, 1));
+    press(&mut harness, Key::Enter);
+    assert!(!session(&harness).is_revealed());
+    // A wrong answer: graded wrong, the model answer shown, and the quiz goes on.
+    answer_by_keyboard(&mut harness, false);
+    let after_wrong = session(&harness);
+    assert_eq!((after_wrong.score(), after_wrong.streak()), (1, 0));
+    assert_eq!(after_wrong.mistakes().len(), 1);
+    harness.get_by_label_contains("Not quite");
+    harness.get_by_label_contains("The answer:");
+    press(&mut harness, Key::Enter);
+    // Every other step right, to the end, through the next questions.
+    let mut questions_seen = vec![0];
+    while !session(&harness).is_finished() {
+        let position = session(&harness).position();
+        if !questions_seen.contains(&position) {
+            questions_seen.push(position);
+        }
+        answer_by_keyboard(&mut harness, true);
+        press(&mut harness, Key::Enter);
+    }
+    assert_eq!(questions_seen, vec![0, 1, 2]);
+    let done = session(&harness);
+    assert_eq!(done.score(), done.answered() - 1);
+    harness.get_by_label_contains("Quiz done");
+    // The review, by keyboard: Tab to the mistake, Enter opens it; the arrows step the model
+    // answer.
+    let mistake = harness.get_by_label_contains("Question 1, step 2");
+    mistake.focus();
+    harness.run();
+    press(&mut harness, Key::Enter);
+    harness.get_by_label_contains("Mistake 1 of 1");
+    harness.get_by_label_contains("The answer:");
+    harness.get_by_label("Back to the score").click();
+    harness.run();
+    harness.get_by_label_contains("Quiz done");
+}
+
+#[test]
+fn progress_is_saved_after_every_answer_and_restored_in_a_new_app() {
+    let path = progress_file("restore");
+    let mut harness = quiz_app(&path);
+    {
+        let quiz = &mut harness.state_mut().quiz;
+        quiz.seed_text = "12".into();
+        quiz.level = Level::Medium;
+        quiz.count = 4;
+        quiz.start();
+    }
+    harness.run();
+    for right in [true, false, true] {
+        answer_by_keyboard(&mut harness, right);
+        // Saved with the explanation showing: a crash now loses nothing.
+        let saved = std::fs::read_to_string(&path).unwrap();
+        assert!(saved.contains("\"revealed\": true"), "{saved}");
+        press(&mut harness, Key::Enter);
+    }
+    let before = session(&harness);
+    drop(harness);
+    // A new app (a restart): the same quiz, at the same place, with the same score.
+    let harness = quiz_app(&path);
+    let after = session(&harness);
+    assert_eq!(after.seed(), 12);
+    assert_eq!(after.level(), Level::Medium);
+    assert_eq!(
+        (after.position(), after.step()),
+        (before.position(), before.step())
+    );
+    assert_eq!(after.score(), before.score());
+    assert_eq!(after.verdicts(), before.verdicts());
+    harness.get_by_label_contains("Carrying on with the quiz of seed 12");
+    // No temporary file is left beside it.
+    assert!(!path.with_extension("json.saving").exists());
+}
+
+#[test]
+fn a_damaged_progress_file_is_set_aside_and_reported() {
+    let path = progress_file("damaged");
+    std::fs::write(
+        &path,
+        "{\"format\": \"accelviz-quiz-progress\", \"version\": 1, \"seed\": ",
+    )
+    .unwrap();
+    let harness = quiz_app(&path);
+    // A new quiz starts, the message names where the old file went, and it is still there.
+    assert!(harness.state().quiz.session().is_some());
+    let (message, problem) = harness.state().quiz.message.clone().unwrap();
+    assert!(problem, "{message}");
+    assert!(message.contains("could not be used"), "{message}");
+    let folder = path.parent().unwrap();
+    let aside: Vec<_> = std::fs::read_dir(folder)
+        .unwrap()
+        .filter_map(|entry| entry.ok())
+        .map(|entry| entry.file_name().to_string_lossy().into_owned())
+        .filter(|name| name.starts_with("damaged.json.unreadable-"))
+        .collect();
+    assert_eq!(aside.len(), 1, "{aside:?}");
+    assert!(message.contains(&aside[0]), "{message}");
+    let kept = std::fs::read_to_string(folder.join(&aside[0])).unwrap();
+    assert!(kept.contains("\"seed\": "));
+    // A foreign file is set aside too.
+    let path = progress_file("foreign");
+    std::fs::write(&path, "PNG\u{1a}not progress").unwrap();
+    let harness = quiz_app(&path);
+    let (message, _) = harness.state().quiz.message.clone().unwrap();
+    assert!(message.contains("not a quiz progress file"), "{message}");
+}
+
+#[test]
+fn a_question_and_an_explanation_match_their_snapshots() {
+    let path = progress_file("snapshots");
+    let mut harness = quiz_app(&path);
+    {
+        let quiz = &mut harness.state_mut().quiz;
+        quiz.seed_text = "11".into();
+        quiz.count = 9;
+        quiz.start();
+    }
+    harness.run();
+    // Seed 11 opens with a BVH traversal question: the tree paused before the first step.
+    assert_eq!(session(&harness).question().kind, "visit-order");
+    harness.run();
+    let mut failures = Vec::new();
+    if let Err(error) = harness.try_snapshot("quiz_question") {
+        failures.push(error.to_string());
+    }
+    answer_by_keyboard(&mut harness, false);
+    if let Err(error) = harness.try_snapshot("quiz_explanation") {
+        failures.push(error.to_string());
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
