@@ -6,11 +6,26 @@ use egui::{RichText, Ui};
 use crate::files::{
     DialogOutcome, FileChannel, FileEvent, FileFilter, FilePanel, PanelAction, PanelMode,
 };
+use crate::lecture::script::{LectureScript, StartStep};
+use crate::lecture::{Lecture, Outcome, Theme};
 use crate::lesson::Lesson;
 use crate::registry::{self, BrokenLesson};
 
 /// The inspector's widths: it may be widened by hand, but content never pushes it.
-const INSPECTOR_WIDTH: (f32, f32, f32) = (280.0, 360.0, 560.0);
+const INSPECTOR_WIDTH: (f32, f32, f32) = (280.0, 400.0, 560.0);
+
+/// The side panels' widths for a window `width` points wide: their usual sizes on a large
+/// window, and shares of a small one (or of a large one zoomed in, as Ctrl + does), so the
+/// canvas keeps at least half the width and the layout stays whole.
+/// Returns (lesson list, inspector default, inspector min, inspector max).
+fn panel_widths(width: f32) -> (f32, f32, f32, f32) {
+    let list = (width * 0.15).clamp(120.0, 210.0);
+    let inspector = (width * 0.29).clamp(180.0, INSPECTOR_WIDTH.1);
+    let least = INSPECTOR_WIDTH.0.min(inspector);
+    // A width the user dragged to is kept, within a share of the window.
+    let most = (width * 0.38).clamp(least, INSPECTOR_WIDTH.2);
+    (list, inspector, least, most)
+}
 
 /// The accelviz app.
 pub struct AccelvizApp {
@@ -31,6 +46,15 @@ pub struct AccelvizApp {
     pub mode: Mode,
     /// The quiz (read from where it was saved the first time it is shown).
     pub quiz: crate::quiz::QuizMode,
+    /// The lecture being given, in lecture mode.
+    pub lecture: Option<Lecture>,
+    /// The lecture script lecture mode starts with (the built-in one, or `assets/lecture.txt`
+    /// on disk), or why the one on disk could not be read.
+    pub script: Result<LectureScript, String>,
+    /// The colours.
+    pub theme: Theme,
+    /// What the style was last set to (theme, lecture text sizes), so it is set on change.
+    styled: Option<(Theme, bool)>,
 }
 
 /// What the window shows.
@@ -41,6 +65,8 @@ pub enum Mode {
     Lessons,
     /// The quiz.
     Quiz,
+    /// A lecture: the script's slides, full screen, driven by a clicker.
+    Lecture,
 }
 
 /// Where a frame put its panels.
@@ -67,11 +93,25 @@ impl AccelvizApp {
     /// The app with lesson files read from `assets_dir` where they exist there (see
     /// [`registry::registry_from`]).
     pub fn with_assets(assets_dir: &std::path::Path) -> Self {
-        Self::from_lessons(registry::registry_from(Some(assets_dir)))
+        let mut app = Self::from_lessons(registry::registry_from(Some(assets_dir)));
+        // The lecture script: assets/lecture.txt where it exists (a lecturer edits it in
+        // place), else the built-in one.
+        let on_disk = assets_dir.join("lecture.txt");
+        if on_disk.is_file() {
+            let shown = on_disk.display().to_string();
+            app.script = accelviz_scene::error::read_text(&shown)
+                .map_err(|error| error.to_string())
+                .and_then(|text| {
+                    LectureScript::parse(&text, &shown, app.lessons.len())
+                        .map_err(|error| error.to_string())
+                });
+        }
+        app
     }
 
     /// The app with these lessons.
     pub fn from_lessons(lessons: Vec<Result<Box<dyn Lesson>, BrokenLesson>>) -> Self {
+        let lessons_len = lessons.len();
         Self {
             lessons,
             selected: 0,
@@ -85,6 +125,10 @@ impl AccelvizApp {
             },
             mode: Mode::Lessons,
             quiz: crate::quiz::QuizMode::new(),
+            lecture: None,
+            script: LectureScript::default_for(lessons_len).map_err(|error| error.to_string()),
+            theme: Theme::Dark,
+            styled: None,
         }
     }
 
@@ -121,9 +165,17 @@ impl AccelvizApp {
     /// Everything the app draws in a frame.
     pub fn contents_ui(&mut self, ui: &mut Ui) {
         self.selected = self.selected.min(self.lessons.len().saturating_sub(1));
-        if self.mode == Mode::Quiz {
-            self.quiz_ui(ui);
-            return;
+        self.apply_style(ui.ctx());
+        match self.mode {
+            Mode::Quiz => {
+                self.quiz_ui(ui);
+                return;
+            }
+            Mode::Lecture if self.lecture.is_some() => {
+                self.lecture_ui(ui);
+                return;
+            }
+            Mode::Lecture | Mode::Lessons => {}
         }
         self.take_export();
         self.take_dropped_files(ui.ctx());
@@ -157,15 +209,17 @@ impl AccelvizApp {
                 ui.add_space(2.0);
             });
         }
+        let (list_width, inspector_width, inspector_min, inspector_max) =
+            panel_widths(ui.ctx().content_rect().width());
         egui::Panel::left("lessons")
             .resizable(false)
-            .exact_size(210.0)
+            .exact_size(list_width)
             .show(ui, |ui| self.lesson_list_ui(ui));
         self.last_layout.inspector = egui::Panel::right("inspector")
             .resizable(true)
-            .default_size(INSPECTOR_WIDTH.1)
-            .min_size(INSPECTOR_WIDTH.0)
-            .max_size(INSPECTOR_WIDTH.2)
+            .default_size(inspector_width)
+            .min_size(inspector_min)
+            .max_size(inspector_max)
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| match &mut self.lessons[selected] {
                     Ok(lesson) => {
@@ -196,6 +250,297 @@ impl AccelvizApp {
         self.report_position(ui);
     }
 
+    /// Sets the theme's colours and, in lecture mode, the lecture's text sizes and zoom; only
+    /// when they change, so the user's own zoom (Ctrl +) is kept otherwise.
+    fn apply_style(&mut self, ctx: &egui::Context) {
+        let lecturing = self.mode == Mode::Lecture && self.lecture.is_some();
+        let wanted = (self.theme, lecturing);
+        if self.styled == Some(wanted) {
+            return;
+        }
+        let was_lecturing = self.styled.is_some_and(|(_, lecturing)| lecturing);
+        self.styled = Some(wanted);
+        let defaults = egui::Style::default();
+        ctx.all_styles_mut(|style| {
+            style.visuals = self.theme.visuals();
+            if lecturing {
+                crate::lecture::lecture_text_styles(style);
+            } else {
+                style.text_styles = defaults.text_styles.clone();
+                style.spacing = defaults.spacing.clone();
+            }
+        });
+        if let Some(lecture) = self.lecture.as_ref().filter(|_| lecturing) {
+            ctx.set_zoom_factor(lecture.scale);
+        } else if was_lecturing {
+            ctx.set_zoom_factor(1.0);
+        }
+    }
+
+    /// Starts lecture mode with the script, at its first slide.
+    pub fn start_lecture(&mut self) {
+        match &self.script {
+            Ok(script) => {
+                self.lecture = Some(Lecture::new(script.clone()));
+                self.mode = Mode::Lecture;
+                self.open_slide(0, false);
+            }
+            Err(problem) => {
+                self.status = Some((format!("No lecture: {problem}"), true));
+            }
+        }
+    }
+
+    /// Leaves lecture mode for the lesson last shown.
+    pub fn stop_lecture(&mut self, ctx: &egui::Context) {
+        if self
+            .lecture
+            .as_ref()
+            .is_some_and(|lecture| lecture.full_screen)
+        {
+            set_full_screen(ctx, false);
+        }
+        self.lecture = None;
+        self.mode = Mode::Lessons;
+    }
+
+    /// Opens slide `index` of the lecture (at its last step when going back).
+    pub fn open_slide(&mut self, index: usize, at_end: bool) {
+        let Some(lecture) = &mut self.lecture else {
+            return;
+        };
+        let Some((lesson, show)) = lecture.open(index, at_end) else {
+            return;
+        };
+        self.selected = lesson.min(self.lessons.len().saturating_sub(1));
+        let slide = lecture.slide + 1;
+        let path = lecture.script.path.clone();
+        let mut problem = None;
+        if let Some(name) = show
+            && let Some(lesson) = self.lesson_mut()
+            && !lesson.show_named(&name)
+        {
+            problem = Some(format!(
+                "{path}: slide {slide}: this lesson has no ray or preset \"{name}\"; it has: {}",
+                lesson.named().join(", ")
+            ));
+        }
+        if let Some(lecture) = &mut self.lecture {
+            lecture.message = problem.map(|problem| (problem, true));
+        }
+    }
+
+    /// Lecture mode: the slide fills the window under a bar of large controls.
+    fn lecture_ui(&mut self, ui: &mut Ui) {
+        let ctx = ui.ctx().clone();
+        // The clicker's keys first, so the frame shows where they lead.
+        for action in Lecture::pressed(ui) {
+            let on_lesson = matches!(
+                self.lecture.as_ref().map(Lecture::current),
+                Some(crate::lecture::script::Slide::Lesson { .. })
+            );
+            let selected = self.selected;
+            let lesson = if on_lesson {
+                self.lessons
+                    .get_mut(selected)
+                    .and_then(|lesson| lesson.as_mut().ok())
+                    .map(|lesson| lesson.as_mut() as &mut dyn Lesson)
+            } else {
+                None
+            };
+            let Some(lecture) = &mut self.lecture else {
+                return;
+            };
+            match lecture.act(action, lesson) {
+                Outcome::Stay => {}
+                Outcome::Open(index, at_end) => self.open_slide(index, at_end),
+                Outcome::FullScreen(on) => set_full_screen(&ctx, on),
+                Outcome::Exit => {
+                    self.stop_lecture(&ctx);
+                    return;
+                }
+            }
+        }
+        let on_lesson = matches!(
+            self.lecture.as_ref().map(Lecture::current),
+            Some(crate::lecture::script::Slide::Lesson { .. })
+        );
+        if on_lesson && let Some(lesson) = self.lesson_mut() {
+            lesson.update();
+        }
+        // A lesson slide's start step, once its animation knows its steps.
+        let pending = self.lecture.as_ref().and_then(Lecture::pending);
+        if let (true, Some(pending)) = (on_lesson, pending) {
+            let ready = self
+                .lesson()
+                .map(|lesson| lesson.caption().is_none() || lesson.stage().timeline.len > 0);
+            if ready == Some(true) {
+                if let Some(lecture) = &mut self.lecture {
+                    lecture.take_pending();
+                }
+                if let Some(lesson) = self.lesson_mut() {
+                    let timeline = &mut lesson.stage_mut().timeline;
+                    timeline.playing = false;
+                    timeline.shown = match pending {
+                        StartStep::At(step) => step.min(timeline.len),
+                        StartStep::End => timeline.len,
+                    };
+                }
+            }
+        }
+        egui::Panel::top("lecture bar").show(ui, |ui| self.lecture_bar_ui(ui));
+        let caption = self
+            .lesson()
+            .filter(|_| on_lesson)
+            .and_then(|lesson| lesson.caption());
+        if let Some(caption) = caption {
+            egui::Panel::bottom("lecture caption").show(ui, |ui| {
+                ui.add_space(4.0);
+                ui.label(RichText::new(caption).size(20.0));
+                ui.add_space(4.0);
+            });
+        }
+        let panels = self.lecture.as_ref().is_some_and(|lecture| lecture.panels);
+        if on_lesson {
+            let selected = self.selected;
+            if panels {
+                egui::Panel::right("inspector")
+                    .resizable(true)
+                    .default_size(INSPECTOR_WIDTH.1)
+                    .show(ui, |ui| {
+                        egui::ScrollArea::vertical().show(ui, |ui| {
+                            if let Ok(lesson) = &mut self.lessons[selected] {
+                                text_ui(ui, lesson.text());
+                                ui.separator();
+                                lesson.inspector_ui(ui);
+                            }
+                        });
+                    });
+            }
+            self.last_layout.canvas = egui::CentralPanel::default()
+                .show(ui, |ui| {
+                    if let Some(lesson) = self.lesson_mut() {
+                        lesson.canvas_ui(ui);
+                    }
+                })
+                .response
+                .rect;
+        } else if let Some(lecture) = &mut self.lecture {
+            self.last_layout.canvas = egui::CentralPanel::default()
+                .show(ui, |ui| lecture.question_ui(ui))
+                .response
+                .rect;
+        }
+        if let Some(lecture) = &self.lecture {
+            if lecture.pointer {
+                crate::lecture::paint_pointer(&ctx);
+            }
+            if lecture.blank {
+                crate::lecture::paint_blank(&ctx);
+            }
+        }
+        self.report_position(ui);
+    }
+
+    /// The lecture's bar: where the lecture is, and large buttons for what the keys do.
+    fn lecture_bar_ui(&mut self, ui: &mut Ui) {
+        let titles = self.titles();
+        let step = self
+            .lesson()
+            .filter(|lesson| lesson.caption().is_some())
+            .map(|lesson| (lesson.stage().timeline.shown, lesson.stage().timeline.len));
+        let Some(lecture) = &mut self.lecture else {
+            return;
+        };
+        let mut outcome = None;
+        ui.horizontal_wrapped(|ui| {
+            let count = lecture.script.slides.len();
+            let what = match lecture.current() {
+                crate::lecture::script::Slide::Lesson { index, .. } => {
+                    let title = titles.get(*index).cloned().unwrap_or_default();
+                    match step {
+                        Some((shown, len)) => format!("{title} · step {shown} of {len}"),
+                        None => title,
+                    }
+                }
+                crate::lecture::script::Slide::Question { kind, .. } => {
+                    let step = lecture
+                        .question()
+                        .map(|session| session.step() + 1)
+                        .unwrap_or(1);
+                    format!("Question: {kind} · step {step}")
+                }
+            };
+            ui.label(
+                RichText::new(format!("Slide {} of {count} · {what}", lecture.slide + 1)).strong(),
+            );
+            ui.separator();
+            for (label, action) in [
+                ("Back", crate::lecture::Action::Previous),
+                ("Next", crate::lecture::Action::Next),
+                ("Reveal (R)", crate::lecture::Action::Reveal),
+                ("Blank (B)", crate::lecture::Action::Blank),
+                ("Full screen (F)", crate::lecture::Action::FullScreen),
+                ("Panels (I)", crate::lecture::Action::Panels),
+                ("Exit (Esc)", crate::lecture::Action::Exit),
+            ] {
+                if ui.button(label).clicked() {
+                    outcome = Some(action);
+                }
+            }
+            ui.separator();
+            ui.checkbox(&mut lecture.pointer, "Pointer");
+            let label = ui.label("Scale");
+            let scale = ui
+                .add(egui::Slider::new(&mut lecture.scale, 1.0..=2.5).step_by(0.1))
+                .labelled_by(label.id);
+            if scale.drag_stopped() || scale.lost_focus() {
+                ui.ctx().set_zoom_factor(lecture.scale);
+            }
+            for theme in Theme::ALL {
+                if ui
+                    .selectable_label(self.theme == theme, theme.name())
+                    .clicked()
+                {
+                    self.theme = theme;
+                }
+            }
+            if let Some((message, problem)) = &lecture.message {
+                let color = if *problem {
+                    crate::canvas::palette::MISS
+                } else {
+                    ui.visuals().weak_text_color()
+                };
+                ui.colored_label(color, message);
+            }
+        });
+        if let Some(action) = outcome {
+            let ctx = ui.ctx().clone();
+            let on_lesson = matches!(
+                lecture.current(),
+                crate::lecture::script::Slide::Lesson { .. }
+            );
+            let selected = self.selected;
+            let lesson = if on_lesson {
+                self.lessons
+                    .get_mut(selected)
+                    .and_then(|lesson| lesson.as_mut().ok())
+                    .map(|lesson| lesson.as_mut() as &mut dyn Lesson)
+            } else {
+                None
+            };
+            let Some(lecture) = &mut self.lecture else {
+                return;
+            };
+            match lecture.act(action, lesson) {
+                Outcome::Stay => {}
+                Outcome::Open(index, at_end) => self.open_slide(index, at_end),
+                Outcome::FullScreen(on) => set_full_screen(&ctx, on),
+                Outcome::Exit => self.stop_lecture(&ctx),
+            }
+        }
+    }
+
     /// The quiz: its panel on the right, its figure in the middle.
     fn quiz_ui(&mut self, ui: &mut Ui) {
         egui::Panel::top("top bar").show(ui, |ui| {
@@ -205,16 +550,18 @@ impl AccelvizApp {
                 ui.label(RichText::new("Quiz").size(16.0));
             });
         });
+        let (list_width, inspector_width, inspector_min, inspector_max) =
+            panel_widths(ui.ctx().content_rect().width());
         egui::Panel::left("lessons")
             .resizable(false)
-            .exact_size(210.0)
+            .exact_size(list_width)
             .show(ui, |ui| self.lesson_list_ui(ui));
         self.quiz.handle_keys(ui);
         self.last_layout.inspector = egui::Panel::right("inspector")
             .resizable(true)
-            .default_size(INSPECTOR_WIDTH.1)
-            .min_size(INSPECTOR_WIDTH.0)
-            .max_size(INSPECTOR_WIDTH.2)
+            .default_size(inspector_width)
+            .min_size(inspector_min)
+            .max_size(inspector_max)
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| self.quiz.panel_ui(ui));
             })
@@ -286,6 +633,11 @@ impl AccelvizApp {
     }
 
     fn lesson_list_ui(&mut self, ui: &mut Ui) {
+        // Scrolls when scaled up past what the window holds.
+        egui::ScrollArea::vertical().show(ui, |ui| self.lesson_list_contents_ui(ui));
+    }
+
+    fn lesson_list_contents_ui(&mut self, ui: &mut Ui) {
         ui.add_space(6.0);
         ui.label(RichText::new("Lessons").strong());
         ui.add_space(4.0);
@@ -298,6 +650,17 @@ impl AccelvizApp {
                     self.mode = Mode::Lessons;
                     self.status = None;
                 }
+            }
+            ui.add_space(8.0);
+            ui.label(RichText::new("Teach").strong());
+            if ui
+                .selectable_label(self.mode == Mode::Lecture, "Lecture mode (projector)")
+                .on_hover_text(
+                    "The lecture's slides full screen, large, stepped with a clicker: Page Down, Page Up, B blanks, R reveals",
+                )
+                .clicked()
+            {
+                self.start_lecture();
             }
             ui.add_space(8.0);
             ui.label(RichText::new("Test yourself").strong());
@@ -317,6 +680,31 @@ impl AccelvizApp {
             .weak()
             .small(),
         );
+        ui.add_space(12.0);
+        ui.label(RichText::new("Display").strong());
+        ui.horizontal_wrapped(|ui| {
+            for theme in Theme::ALL {
+                if ui
+                    .selectable_label(self.theme == theme, theme.name())
+                    .on_hover_text("Colours: dark, light for lit rooms, or high contrast")
+                    .clicked()
+                {
+                    self.theme = theme;
+                }
+            }
+        });
+        let mut zoom = ui.ctx().zoom_factor();
+        ui.horizontal(|ui| {
+            let label = ui.label("Scale");
+            let slider = ui
+                .add(egui::Slider::new(&mut zoom, 0.75..=2.0).step_by(0.05))
+                .labelled_by(label.id)
+                .on_hover_text("Everything larger or smaller (as Ctrl + and Ctrl −)");
+            // Set once the drag ends: the slider itself moves as everything scales.
+            if slider.drag_stopped() || (slider.changed() && !slider.dragged()) {
+                ui.ctx().set_zoom_factor(zoom);
+            }
+        });
     }
 
     /// Opens a scene: the system's dialog, or the in-app panel when there is none.
@@ -512,6 +900,17 @@ impl AccelvizApp {
         }
         self.reported = Some(line);
     }
+}
+
+/// Full screen on or off: the window on the desktop, the page in the browser.
+fn set_full_screen(ctx: &egui::Context, on: bool) {
+    #[cfg(target_arch = "wasm32")]
+    {
+        let _ = ctx;
+        crate::files::web_full_screen(on);
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(on));
 }
 
 impl AccelvizApp {

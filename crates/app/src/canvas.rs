@@ -109,6 +109,23 @@ pub fn depth_color(depth: usize) -> Color32 {
     }
 }
 
+/// The body text size egui starts with; a larger one (lecture mode's) scales canvas text.
+const DEFAULT_BODY_POINTS: f32 = 13.0;
+
+/// A proportional font of `points` at the app's text scale: when lecture mode makes text
+/// larger, text drawn on canvases grows with it, never below the style's small text.
+pub fn font(ctx: &egui::Context, points: f32) -> FontId {
+    let style = ctx.global_style();
+    let size = |text_style: egui::TextStyle, default: f32| {
+        style
+            .text_styles
+            .get(&text_style)
+            .map_or(default, |font| font.size)
+    };
+    let factor = (size(egui::TextStyle::Body, DEFAULT_BODY_POINTS) / DEFAULT_BODY_POINTS).max(1.0);
+    FontId::proportional((points * factor).max(size(egui::TextStyle::Small, 9.0)))
+}
+
 /// How many depths `depth_color` keeps converted: deeper than any kD-tree's depth limit.
 const DEPTH_COLORS: usize = 64;
 
@@ -190,7 +207,7 @@ impl Canvas {
     pub fn note_right(&self, text: &str) {
         let galley = self.painter.layout_no_wrap(
             text.to_owned(),
-            FontId::proportional(12.0),
+            font(self.painter.ctx(), 12.0),
             Color32::from_gray(220),
         );
         let pos = self.rect.right_bottom() - Vec2::new(10.0, 8.0) - galley.size();
@@ -204,7 +221,7 @@ impl Canvas {
     pub fn note(&self, text: &str) {
         let galley = self.painter.layout(
             text.to_owned(),
-            FontId::proportional(13.0),
+            font(self.painter.ctx(), 13.0),
             Color32::WHITE,
             (self.rect.width() - 20.0).max(40.0),
         );
@@ -399,7 +416,7 @@ impl Canvas {
                 point + normal * label_offset,
                 Align2::CENTER_CENTER,
                 label,
-                FontId::proportional(13.0),
+                font(self.painter.ctx(), 13.0),
                 color,
             );
         }
@@ -432,7 +449,7 @@ impl Canvas {
         self.labels.borrow_mut().place(
             &self.painter,
             label,
-            FontId::proportional(13.0),
+            font(self.painter.ctx(), 13.0),
             color,
             point,
             &[
@@ -454,7 +471,7 @@ impl Canvas {
         self.labels.borrow_mut().place(
             &self.painter,
             text,
-            FontId::proportional(13.0),
+            font(self.painter.ctx(), 13.0),
             color,
             anchor,
             &[
@@ -474,7 +491,7 @@ impl Canvas {
         for (text, color) in lines {
             let galley =
                 self.painter
-                    .layout(text.clone(), FontId::proportional(14.0), *color, width);
+                    .layout(text.clone(), font(self.painter.ctx(), 14.0), *color, width);
             let backing = Rect::from_min_size(pos, galley.size()).expand(3.0);
             self.painter
                 .rect_filled(backing, 3.0, Color32::from_black_alpha(150));

@@ -237,9 +237,10 @@ impl EditableScene {
     }
 
     /// The toolbar above the canvas: tools, generator, fit. One line at the app's default size
-    /// (the shape count is written on the canvas, [`draw_footer`](Self::draw_footer)).
+    /// (the shape count is written on the canvas, [`draw_footer`](Self::draw_footer)); it wraps
+    /// rather than widen the canvas's panel past the window when the app is scaled up.
     pub fn toolbar_ui(&mut self, ui: &mut Ui) {
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.spacing_mut().item_spacing.x = 6.0;
             if self.editing.shapes {
                 for (tool, label, hint) in [

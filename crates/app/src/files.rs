@@ -475,6 +475,23 @@ impl FileChannel {
     }
 }
 
+/// Puts the page full screen, or back (the browser's full screen; on the desktop the window
+/// is asked through the viewport instead).
+pub fn web_full_screen(on: bool) {
+    #[cfg(target_arch = "wasm32")]
+    if let Some(document) = web_sys::window().and_then(|window| window.document()) {
+        if on {
+            if let Some(element) = document.document_element() {
+                let _ = element.request_fullscreen();
+            }
+        } else {
+            document.exit_fullscreen();
+        }
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    let _ = on;
+}
+
 /// Sets the browser page's title (nothing on the desktop, where the window title is set
 /// through the viewport).
 pub fn set_page_title(title: &str) {

@@ -190,6 +190,17 @@ pub trait Lesson {
         None
     }
 
+    /// Shows the lesson file's named ray or preset `name` (a lecture script's `show NAME`);
+    /// false when the lesson has none by that name.
+    fn show_named(&mut self, _name: &str) -> bool {
+        false
+    }
+
+    /// The names [`show_named`](Self::show_named) takes.
+    fn named(&self) -> Vec<String> {
+        Vec::new()
+    }
+
     /// The lesson's part of the inspector (right): statistics, tables, the tree.
     fn inspector_ui(&mut self, ui: &mut egui::Ui);
 

@@ -121,3 +121,42 @@ fn huge_coordinates_keep_the_layout() {
         );
     }
 }
+
+/// Scaled up (the Scale setting, or Ctrl +), every lesson keeps its layout whole: the panels
+/// shrink to shares of the window, the toolbar wraps, and nothing in the middle is pushed past
+/// the inspector or the window's edge.
+#[test]
+fn scaled_up_every_lesson_keeps_its_layout_whole() {
+    // Ctrl + twice and three times on the usual window, and the largest scale on a projector.
+    for (screen, zoom) in [
+        (egui::vec2(1400.0, 860.0), 1.4_f32),
+        (egui::vec2(1400.0, 860.0), 1.6),
+        (egui::vec2(1920.0, 1080.0), 2.0),
+    ] {
+        let mut harness = common::app_harness_sized(screen);
+        harness.ctx.set_zoom_factor(zoom);
+        harness.run();
+        let points = harness.ctx.content_rect().size();
+        assert!(
+            (points.x - screen.x / zoom).abs() < 2.0,
+            "{points:?} at {zoom}x of {screen:?}"
+        );
+        for index in 0..harness.state().lesson_count() {
+            harness.state_mut().selected = index;
+            harness.run_steps(3);
+            let title = harness.state().titles()[index].clone();
+            let layout = harness.state().last_layout;
+            let (canvas, inspector) = (layout.canvas, layout.inspector);
+            assert!(
+                canvas.right() <= inspector.left() + 1.0 && inspector.right() <= points.x + 1.0,
+                "{title} at {zoom}x: the middle {canvas:?} runs past the inspector {inspector:?} or the window ({points:?})"
+            );
+            assert!(
+                canvas.width() >= 0.4 * points.x,
+                "{title} at {zoom}x: the canvas has {} of {} points",
+                canvas.width(),
+                points.x
+            );
+        }
+    }
+}

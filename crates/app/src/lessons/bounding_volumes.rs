@@ -164,27 +164,33 @@ impl Lesson for BoundingVolumesLesson {
                 count(|fate| *fate == Fate::Wasted),
             ));
         }
-        egui::Grid::new("volumes table")
-            .striped(true)
+        // A table keeps its columns: in a narrow panel (the app scaled up) it scrolls
+        // sideways rather than widen the panel.
+        egui::ScrollArea::horizontal()
+            .id_salt("volumes table columns")
             .show(ui, |ui| {
-                ui.strong("volume");
-                ui.strong("void");
-                ui.strong("rejected");
-                ui.strong("hit object");
-                ui.strong("wasted");
-                ui.end_row();
-                for (volume, rejected, hit, wasted) in rows {
-                    let (name, void) = match volume {
-                        Volume::Aabb => ("box", volumes.aabb_void),
-                        Volume::Sphere => ("sphere", volumes.sphere_void),
-                    };
-                    ui.label(name);
-                    ui.label(format!("{:.0} %", void * 100.0));
-                    ui.label(rejected.to_string());
-                    ui.label(hit.to_string());
-                    ui.colored_label(palette::RAY, wasted.to_string());
-                    ui.end_row();
-                }
+                egui::Grid::new("volumes table")
+                    .striped(true)
+                    .show(ui, |ui| {
+                        ui.strong("volume");
+                        ui.strong("void");
+                        ui.strong("rejected");
+                        ui.strong("hit object");
+                        ui.strong("wasted");
+                        ui.end_row();
+                        for (volume, rejected, hit, wasted) in rows {
+                            let (name, void) = match volume {
+                                Volume::Aabb => ("box", volumes.aabb_void),
+                                Volume::Sphere => ("sphere", volumes.sphere_void),
+                            };
+                            ui.label(name);
+                            ui.label(format!("{:.0} %", void * 100.0));
+                            ui.label(rejected.to_string());
+                            ui.label(hit.to_string());
+                            ui.colored_label(palette::RAY, wasted.to_string());
+                            ui.end_row();
+                        }
+                    });
             });
         ui.label(
             "Void: the share of the volume the object does not fill. A ray through the void passes \

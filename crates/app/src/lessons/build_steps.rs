@@ -8,7 +8,7 @@
 use accelviz_core::curve::{CostCurve, kd_curve};
 use accelviz_core::format::{count, number};
 use accelviz_core::{BuildRecorder, BuildStep, PrimitiveSet, Structure};
-use egui::{Color32, FontId, RichText, Stroke, Vec2};
+use egui::{Color32, RichText, Stroke, Vec2};
 use egui_plot::{HLine, Line, Plot, PlotPoints, VLine};
 use glam::DVec2;
 
@@ -414,7 +414,7 @@ impl Lesson for BuildStepsLesson {
                     labels.place(
                         &canvas.painter,
                         &format!("{}{}", AXES[axis.min(1)], rank + 1),
-                        FontId::proportional(12.0),
+                        crate::canvas::font(canvas.painter.ctx(), 12.0),
                         Color32::WHITE,
                         canvas.to_screen(bounds.max),
                         &[

@@ -219,6 +219,22 @@ impl BvhLesson {
 impl Lesson for BvhLesson {
     crate::staged!(tree);
 
+    fn show_named(&mut self, name: &str) -> bool {
+        let ray = self
+            .named_rays()
+            .into_iter()
+            .find(|(named, _)| named == name)
+            .map(|(_, ray)| ray);
+        ray.map(|ray| self.use_ray(ray)).is_some()
+    }
+
+    fn named(&self) -> Vec<String> {
+        self.named_rays()
+            .into_iter()
+            .map(|(name, _)| name)
+            .collect()
+    }
+
     fn update(&mut self) {
         let scene = &self.stage.scene;
         request_tree(&mut self.tree, scene, self.structure);

@@ -60,36 +60,42 @@ impl Lesson for CostSplitLesson {
         };
         let kd = self.family == Family::Kd;
         ui.separator();
-        egui::Grid::new("cost split table")
-            .striped(true)
+        // A table keeps its columns: in a narrow panel (the app scaled up) it scrolls
+        // sideways rather than widen the panel.
+        egui::ScrollArea::horizontal()
+            .id_salt("cost split table columns")
             .show(ui, |ui| {
-                ui.strong("rule");
-                ui.strong("SAH cost");
-                ui.strong("depth");
-                ui.strong("nodes/ray");
-                ui.strong("tests/ray");
-                if kd {
-                    ui.strong("empty area");
-                }
-                ui.end_row();
-                for (pane, rule) in RULES.iter().enumerate() {
-                    let stats = &comparison.trees[pane].stats;
-                    ui.colored_label(rule_color(*rule), rule.label());
-                    ui.label(number(stats.sah_cost));
-                    ui.label(stats.max_depth.to_string());
-                    ui.label(format!(
-                        "{:.1}",
-                        comparison.per_ray(pane, |c| c.nodes_visited)
-                    ));
-                    ui.label(format!(
-                        "{:.1}",
-                        comparison.per_ray(pane, |c| c.primitive_tests)
-                    ));
-                    if kd {
-                        ui.label(format!("{:.0} %", stats.empty_leaf_share * 100.0));
-                    }
-                    ui.end_row();
-                }
+                egui::Grid::new("cost split table")
+                    .striped(true)
+                    .show(ui, |ui| {
+                        ui.strong("rule");
+                        ui.strong("SAH cost");
+                        ui.strong("depth");
+                        ui.strong("nodes/ray");
+                        ui.strong("tests/ray");
+                        if kd {
+                            ui.strong("empty area");
+                        }
+                        ui.end_row();
+                        for (pane, rule) in RULES.iter().enumerate() {
+                            let stats = &comparison.trees[pane].stats;
+                            ui.colored_label(rule_color(*rule), rule.label());
+                            ui.label(number(stats.sah_cost));
+                            ui.label(stats.max_depth.to_string());
+                            ui.label(format!(
+                                "{:.1}",
+                                comparison.per_ray(pane, |c| c.nodes_visited)
+                            ));
+                            ui.label(format!(
+                                "{:.1}",
+                                comparison.per_ray(pane, |c| c.primitive_tests)
+                            ));
+                            if kd {
+                                ui.label(format!("{:.0} %", stats.empty_leaf_share * 100.0));
+                            }
+                            ui.end_row();
+                        }
+                    });
             });
         ui.label(format!(
             "Measured on {} seeded rays through the scene.",

@@ -234,17 +234,20 @@ impl HeatLesson {
         let mut save = false;
         ui.vertical(|ui| {
             ui.set_width(size.x);
-            ui.horizontal(|ui| {
+            // Wraps (as when scaled up) rather than widen the pane.
+            ui.horizontal_wrapped(|ui| {
                 ui.label(egui::RichText::new(title).strong());
                 save = ui
                     .small_button("save PNG")
                     .on_hover_text("This map as a PNG, one pixel a pixel, for slides")
                     .clicked();
             });
-            // One pixel of the map on one pixel of the screen, like the view beside it.
+            // One pixel of the map on one pixel of the screen, like the view beside it; smaller
+            // only while maps of an earlier, larger pane are shown (the app was just scaled up).
             let pixels_per_point = ui.ctx().pixels_per_point();
+            let natural = Vec2::new(map_size[0] as f32, map_size[1] as f32) / pixels_per_point;
             let (fitted, response) = ui.allocate_exact_size(
-                Vec2::new(map_size[0] as f32, map_size[1] as f32) / pixels_per_point,
+                fit_within(natural, size - Vec2::new(0.0, 44.0)),
                 Sense::click(),
             );
             ui.painter().image(
@@ -478,24 +481,30 @@ impl Lesson for HeatLesson {
         ));
         let Some(maps) = &self.maps else { return };
         ui.separator();
-        egui::Grid::new("heat totals").striped(true).show(ui, |ui| {
-            ui.label("per pixel");
-            ui.label("near first");
-            ui.label("file order");
-            ui.end_row();
-            for counter in Counter::ALL {
-                ui.label(counter.label());
-                for map in &maps.maps {
-                    let summary = map.summary(counter);
-                    ui.label(format!(
-                        "mean {}, max {}",
-                        number(summary.mean),
-                        count(summary.max as usize)
-                    ));
-                }
-                ui.end_row();
-            }
-        });
+        // A table keeps its columns: in a narrow panel (the app scaled up) it scrolls
+        // sideways rather than widen the panel.
+        egui::ScrollArea::horizontal()
+            .id_salt("heat totals columns")
+            .show(ui, |ui| {
+                egui::Grid::new("heat totals").striped(true).show(ui, |ui| {
+                    ui.label("per pixel");
+                    ui.label("near first");
+                    ui.label("file order");
+                    ui.end_row();
+                    for counter in Counter::ALL {
+                        ui.label(counter.label());
+                        for map in &maps.maps {
+                            let summary = map.summary(counter);
+                            ui.label(format!(
+                                "mean {}, max {}",
+                                number(summary.mean),
+                                count(summary.max as usize)
+                            ));
+                        }
+                        ui.end_row();
+                    }
+                });
+            });
         let state = if maps.progress < 1.0 {
             format!("{:.0} % traced", maps.progress * 100.0)
         } else {
@@ -551,8 +560,13 @@ impl Lesson for HeatLesson {
         self.textures(ui.ctx());
         let available = ui.available_size();
         let gap = 8.0;
-        let pane =
-            Vec2::new((available.x - gap) / 2.0, (available.y - gap) / 2.0).max(Vec2::splat(40.0));
+        // Two panes a row with a gap between them, and the layout's spacing on each side of it.
+        let spacing = ui.spacing().item_spacing;
+        let pane = Vec2::new(
+            (available.x - gap - 2.0 * spacing.x) / 2.0,
+            (available.y - gap - 2.0 * spacing.y) / 2.0,
+        )
+        .max(Vec2::splat(40.0));
         // The maps have the 3D view's size in pixels, so a pixel of one is a pixel of the other.
         let pixels_per_point = ui.ctx().pixels_per_point();
         // In steps of 8 pixels, so a layout that moves by a pixel does not start the maps again.
@@ -571,7 +585,10 @@ impl Lesson for HeatLesson {
                 ui.label(egui::RichText::new("The view (its camera is the maps')").strong());
                 // Exactly the maps' size: pixel (x, y) here is pixel (x, y) there.
                 let image = match sizes.or(self.pane_pixels) {
-                    Some([w, h]) => Vec2::new(w as f32, h as f32) / pixels_per_point,
+                    Some([w, h]) => fit_within(
+                        Vec2::new(w as f32, h as f32) / pixels_per_point,
+                        Vec2::new(pane.x, pane.y - 44.0),
+                    ),
                     None => Vec2::new(pane.x, pane.y - 44.0),
                 };
                 self.view.ui(
@@ -656,4 +673,12 @@ impl Lesson for HeatLesson {
             self.pick_pixel(x, y, order);
         }
     }
+}
+
+/// `size` shrunk, keeping its shape, to fit in `room` (never grown).
+fn fit_within(size: Vec2, room: Vec2) -> Vec2 {
+    let scale = (room.x / size.x.max(1.0))
+        .min(room.y / size.y.max(1.0))
+        .clamp(0.0, 1.0);
+    size * scale
 }

@@ -436,13 +436,19 @@ impl Lesson for KdLesson {
             .fill(ui.visuals().extreme_bg_color)
             .inner_margin(6.0)
             .show(ui, |ui| {
-                for (line, code) in PSEUDO_CODE.iter().enumerate() {
-                    let mut text = RichText::new(*code).monospace().size(11.5);
-                    if lines.contains(&line) {
-                        text = text.background_color(faded(palette::CURRENT, 110)).strong();
-                    }
-                    ui.add(egui::Label::new(text).wrap_mode(egui::TextWrapMode::Extend));
-                }
+                // Code lines keep their shape: in a narrow panel (the app scaled up) they
+                // scroll sideways rather than widen the panel.
+                egui::ScrollArea::horizontal()
+                    .id_salt("pseudo-code")
+                    .show(ui, |ui| {
+                        for (line, code) in PSEUDO_CODE.iter().enumerate() {
+                            let mut text = RichText::new(*code).monospace().size(11.5);
+                            if lines.contains(&line) {
+                                text = text.background_color(faded(palette::CURRENT, 110)).strong();
+                            }
+                            ui.add(egui::Label::new(text).wrap_mode(egui::TextWrapMode::Extend));
+                        }
+                    });
             });
         ui.separator();
         let stats = &tree.stats;

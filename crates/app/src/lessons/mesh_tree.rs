@@ -367,18 +367,24 @@ impl MeshTreeLesson {
         let record = slab_record(&bounds, &picked.ray, false);
         ui.separator();
         ui.label(egui::RichText::new(format!("Slab test of {}", tree.node_name(node))).strong());
-        egui::Grid::new("slabs").striped(true).show(ui, |ui| {
-            ui.label("axis");
-            ui.label("t near");
-            ui.label("t far");
-            ui.end_row();
-            for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
-                ui.label(name);
-                ui.label(number(record.t_near[axis]));
-                ui.label(number(record.t_far[axis]));
-                ui.end_row();
-            }
-        });
+        // A table keeps its columns: in a narrow panel (the app scaled up) it scrolls
+        // sideways rather than widen the panel.
+        egui::ScrollArea::horizontal()
+            .id_salt("slabs columns")
+            .show(ui, |ui| {
+                egui::Grid::new("slabs").striped(true).show(ui, |ui| {
+                    ui.label("axis");
+                    ui.label("t near");
+                    ui.label("t far");
+                    ui.end_row();
+                    for (axis, name) in ["x", "y", "z"].into_iter().enumerate() {
+                        ui.label(name);
+                        ui.label(number(record.t_near[axis]));
+                        ui.label(number(record.t_far[axis]));
+                        ui.end_row();
+                    }
+                });
+            });
         ui.label(format!(
             "largest t near {} {} smallest t far {}: {}",
             number(record.t_enter),

@@ -253,37 +253,45 @@ impl Lesson for NearFirstLesson {
         };
         let frame = self.stage.timeline.shown;
         ui.heading("Counters so far");
-        egui::Grid::new("order counters")
-            .striped(true)
+        // A table keeps its columns: in a narrow panel (the app scaled up) it scrolls
+        // sideways rather than widen the panel.
+        egui::ScrollArea::horizontal()
+            .id_salt("order counters columns")
             .show(ui, |ui| {
-                ui.label("");
-                for family in ["kD", "BVH"] {
-                    for order in ["near", "file"] {
-                        ui.strong(format!("{family} {order}"))
-                            .on_hover_text(format!("{family}, {order} order"));
-                    }
-                }
-                ui.end_row();
-                for (name, value) in COUNTER_ROWS {
-                    ui.label(name);
-                    for row in &counters {
-                        for pane in row {
-                            ui.label(value(pane).to_string());
+                egui::Grid::new("order counters")
+                    .striped(true)
+                    .show(ui, |ui| {
+                        ui.label("");
+                        for family in ["kD", "BVH"] {
+                            for order in ["near", "file"] {
+                                ui.strong(format!("{family} {order}"))
+                                    .on_hover_text(format!("{family}, {order} order"));
+                            }
                         }
-                    }
-                    ui.end_row();
-                }
-                ui.label("closest hit so far");
-                for row in traces.iter() {
-                    for trace in row {
-                        ui.label(match trace.state(frame).closest {
-                            Some((primitive, t)) => format!("#{primitive}, t = {}", number(t)),
-                            None if trace.state(frame).done => "none".to_owned(),
-                            None => "not yet".to_owned(),
-                        });
-                    }
-                }
-                ui.end_row();
+                        ui.end_row();
+                        for (name, value) in COUNTER_ROWS {
+                            ui.label(name);
+                            for row in &counters {
+                                for pane in row {
+                                    ui.label(value(pane).to_string());
+                                }
+                            }
+                            ui.end_row();
+                        }
+                        ui.label("closest hit so far");
+                        for row in traces.iter() {
+                            for trace in row {
+                                ui.label(match trace.state(frame).closest {
+                                    Some((primitive, t)) => {
+                                        format!("#{primitive}, t = {}", number(t))
+                                    }
+                                    None if trace.state(frame).done => "none".to_owned(),
+                                    None => "not yet".to_owned(),
+                                });
+                            }
+                        }
+                        ui.end_row();
+                    });
             });
         if traces.iter().flatten().all(|trace| trace.state(frame).done) {
             let total = |structure: usize, order: usize| {

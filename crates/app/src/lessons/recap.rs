@@ -162,6 +162,22 @@ impl RecapLesson {
 impl Lesson for RecapLesson {
     crate::staged!(comparison);
 
+    fn show_named(&mut self, name: &str) -> bool {
+        let index = self
+            .stage
+            .text
+            .file
+            .presets
+            .iter()
+            .position(|preset| preset.name == name);
+        index.map(|index| self.show_preset(index)).is_some()
+    }
+
+    fn named(&self) -> Vec<String> {
+        let presets = &self.stage.text.file.presets;
+        presets.iter().map(|preset| preset.name.clone()).collect()
+    }
+
     fn update(&mut self) {
         let scene = &self.stage.scene;
         let structures = FAMILIES.map(|family| Structure::lecture(family, SplitRule::Sah));
@@ -191,39 +207,45 @@ impl Lesson for RecapLesson {
         };
         let figures = measure(&comparison);
         ui.separator();
-        egui::Grid::new("recap table").striped(true).show(ui, |ui| {
-            ui.label("");
-            ui.strong("SAH BVH");
-            ui.strong("SAH kD-tree");
-            ui.end_row();
-            let rows: [(&str, FigureOf); 5] = [
-                ("nodes visited per ray", |m| {
-                    format!("{:.1}", m.nodes_per_ray)
-                }),
-                ("primitive tests per ray", |m| {
-                    format!("{:.1}", m.tests_per_ray)
-                }),
-                ("cost per ray", |m| number(m.cost_per_ray)),
-                ("references per primitive", |m| {
-                    format!("{:.2}", m.references_per_primitive)
-                }),
-                ("area in empty leaves", |m| {
-                    format!("{:.0} %", m.empty_share * 100.0)
-                }),
-            ];
-            for (name, value) in rows {
-                ui.label(name);
-                for figure in &figures {
-                    ui.label(value(figure));
-                }
-                ui.end_row();
-            }
-            ui.label("nodes");
-            for tree in &comparison.trees {
-                ui.label(count(tree.stats.node_count));
-            }
-            ui.end_row();
-        });
+        // A table keeps its columns: in a narrow panel (the app scaled up) it scrolls
+        // sideways rather than widen the panel.
+        egui::ScrollArea::horizontal()
+            .id_salt("recap table columns")
+            .show(ui, |ui| {
+                egui::Grid::new("recap table").striped(true).show(ui, |ui| {
+                    ui.label("");
+                    ui.strong("SAH BVH");
+                    ui.strong("SAH kD-tree");
+                    ui.end_row();
+                    let rows: [(&str, FigureOf); 5] = [
+                        ("nodes visited per ray", |m| {
+                            format!("{:.1}", m.nodes_per_ray)
+                        }),
+                        ("primitive tests per ray", |m| {
+                            format!("{:.1}", m.tests_per_ray)
+                        }),
+                        ("cost per ray", |m| number(m.cost_per_ray)),
+                        ("references per primitive", |m| {
+                            format!("{:.2}", m.references_per_primitive)
+                        }),
+                        ("area in empty leaves", |m| {
+                            format!("{:.0} %", m.empty_share * 100.0)
+                        }),
+                    ];
+                    for (name, value) in rows {
+                        ui.label(name);
+                        for figure in &figures {
+                            ui.label(value(figure));
+                        }
+                        ui.end_row();
+                    }
+                    ui.label("nodes");
+                    for tree in &comparison.trees {
+                        ui.label(count(tree.stats.node_count));
+                    }
+                    ui.end_row();
+                });
+            });
         let settings = self.stage.scene.scene.settings;
         ui.label(
             RichText::new(format!(

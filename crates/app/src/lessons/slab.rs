@@ -145,45 +145,51 @@ impl SlabLesson {
     fn table_ui(ui: &mut egui::Ui, record: &SlabRecord<DVec2>, shown: usize) {
         let enter_axis = (record.t_near.y > record.t_near.x) as usize;
         let exit_axis = (record.t_far.y < record.t_far.x) as usize;
-        egui::Grid::new("slab table")
-            .striped(true)
-            .min_col_width(64.0)
+        // A table keeps its columns: in a narrow panel (the app scaled up) it scrolls
+        // sideways rather than widen the panel.
+        egui::ScrollArea::horizontal()
+            .id_salt("slab table columns")
             .show(ui, |ui| {
-                ui.label("");
-                ui.strong("Near");
-                ui.strong("Far");
-                ui.end_row();
-                for (row, (name, axis, color)) in SLABS.iter().enumerate() {
-                    ui.colored_label(*color, *name).on_hover_text(match axis {
-                        1 => "between the box's bottom and top lines: the ray's y is in range",
-                        _ => "between the box's left and right lines: the ray's x is in range",
-                    });
-                    let known = shown > row;
-                    let cell = |ui: &mut egui::Ui, value: f64, chosen: bool| {
-                        let text = if known { number(value) } else { "?".to_owned() };
-                        let rich = egui::RichText::new(text).monospace();
-                        ui.label(if chosen {
-                            rich.strong().color(palette::CURRENT)
-                        } else {
-                            rich
+                egui::Grid::new("slab table")
+                    .striped(true)
+                    .min_col_width(64.0)
+                    .show(ui, |ui| {
+                        ui.label("");
+                        ui.strong("Near");
+                        ui.strong("Far");
+                        ui.end_row();
+                        for (row, (name, axis, color)) in SLABS.iter().enumerate() {
+                            ui.colored_label(*color, *name).on_hover_text(match axis {
+                            1 => "between the box's bottom and top lines: the ray's y is in range",
+                            _ => "between the box's left and right lines: the ray's x is in range",
                         });
-                    };
-                    cell(ui, record.t_near[*axis], shown >= 3 && *axis == enter_axis);
-                    cell(ui, record.t_far[*axis], shown >= 4 && *axis == exit_axis);
-                    ui.end_row();
-                }
-                ui.strong("max / min");
-                ui.label(if shown >= 3 {
-                    number(record.t_enter)
-                } else {
-                    "?".into()
-                });
-                ui.label(if shown >= 4 {
-                    number(record.t_exit)
-                } else {
-                    "?".into()
-                });
-                ui.end_row();
+                            let known = shown > row;
+                            let cell = |ui: &mut egui::Ui, value: f64, chosen: bool| {
+                                let text = if known { number(value) } else { "?".to_owned() };
+                                let rich = egui::RichText::new(text).monospace();
+                                ui.label(if chosen {
+                                    rich.strong().color(palette::CURRENT)
+                                } else {
+                                    rich
+                                });
+                            };
+                            cell(ui, record.t_near[*axis], shown >= 3 && *axis == enter_axis);
+                            cell(ui, record.t_far[*axis], shown >= 4 && *axis == exit_axis);
+                            ui.end_row();
+                        }
+                        ui.strong("max / min");
+                        ui.label(if shown >= 3 {
+                            number(record.t_enter)
+                        } else {
+                            "?".into()
+                        });
+                        ui.label(if shown >= 4 {
+                            number(record.t_exit)
+                        } else {
+                            "?".into()
+                        });
+                        ui.end_row();
+                    });
             });
     }
 }

@@ -402,34 +402,41 @@ impl Lesson for Slab3dLesson {
             return;
         };
         let shown = self.stage.timeline.shown;
-        egui::Grid::new("slab3d table")
-            .striped(true)
-            .min_col_width(56.0)
+        // A table keeps its columns: in a narrow panel (the app scaled up) it scrolls
+        // sideways rather than widen the panel.
+        egui::ScrollArea::horizontal()
+            .id_salt("slab3d table columns")
             .show(ui, |ui| {
-                ui.label("");
-                ui.strong("t near");
-                ui.strong("t far");
-                ui.end_row();
-                for (axis, (name, color)) in AXES.iter().enumerate() {
-                    ui.colored_label(*color, *name);
-                    let known = shown > axis;
-                    let cell = |value: f64| if known { number(value) } else { "?".to_owned() };
-                    ui.monospace(cell(record.t_near[axis]));
-                    ui.monospace(cell(record.t_far[axis]));
-                    ui.end_row();
-                }
-                ui.strong("max / min");
-                ui.monospace(if shown >= 4 {
-                    number(record.t_enter)
-                } else {
-                    "?".into()
-                });
-                ui.monospace(if shown >= 5 {
-                    number(record.t_exit)
-                } else {
-                    "?".into()
-                });
-                ui.end_row();
+                egui::Grid::new("slab3d table")
+                    .striped(true)
+                    .min_col_width(56.0)
+                    .show(ui, |ui| {
+                        ui.label("");
+                        ui.strong("t near");
+                        ui.strong("t far");
+                        ui.end_row();
+                        for (axis, (name, color)) in AXES.iter().enumerate() {
+                            ui.colored_label(*color, *name);
+                            let known = shown > axis;
+                            let cell =
+                                |value: f64| if known { number(value) } else { "?".to_owned() };
+                            ui.monospace(cell(record.t_near[axis]));
+                            ui.monospace(cell(record.t_far[axis]));
+                            ui.end_row();
+                        }
+                        ui.strong("max / min");
+                        ui.monospace(if shown >= 4 {
+                            number(record.t_enter)
+                        } else {
+                            "?".into()
+                        });
+                        ui.monospace(if shown >= 5 {
+                            number(record.t_exit)
+                        } else {
+                            "?".into()
+                        });
+                        ui.end_row();
+                    });
             });
         if shown >= 6 {
             let (text, color) = if record.hit {

@@ -263,7 +263,7 @@ impl View3d {
                     rect.center(),
                     egui::Align2::CENTER_CENTER,
                     "The 3D view needs the wgpu renderer (WebGPU, WebGL2, Vulkan, Metal or DirectX).",
-                    egui::FontId::proportional(15.0),
+                    crate::canvas::font(ui.ctx(), 15.0),
                     ui.visuals().text_color(),
                 );
             }

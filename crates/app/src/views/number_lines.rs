@@ -2,7 +2,7 @@
 //! intersection, on one scale (lessons 3 and 11).
 
 use accelviz_core::format::number;
-use egui::{Color32, FontId, Pos2, Rect, Sense, Stroke, Vec2};
+use egui::{Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
 use crate::canvas::{Labels, faded, palette};
 
@@ -68,7 +68,7 @@ pub fn number_lines_ui(ui: &mut egui::Ui, rows: &[IntervalRow<'_>], height: f32)
     labels.place(
         &painter,
         "t = 0",
-        FontId::proportional(11.0),
+        crate::canvas::font(painter.ctx(), 11.0),
         text_color,
         Pos2::new(zero, rect.top() + 9.0),
         &[Vec2::new(18.0, 0.0), Vec2::new(-18.0, 0.0)],
@@ -85,7 +85,7 @@ pub fn number_lines_ui(ui: &mut egui::Ui, rows: &[IntervalRow<'_>], height: f32)
         labels.place(
             &painter,
             name,
-            FontId::proportional(13.0),
+            crate::canvas::font(painter.ctx(), 13.0),
             color,
             Pos2::new(rect.left() + 70.0, y),
             &[Vec2::ZERO],
@@ -105,7 +105,7 @@ pub fn number_lines_ui(ui: &mut egui::Ui, rows: &[IntervalRow<'_>], height: f32)
             labels.place(
                 &painter,
                 "empty: near > far",
-                FontId::proportional(12.0),
+                crate::canvas::font(painter.ctx(), 12.0),
                 palette::MISS,
                 Pos2::new((x_of(t_far) + x_of(t_near)) * 0.5, y),
                 &[Vec2::new(0.0, -11.0), Vec2::new(0.0, 11.0)],
@@ -121,7 +121,7 @@ pub fn number_lines_ui(ui: &mut egui::Ui, rows: &[IntervalRow<'_>], height: f32)
             labels.place(
                 &painter,
                 &format!("{label} {}", number(t)),
-                FontId::proportional(11.0),
+                crate::canvas::font(painter.ctx(), 11.0),
                 text_color,
                 Pos2::new(x, y),
                 &[

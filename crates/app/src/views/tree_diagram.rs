@@ -5,7 +5,7 @@
 //! labels sit on plates, never on each other, and only where they fit.
 
 use accelviz_core::{Step, TreeFacts, Vector};
-use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, Vec2};
+use egui::{Align2, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
 use crate::canvas::{Labels, depth_color, faded, palette};
 
@@ -130,7 +130,7 @@ pub fn diagram_ui<V: Vector>(
             labels.place(
                 &painter,
                 &label(node),
-                FontId::proportional(11.0),
+                crate::canvas::font(ui.ctx(), 11.0),
                 ui.visuals().text_color(),
                 position(node),
                 &[
@@ -151,7 +151,7 @@ pub fn diagram_ui<V: Vector>(
                 shown_depth + 1,
                 facts.max_depth()
             ),
-            FontId::proportional(10.0),
+            crate::canvas::font(ui.ctx(), 10.0),
             ui.visuals().weak_text_color(),
         );
     }

@@ -43,9 +43,14 @@ pub fn lesson_harness<L: Lesson + 'static>(lesson: L) -> Harness<'static, L> {
 /// The whole app at a projector-like size, rendered on the software adapter, with the GPU
 /// given to the 3D views as eframe gives it.
 pub fn app_harness() -> Harness<'static, AccelvizApp> {
+    app_harness_sized(egui::vec2(1400.0, 860.0))
+}
+
+/// The whole app on a screen of `size` pixels (one a point), as [`app_harness`].
+pub fn app_harness_sized(size: egui::Vec2) -> Harness<'static, AccelvizApp> {
     let (render_state, renderer) = software_gpu();
     let harness = Harness::builder()
-        .with_size(egui::vec2(1400.0, 860.0))
+        .with_size(size)
         .renderer(renderer)
         .build_ui_state(
             |ui, app: &mut AccelvizApp| app.contents_ui(ui),

@@ -1,0 +1,237 @@
+//! A lecture script: the slides of a lecture, one a line, in the order they are shown. A
+//! lecturer copies `assets/lecture.txt`, edits it, and opens it (or starts the app with it);
+//! every error names the file, the line and the problem.
+//!
+//! ```text
+//! # comments and blank lines are skipped
+//! lesson 3                      the slab test, from its first step
+//! lesson 4 step 5 show r2       the BVH lesson on its ray "r2", at step 5
+//! lesson 10 show "dust in a room"   a preset of the lesson, by its name
+//! lesson 6 step end             at the last step
+//! question lecture seed 7       a quiz question (answers hidden until R)
+//! question slab seed 3 level hard
+//! ```
+
+use accelviz_quiz::Level;
+
+/// Where a lesson slide starts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum StartStep {
+    /// This step (0: before the first).
+    At(usize),
+    /// The animation's last step.
+    End,
+}
+
+/// One slide.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Slide {
+    /// A lesson of the app.
+    Lesson {
+        /// Its number in the app's list, from 0.
+        index: usize,
+        /// Where its animation starts.
+        step: StartStep,
+        /// A named ray or preset of the lesson file to show.
+        show: Option<String>,
+    },
+    /// A quiz question.
+    Question {
+        /// The kind.
+        kind: &'static str,
+        /// The seed.
+        seed: u64,
+        /// The level.
+        level: Level,
+    },
+}
+
+/// A parsed script.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LectureScript {
+    /// Where it came from (for messages).
+    pub path: String,
+    /// The slides, in order.
+    pub slides: Vec<Slide>,
+}
+
+/// A problem in a script, with its place.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("{path}:{line}: {problem}")]
+pub struct ScriptError {
+    /// The file.
+    pub path: String,
+    /// The line, from 1 (0: the file as a whole).
+    pub line: usize,
+    /// What is wrong.
+    pub problem: String,
+}
+
+/// The built-in script, following the lecture.
+pub const DEFAULT_SCRIPT: &str = include_str!("../../../../assets/lecture.txt");
+
+/// Its path in the repository.
+pub const DEFAULT_SCRIPT_PATH: &str = "assets/lecture.txt";
+
+impl LectureScript {
+    /// Reads a script for an app with `lesson_count` lessons.
+    pub fn parse(text: &str, path: &str, lesson_count: usize) -> Result<Self, ScriptError> {
+        let mut slides = Vec::new();
+        for (number, line) in text.lines().enumerate() {
+            let fail = |problem: String| ScriptError {
+                path: path.to_owned(),
+                line: number + 1,
+                problem,
+            };
+            let words = tokens(line).map_err(fail)?;
+            let words: Vec<&str> = words.iter().map(String::as_str).collect();
+            let Some((first, rest)) = words.split_first() else {
+                continue;
+            };
+            let slide = match *first {
+                "lesson" => lesson_slide(rest, lesson_count).map_err(fail)?,
+                "question" => question_slide(rest).map_err(fail)?,
+                other => {
+                    return Err(fail(format!(
+                        "'{other}' is not a slide; a line starts with 'lesson' or 'question'"
+                    )));
+                }
+            };
+            slides.push(slide);
+        }
+        if slides.is_empty() {
+            return Err(ScriptError {
+                path: path.to_owned(),
+                line: 0,
+                problem: "the script has no slides".into(),
+            });
+        }
+        Ok(Self {
+            path: path.to_owned(),
+            slides,
+        })
+    }
+
+    /// The built-in script.
+    pub fn default_for(lesson_count: usize) -> Result<Self, ScriptError> {
+        Self::parse(DEFAULT_SCRIPT, DEFAULT_SCRIPT_PATH, lesson_count)
+    }
+}
+
+/// The words of a line up to a `#`; a "quoted phrase" is one word.
+fn tokens(line: &str) -> Result<Vec<String>, String> {
+    let mut words = Vec::new();
+    let mut word = String::new();
+    let mut quoted = false;
+    for character in line.chars() {
+        match character {
+            '"' => {
+                if quoted {
+                    words.push(std::mem::take(&mut word));
+                }
+                quoted = !quoted;
+            }
+            '#' if !quoted => break,
+            space if space.is_whitespace() && !quoted => {
+                if !word.is_empty() {
+                    words.push(std::mem::take(&mut word));
+                }
+            }
+            other => word.push(other),
+        }
+    }
+    if quoted {
+        return Err("a quote is not closed".into());
+    }
+    if !word.is_empty() {
+        words.push(word);
+    }
+    Ok(words)
+}
+
+/// Pairs of words after the slide's first: `step K`, `show NAME`, `seed S`, `level L`.
+fn options<'a>(words: &[&'a str]) -> Result<Vec<(&'a str, &'a str)>, String> {
+    words
+        .chunks(2)
+        .map(|pair| match pair {
+            [key, value] => Ok((*key, *value)),
+            [key] => Err(format!("'{key}' needs a value after it")),
+            _ => Err("empty option".into()),
+        })
+        .collect()
+}
+
+fn lesson_slide(words: &[&str], lesson_count: usize) -> Result<Slide, String> {
+    let Some((number, rest)) = words.split_first() else {
+        return Err(format!(
+            "which lesson? write 'lesson N' with N from 1 to {lesson_count}"
+        ));
+    };
+    let index = number
+        .parse::<usize>()
+        .ok()
+        .filter(|number| (1..=lesson_count).contains(number))
+        .ok_or_else(|| format!("'{number}' is not a lesson; lessons are 1 to {lesson_count}"))?
+        - 1;
+    let mut step = StartStep::At(0);
+    let mut show = None;
+    for (key, value) in options(rest)? {
+        match key {
+            "step" => {
+                step =
+                    if value == "end" {
+                        StartStep::End
+                    } else {
+                        StartStep::At(value.parse().map_err(|_| {
+                            format!("step '{value}' is not a whole number or 'end'")
+                        })?)
+                    };
+            }
+            "show" => show = Some(value.to_owned()),
+            other => {
+                return Err(format!(
+                    "'{other}' is not an option of a lesson slide; they are: step, show"
+                ));
+            }
+        }
+    }
+    Ok(Slide::Lesson { index, step, show })
+}
+
+fn question_slide(words: &[&str]) -> Result<Slide, String> {
+    let names = accelviz_quiz::kind_names();
+    let Some((kind, rest)) = words.split_first() else {
+        return Err(format!(
+            "which kind of question? the kinds are: {}",
+            names.join(", ")
+        ));
+    };
+    let kind = names
+        .iter()
+        .copied()
+        .find(|name| name == kind)
+        .ok_or_else(|| {
+            format!(
+                "unknown question kind '{kind}'; the kinds are: {}",
+                names.join(", ")
+            )
+        })?;
+    let mut seed = 1;
+    let mut level = Level::Easy;
+    for (key, value) in options(rest)? {
+        match key {
+            "seed" => {
+                seed = value
+                    .parse()
+                    .map_err(|_| format!("seed '{value}' is not a whole number"))?;
+            }
+            "level" => level = Level::parse(value).map_err(|error| error.to_string())?,
+            other => {
+                return Err(format!(
+                    "'{other}' is not an option of a question slide; they are: seed, level"
+                ));
+            }
+        }
+    }
+    Ok(Slide::Question { kind, seed, level })
+}

@@ -1,0 +1,320 @@
+//! Lecture mode: each clicker key changes the step, the slide or the blank state as the
+//! README's table says (and the table is the code's); no text under 24 pixels on any slide of
+//! the default script at the default scale on a 1920×1080 screen; the script's errors name
+//! file and line; snapshots of a question slide with its answer hidden and shown.
+
+#![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
+
+mod common;
+
+use accelviz_app::AccelvizApp;
+use accelviz_app::app::Mode;
+use accelviz_app::lecture::script::{LectureScript, Slide};
+use accelviz_app::lecture::{Action, LECTURE_KEYS, key_table};
+use egui::Key;
+use egui_kittest::Harness;
+
+/// The whole app on a 1920×1080 screen (one pixel a point before the lecture's zoom).
+fn projector() -> Harness<'static, AccelvizApp> {
+    common::app_harness_sized(egui::vec2(1920.0, 1080.0))
+}
+
+fn lecturing() -> Harness<'static, AccelvizApp> {
+    let mut harness = projector();
+    harness.state_mut().start_lecture();
+    harness.run();
+    harness.run();
+    assert_eq!(harness.state().mode, Mode::Lecture);
+    harness
+}
+
+fn press(harness: &mut Harness<'_, AccelvizApp>, key: Key) {
+    harness.key_press(key);
+    harness.run();
+}
+
+/// The slide, and the lesson's step.
+fn place(harness: &Harness<'_, AccelvizApp>) -> (usize, usize) {
+    let app = harness.state();
+    let slide = app.lecture.as_ref().unwrap().slide;
+    let step = app
+        .lesson()
+        .map_or(0, |lesson| lesson.stage().timeline.shown);
+    (slide, step)
+}
+
+fn keys_of(action: Action) -> &'static [Key] {
+    LECTURE_KEYS
+        .iter()
+        .find(|binding| binding.action == action)
+        .unwrap()
+        .keys
+}
+
+#[test]
+fn every_clicker_key_steps_then_changes_slide() {
+    let mut harness = lecturing();
+    // Slide 1 is the trivial loop, at its first step.
+    assert_eq!(place(&harness), (0, 0));
+    let len = harness.state().lesson().unwrap().stage().timeline.len;
+    assert!(len > 5, "the trivial loop animates");
+    // Each "next" key steps the animation once.
+    for (index, key) in keys_of(Action::Next).iter().enumerate() {
+        press(&mut harness, *key);
+        assert_eq!(place(&harness), (0, index + 1), "{key:?}");
+    }
+    // Each "previous" key steps back once.
+    let at = place(&harness).1;
+    for (index, key) in keys_of(Action::Previous).iter().enumerate() {
+        press(&mut harness, *key);
+        assert_eq!(place(&harness), (0, at - index - 1), "{key:?}");
+    }
+    // End and Home jump to the last and first step.
+    press(&mut harness, Key::End);
+    assert_eq!(place(&harness), (0, len));
+    press(&mut harness, Key::Home);
+    assert_eq!(place(&harness), (0, 0));
+    // Past the last step, the next slide; before the first, the slide before, at its end.
+    press(&mut harness, Key::End);
+    press(&mut harness, Key::PageDown);
+    assert_eq!(place(&harness).0, 1);
+    assert_eq!(harness.state().selected, 1);
+    press(&mut harness, Key::Home);
+    press(&mut harness, Key::PageUp);
+    assert_eq!(place(&harness), (0, len));
+}
+
+#[test]
+fn blank_holds_the_screen_and_escape_leaves() {
+    let mut harness = lecturing();
+    for key in keys_of(Action::Blank) {
+        press(&mut harness, *key);
+        assert!(harness.state().lecture.as_ref().unwrap().blank, "{key:?}");
+        // While blank, the clicker's other keys wait.
+        press(&mut harness, Key::PageDown);
+        assert_eq!(place(&harness), (0, 0));
+        press(&mut harness, *key);
+        assert!(!harness.state().lecture.as_ref().unwrap().blank, "{key:?}");
+    }
+    press(&mut harness, Key::I);
+    assert!(harness.state().lecture.as_ref().unwrap().panels);
+    press(&mut harness, Key::F);
+    assert!(harness.state().lecture.as_ref().unwrap().full_screen);
+    press(&mut harness, Key::Escape);
+    assert_eq!(harness.state().mode, Mode::Lessons);
+    assert!(harness.state().lecture.is_none());
+}
+
+/// The first question slide of the default script.
+fn first_question(harness: &mut Harness<'_, AccelvizApp>) -> usize {
+    let slides = harness
+        .state()
+        .lecture
+        .as_ref()
+        .unwrap()
+        .script
+        .slides
+        .clone();
+    let index = slides
+        .iter()
+        .position(|slide| matches!(slide, Slide::Question { .. }))
+        .unwrap();
+    harness.state_mut().open_slide(index, false);
+    harness.run();
+    harness.run();
+    index
+}
+
+#[test]
+fn a_question_answer_stays_hidden_until_r() {
+    let mut harness = lecturing();
+    let index = first_question(&mut harness);
+    let revealed =
+        |harness: &Harness<'_, AccelvizApp>| harness.state().lecture.as_ref().unwrap().revealed();
+    assert!(!revealed(&harness));
+    let mut failures = Vec::new();
+    if let Err(error) = harness.try_snapshot("lecture_answer_hidden") {
+        failures.push(error.to_string());
+    }
+    press(&mut harness, Key::R);
+    assert!(revealed(&harness));
+    if let Err(error) = harness.try_snapshot("lecture_answer_shown") {
+        failures.push(error.to_string());
+    }
+    // Next: the question's next step, hidden again; back: the same step, hidden.
+    press(&mut harness, Key::PageDown);
+    assert_eq!(place(&harness).0, index);
+    assert!(!revealed(&harness));
+    let step = harness
+        .state()
+        .lecture
+        .as_ref()
+        .unwrap()
+        .question()
+        .unwrap()
+        .step();
+    assert_eq!(step, 1);
+    press(&mut harness, Key::PageUp);
+    let question = harness
+        .state()
+        .lecture
+        .as_ref()
+        .unwrap()
+        .question()
+        .unwrap()
+        .clone();
+    assert_eq!((question.step(), question.is_revealed()), (0, false));
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// The smallest text drawn in the last frame, in pixels, and what it said.
+fn smallest_text(harness: &Harness<'_, AccelvizApp>) -> Option<(f32, String)> {
+    fn walk(shape: &egui::Shape, found: &mut Vec<(f32, String)>) {
+        match shape {
+            egui::Shape::Text(text) => {
+                let job = &text.galley.job;
+                for section in &job.sections {
+                    let words = &job.text[section.byte_range.start.0..section.byte_range.end.0];
+                    if !words.trim().is_empty() {
+                        found.push((section.format.font_id.size, words.to_owned()));
+                    }
+                }
+            }
+            egui::Shape::Vec(shapes) => shapes.iter().for_each(|shape| walk(shape, found)),
+            _ => {}
+        }
+    }
+    let output = harness.output();
+    let mut found = Vec::new();
+    for clipped in &output.shapes {
+        walk(&clipped.shape, &mut found);
+    }
+    found
+        .into_iter()
+        .map(|(size, text)| (size * output.pixels_per_point, text))
+        .min_by(|a, b| a.0.total_cmp(&b.0))
+}
+
+#[test]
+fn no_text_under_24_pixels_on_any_slide() {
+    let mut harness = lecturing();
+    let count = harness
+        .state()
+        .lecture
+        .as_ref()
+        .unwrap()
+        .script
+        .slides
+        .len();
+    let mut small = Vec::new();
+    for slide in 0..count {
+        harness.state_mut().open_slide(slide, false);
+        // A few frames: builds finish, the start step is applied; then step once so the
+        // animation's text shows.
+        for _ in 0..3 {
+            harness.run();
+        }
+        press(&mut harness, Key::PageDown);
+        if place(&harness).0 != slide {
+            harness.state_mut().open_slide(slide, true);
+            harness.run();
+        }
+        if let Some((pixels, text)) = smallest_text(&harness)
+            && pixels < 23.99
+        {
+            small.push(format!("slide {}: {pixels:.1} px: {text:?}", slide + 1));
+        }
+    }
+    assert!(small.is_empty(), "{}", small.join("\n"));
+}
+
+#[test]
+fn the_readme_key_table_is_the_code_s() {
+    let readme = include_str!("../../../README.md");
+    assert!(
+        readme.contains(&key_table()),
+        "README.md's lecture key table differs from LECTURE_KEYS; it should read:\n{}",
+        key_table()
+    );
+}
+
+#[test]
+fn script_errors_name_file_and_line() {
+    let cases = [
+        (
+            "lesson 3\nlesson 99\n",
+            2,
+            "'99' is not a lesson; lessons are 1 to 14",
+        ),
+        ("# c\n\nslides 3\n", 3, "'slides' is not a slide"),
+        (
+            "question slabs seed 2\n",
+            1,
+            "unknown question kind 'slabs'",
+        ),
+        (
+            "question slab seed x\n",
+            1,
+            "seed 'x' is not a whole number",
+        ),
+        (
+            "question slab level expert\n",
+            1,
+            "the levels are: easy, medium, hard",
+        ),
+        ("lesson 4 step\n", 1, "'step' needs a value"),
+        ("lesson 4 show \"r2\n", 1, "a quote is not closed"),
+        ("lesson 4 colour red\n", 1, "'colour' is not an option"),
+        ("# only comments\n", 0, "the script has no slides"),
+    ];
+    for (text, line, problem) in cases {
+        let error = LectureScript::parse(text, "my-lecture.txt", 14).unwrap_err();
+        assert_eq!(error.line, line, "{text:?}: {error}");
+        let message = error.to_string();
+        assert!(
+            message.starts_with(&format!("my-lecture.txt:{line}: ")),
+            "{message}"
+        );
+        assert!(message.contains(problem), "{message}");
+    }
+    let script = LectureScript::parse(
+        "lesson 10 show \"dust in a room\"  # a preset\nlesson 6 step end\nquestion sah-split seed 4 level hard\n",
+        "x.txt",
+        14,
+    )
+    .unwrap();
+    assert_eq!(script.slides.len(), 3);
+    assert!(
+        matches!(&script.slides[0], Slide::Lesson { index: 9, show: Some(name), .. } if name == "dust in a room")
+    );
+}
+
+#[test]
+fn every_slide_of_the_default_script_opens_what_it_names() {
+    let mut harness = lecturing();
+    let slides = harness
+        .state()
+        .lecture
+        .as_ref()
+        .unwrap()
+        .script
+        .slides
+        .clone();
+    for (index, slide) in slides.iter().enumerate() {
+        harness.state_mut().open_slide(index, false);
+        harness.run();
+        let lecture = harness.state().lecture.as_ref().unwrap();
+        assert!(
+            lecture.message.is_none(),
+            "slide {}: {:?}",
+            index + 1,
+            lecture.message
+        );
+        match slide {
+            Slide::Lesson { index: lesson, .. } => assert_eq!(harness.state().selected, *lesson),
+            Slide::Question { kind, .. } => {
+                assert_eq!(lecture.question().unwrap().questions()[0].kind, *kind)
+            }
+        }
+    }
+}
