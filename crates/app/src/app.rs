@@ -55,6 +55,10 @@ pub struct AccelvizApp {
     pub theme: Theme,
     /// What the style was last set to (theme, lecture text sizes), so it is set on change.
     styled: Option<(Theme, bool)>,
+    /// The step a shared view opens at, once its lesson's animation knows its steps.
+    pending_step: Option<usize>,
+    /// The share window, when open: the text typed to open a shared view.
+    pub share_window: Option<String>,
 }
 
 /// What the window shows.
@@ -129,6 +133,154 @@ impl AccelvizApp {
             script: LectureScript::default_for(lessons_len).map_err(|error| error.to_string()),
             theme: Theme::Dark,
             styled: None,
+            pending_step: None,
+            share_window: None,
+        }
+    }
+
+    /// The view as a shared state: the lesson, its step, its scene when it is not the
+    /// lesson's own, and the lesson's choices. An error says what cannot go in a link (a mesh
+    /// opened from a file).
+    pub fn share_state(&self) -> Result<crate::share::ViewState, String> {
+        let lesson = self.lesson().ok_or("this lesson did not load")?;
+        let stage = lesson.stage();
+        let mut state = crate::share::ViewState {
+            lesson: self.selected,
+            step: stage.timeline.shown,
+            values: lesson.share(),
+            scene: None,
+        };
+        if let Some(flat) = stage.scene.flat()
+            && flat.scene != lesson.text().scene
+        {
+            state.scene = Some(flat.scene.to_ron());
+        }
+        let is_3d = stage.scene.flat().is_none() && stage.scene.noun() == "mesh";
+        if is_3d && !state.values.iter().any(|(key, _)| key == "mesh") {
+            return Err(
+                "a mesh opened from a file cannot go in a link: share the file, or pick a built-in mesh".into(),
+            );
+        }
+        if state.encode().len() > crate::share::MOST_BYTES {
+            return Err("the scene is too large for a link: save it as a file instead".into());
+        }
+        Ok(state)
+    }
+
+    /// Opens a shared view (a state string, a link, or a file holding one): exactly that
+    /// lesson, scene, choices and step. On any problem the app shows its first lesson and the
+    /// error says why.
+    pub fn open_state(&mut self, text: &str) -> Result<(), String> {
+        let result = self.apply_state(text);
+        if let Err(problem) = &result {
+            // Nothing half-opened: back to the first lesson, as it starts.
+            if let Some(lesson) = self.lesson_mut() {
+                lesson.stage_mut().reset_scene();
+            }
+            self.selected = 0;
+            self.pending_step = None;
+            self.status = Some((
+                format!(
+                    "The shared view could not be opened ({problem}); this is the first lesson."
+                ),
+                true,
+            ));
+        }
+        result
+    }
+
+    fn apply_state(&mut self, text: &str) -> Result<(), String> {
+        let state = crate::share::ViewState::decode(text)?;
+        if state.lesson >= self.lessons.len() {
+            return Err(format!(
+                "lesson {} does not exist; there are {}",
+                state.lesson + 1,
+                self.lessons.len()
+            ));
+        }
+        self.mode = Mode::Lessons;
+        self.lecture = None;
+        self.selected = state.lesson;
+        let lesson = self.lesson_mut().ok_or("that lesson did not load")?;
+        lesson.stage_mut().reset_scene();
+        if let Some(scene) = &state.scene {
+            lesson.stage_mut().scene.open("the link's scene", scene)?;
+        }
+        for (key, value) in &state.values {
+            lesson.restore(key, value)?;
+        }
+        lesson.stage_mut().timeline.playing = false;
+        self.pending_step = Some(state.step);
+        self.status = Some(("Opened a shared view.".into(), false));
+        Ok(())
+    }
+
+    /// Applies a shared view's step once the lesson's animation knows its steps.
+    fn apply_pending_step(&mut self) {
+        let Some(step) = self.pending_step else {
+            return;
+        };
+        let Some(lesson) = self.lesson_mut() else {
+            return;
+        };
+        let animated = lesson.caption().is_some();
+        let timeline = &mut lesson.stage_mut().timeline;
+        if !animated {
+            self.pending_step = None;
+        } else if timeline.len > 0 {
+            timeline.shown = step.min(timeline.len);
+            self.pending_step = None;
+        }
+    }
+
+    /// The share window: the view's link to copy, and a field to open one.
+    fn share_window_ui(&mut self, ctx: &egui::Context) {
+        let Some(mut typed) = self.share_window.take() else {
+            return;
+        };
+        let mut open = true;
+        let mut opened = None;
+        let state = self.share_state().map(|state| state.encode());
+        egui::Window::new("Share this view")
+            .open(&mut open)
+            .collapsible(false)
+            .default_width(520.0)
+            .show(ctx, |ui| {
+                match &state {
+                    Ok(encoded) => {
+                        let link = crate::files::page_link(encoded);
+                        ui.label("This link opens exactly this view: the lesson, its scene and ray, its choices and the step.");
+                        let mut shown = link.clone();
+                        ui.add(
+                            egui::TextEdit::multiline(&mut shown)
+                                .desired_rows(3)
+                                .desired_width(f32::INFINITY),
+                        );
+                        if ui.button("Copy").clicked() {
+                            ui.ctx().copy_text(link);
+                        }
+                    }
+                    Err(problem) => {
+                        ui.colored_label(crate::canvas::palette::MISS, problem);
+                    }
+                }
+                ui.separator();
+                let label = ui.label("Open a shared view (paste a link or its text):");
+                let field = ui
+                    .add(egui::TextEdit::singleline(&mut typed).desired_width(f32::INFINITY))
+                    .labelled_by(label.id);
+                let enter = field.lost_focus() && ui.input(|input| input.key_pressed(egui::Key::Enter));
+                if ui.button("Open").clicked() || enter {
+                    opened = Some(typed.clone());
+                }
+            });
+        if let Some(text) = opened
+            && self.open_state(&text).is_ok()
+        {
+            return;
+        }
+        if open {
+            self.share_window = Some(typed);
         }
     }
 
@@ -198,6 +350,7 @@ impl AccelvizApp {
             // Derived state first, so every panel draws the same step.
             lesson.update();
         }
+        self.apply_pending_step();
         egui::Panel::top("top bar").show(ui, |ui| self.top_bar_ui(ui));
         let selected = self.selected;
         let caption = self.lesson().and_then(|lesson| lesson.caption());
@@ -247,6 +400,7 @@ impl AccelvizApp {
             .response
             .rect;
         self.file_panel_ui(ui.ctx());
+        self.share_window_ui(ui.ctx());
         self.report_position(ui);
     }
 
@@ -615,6 +769,13 @@ impl AccelvizApp {
                     .clicked()
             {
                 self.save_scene();
+            }
+            if ui
+                .button("Share…")
+                .on_hover_text("A link to exactly this view (lesson, scene, ray, choices, step), and a field to open one")
+                .clicked()
+            {
+                self.share_window = Some(String::new());
             }
             if let Some(working) = self.lesson().and_then(|lesson| lesson.building()) {
                 ui.add(egui::Spinner::new());

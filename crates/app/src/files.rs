@@ -475,6 +475,31 @@ impl FileChannel {
     }
 }
 
+/// A link to the view `state` encodes: the page's address with it as the fragment in the
+/// browser; on the desktop the state itself (it opens with `accelviz STATE` or the share
+/// window).
+pub fn page_link(state: &str) -> String {
+    #[cfg(target_arch = "wasm32")]
+    if let Some(location) = web_sys::window().map(|window| window.location()) {
+        let base = location.href().unwrap_or_default();
+        let base = base.split('#').next().unwrap_or_default().to_owned();
+        return format!("{base}#{state}");
+    }
+    format!("#{state}")
+}
+
+/// The page's URL fragment, without the `#` (browser only).
+pub fn page_fragment() -> Option<String> {
+    #[cfg(target_arch = "wasm32")]
+    {
+        let hash = web_sys::window()?.location().hash().ok()?;
+        let hash = hash.trim_start_matches('#');
+        (!hash.is_empty()).then(|| hash.to_owned())
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    None
+}
+
 /// Puts the page full screen, or back (the browser's full screen; on the desktop the window
 /// is asked through the viewport instead).
 pub fn web_full_screen(on: bool) {

@@ -201,6 +201,17 @@ pub trait Lesson {
         Vec::new()
     }
 
+    /// What a shared link keeps of this lesson beyond its scene and step: its choices
+    /// (structure, camera, mesh), as key and value ([`crate::share`]).
+    fn share(&self) -> Vec<(String, String)> {
+        Vec::new()
+    }
+
+    /// Restores one of [`share`](Self::share)'s pairs; the error says what was wrong.
+    fn restore(&mut self, key: &str, _value: &str) -> Result<(), String> {
+        Err(format!("this lesson keeps no '{key}'"))
+    }
+
     /// The lesson's part of the inspector (right): statistics, tables, the tree.
     fn inspector_ui(&mut self, ui: &mut egui::Ui);
 

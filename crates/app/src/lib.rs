@@ -18,6 +18,7 @@ pub mod lesson;
 pub mod lessons;
 pub mod quiz;
 pub mod registry;
+pub mod share;
 pub mod stage;
 pub mod timeline;
 pub mod trace;

@@ -38,12 +38,25 @@ fn main() -> std::process::ExitCode {
     let assets = std::env::var_os("ACCELVIZ_ASSETS")
         .map(std::path::PathBuf::from)
         .unwrap_or_else(|| std::path::PathBuf::from("assets"));
+    // `accelviz STATE` (a shared view's text or link) or `accelviz FILE` (a file holding one).
+    let shared = std::env::args().nth(1).map(|argument| {
+        let path = std::path::Path::new(&argument);
+        if path.is_file() {
+            std::fs::read_to_string(path).unwrap_or_default()
+        } else {
+            argument
+        }
+    });
     let started = eframe::run_native(
         "accelviz",
         options,
         Box::new(move |creation| {
             install_gpu(creation);
-            Ok(Box::new(accelviz_app::AccelvizApp::with_assets(&assets)))
+            let mut app = accelviz_app::AccelvizApp::with_assets(&assets);
+            if let Some(shared) = &shared {
+                let _ = app.open_state(shared);
+            }
+            Ok(Box::new(app))
         }),
     );
     match started {
@@ -96,7 +109,13 @@ fn main() {
                 eframe::WebOptions::default(),
                 Box::new(|creation| {
                     install_gpu(creation);
-                    Ok(Box::new(accelviz_app::AccelvizApp::new()))
+                    let mut app = accelviz_app::AccelvizApp::new();
+                    // A shared link: the view its fragment holds (or, if it holds none that
+                    // can be read, the first lesson and a message saying why).
+                    if let Some(fragment) = accelviz_app::files::page_fragment() {
+                        let _ = app.open_state(&fragment);
+                    }
+                    Ok(Box::new(app))
                 }),
             )
             .await;

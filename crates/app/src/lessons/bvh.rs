@@ -219,6 +219,18 @@ impl BvhLesson {
 impl Lesson for BvhLesson {
     crate::staged!(tree);
 
+    fn share(&self) -> Vec<(String, String)> {
+        vec![crate::share::structure_value(&self.structure)]
+    }
+
+    fn restore(&mut self, key: &str, value: &str) -> Result<(), String> {
+        match key {
+            "structure" => self.structure = crate::share::parse_structure(value)?,
+            _ => return Err(format!("this lesson keeps no '{key}'")),
+        }
+        Ok(())
+    }
+
     fn show_named(&mut self, name: &str) -> bool {
         let ray = self
             .named_rays()

@@ -360,6 +360,18 @@ impl KdLesson {
 impl Lesson for KdLesson {
     crate::staged!(tree);
 
+    fn share(&self) -> Vec<(String, String)> {
+        vec![crate::share::structure_value(&self.structure)]
+    }
+
+    fn restore(&mut self, key: &str, value: &str) -> Result<(), String> {
+        match key {
+            "structure" => self.structure = crate::share::parse_structure(value)?,
+            _ => return Err(format!("this lesson keeps no '{key}'")),
+        }
+        Ok(())
+    }
+
     fn update(&mut self) {
         let scene = &self.stage.scene;
         request_tree(&mut self.tree, scene, self.structure);

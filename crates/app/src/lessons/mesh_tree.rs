@@ -398,6 +398,23 @@ impl MeshTreeLesson {
 impl Lesson for MeshTreeLesson {
     crate::staged!(tree);
 
+    fn share(&self) -> Vec<(String, String)> {
+        let mut values = Vec::from_iter(crate::share::mesh_value(&self.stage.scene));
+        values.push(crate::share::structure_value(&self.structure));
+        values.push(crate::share::camera_value(&self.view.orbit));
+        values
+    }
+
+    fn restore(&mut self, key: &str, value: &str) -> Result<(), String> {
+        match key {
+            "mesh" => crate::share::restore_mesh(&mut self.stage.scene, value)?,
+            "structure" => self.structure = crate::share::parse_structure(value)?,
+            "camera" => self.view.orbit = crate::share::parse_camera(value)?,
+            _ => return Err(format!("this lesson keeps no '{key}'")),
+        }
+        Ok(())
+    }
+
     fn update(&mut self) {
         MeshTree::request(&mut self.tree, &self.stage.scene, self.structure);
         let Some(tree) = self.tree.get().cloned() else {

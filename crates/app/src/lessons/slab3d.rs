@@ -353,6 +353,18 @@ impl Slab3dLesson {
 impl Lesson for Slab3dLesson {
     crate::staged!();
 
+    fn share(&self) -> Vec<(String, String)> {
+        vec![crate::share::camera_value(&self.view.orbit)]
+    }
+
+    fn restore(&mut self, key: &str, value: &str) -> Result<(), String> {
+        match key {
+            "camera" => self.view.orbit = crate::share::parse_camera(value)?,
+            _ => return Err(format!("this lesson keeps no '{key}'")),
+        }
+        Ok(())
+    }
+
     fn take_export(&mut self) -> Option<crate::view3d::Export> {
         self.view.take_export()
     }

@@ -205,7 +205,13 @@ fn build_in_worker(
 impl MeshScene {
     /// The mesh a lesson file names (`builtin:NAME`).
     pub fn named(name: &str) -> Result<Self, String> {
-        Self::builtin(name).map(|builtin| Self::new((builtin.make)()))
+        Self::builtin(name).map(|builtin| {
+            let mut scene = Self::new((builtin.make)());
+            // Called by the catalogue's name (the mesh's own may say more, as
+            // `builtin:icosphere-4`), as the mesh menu and shared links call it.
+            scene.name = name.to_owned();
+            scene
+        })
     }
 
     /// The built-in mesh `builtin:NAME`, or why there is none.
@@ -472,6 +478,7 @@ pub fn mesh_and_structure_ui(
                     .clicked()
                 {
                     scene.replace((builtin.make)());
+                    scene.name = name;
                     replaced = true;
                 }
             }

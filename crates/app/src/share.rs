@@ -1,0 +1,323 @@
+//! A view as a link: the lesson, its step, its scene (the 2D scene with its ray and settings,
+//! or the built-in mesh) and what the lesson lets you choose (the structure, the camera),
+//! written as `lesson=4&step=12&structure=bvh:sah-sweep&scene=…`. In the browser it is the
+//! page's URL fragment (`#lesson=4&…`); on the desktop a string to copy and paste, or a file.
+//! Opening it restores exactly that view; text that is not such a state is refused with a
+//! reason (and the app stays on its default lesson).
+
+/// The state string's version; a link of another version is refused, not misread.
+pub const VERSION: &str = "1";
+
+/// The longest state accepted (a scene of a few thousand shapes; larger ones are saved as
+/// files).
+pub const MOST_BYTES: usize = 256 * 1024;
+
+/// A view, as shared.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ViewState {
+    /// The lesson's number in the list, from 0.
+    pub lesson: usize,
+    /// The animation's step.
+    pub step: usize,
+    /// The lesson's own choices (structure, camera, mesh, …), in order.
+    pub values: Vec<(String, String)>,
+    /// A 2D scene document (RON), when it is not the lesson's own.
+    pub scene: Option<String>,
+}
+
+impl ViewState {
+    /// The state as a string (safe in a URL fragment: words, `=` and `&`).
+    pub fn encode(&self) -> String {
+        let mut text = format!("v={VERSION}&lesson={}&step={}", self.lesson + 1, self.step);
+        for (key, value) in &self.values {
+            text.push_str(&format!("&{key}={}", escape(value)));
+        }
+        if let Some(scene) = &self.scene {
+            text.push_str("&scene=");
+            text.push_str(&base64url(compact(scene).as_bytes()));
+        }
+        text
+    }
+
+    /// Reads a state string (a leading `#` or a whole link is allowed).
+    pub fn decode(text: &str) -> Result<Self, String> {
+        let text = text.trim();
+        let text = text.rsplit_once('#').map_or(text, |(_, fragment)| fragment);
+        if text.len() > MOST_BYTES {
+            return Err(format!(
+                "it is {} bytes; a link holds at most {MOST_BYTES}",
+                text.len()
+            ));
+        }
+        let mut state = ViewState::default();
+        let mut version = None;
+        let mut lesson = None;
+        for pair in text.split('&').filter(|pair| !pair.is_empty()) {
+            let (key, value) = pair
+                .split_once('=')
+                .ok_or_else(|| format!("'{}' is not key=value", shorten(pair)))?;
+            let value = unescape(value).ok_or_else(|| format!("{key}: a broken %-escape"))?;
+            match key {
+                "v" => version = Some(value),
+                "lesson" => {
+                    lesson = Some(
+                        value
+                            .parse::<usize>()
+                            .ok()
+                            .filter(|number| *number >= 1)
+                            .ok_or_else(|| {
+                                format!("lesson '{}' is not a number from 1", shorten(&value))
+                            })?
+                            - 1,
+                    );
+                }
+                "step" => {
+                    state.step = value
+                        .parse()
+                        .map_err(|_| format!("step '{}' is not a whole number", shorten(&value)))?;
+                }
+                "scene" => {
+                    let bytes = unbase64url(&value).ok_or("the scene is not base64url")?;
+                    let scene =
+                        String::from_utf8(bytes).map_err(|_| "the scene is not text".to_owned())?;
+                    state.scene = Some(scene);
+                }
+                _ if key.chars().all(|c| c.is_ascii_alphanumeric() || c == '-') => {
+                    state.values.push((key.to_owned(), value));
+                }
+                _ => return Err(format!("'{}' is not a key of a view", shorten(key))),
+            }
+        }
+        match version.as_deref() {
+            Some(VERSION) => {}
+            Some(other) => {
+                return Err(format!(
+                    "it is version {}; this accelviz reads version {VERSION}",
+                    shorten(other)
+                ));
+            }
+            None => return Err("it has no version (v=1): it is not an accelviz view".into()),
+        }
+        state.lesson = lesson.ok_or("it names no lesson")?;
+        Ok(state)
+    }
+}
+
+/// A structure as a value: its catalogue name.
+pub fn structure_value(structure: &accelviz_core::Structure) -> (String, String) {
+    ("structure".into(), structure.name())
+}
+
+/// A structure from its value.
+pub fn parse_structure(value: &str) -> Result<accelviz_core::Structure, String> {
+    accelviz_core::Structure::parse(value).map_err(|error| error.to_string())
+}
+
+/// A 3D view's camera as a value: yaw, pitch, distance, pan x y z, `p`erspective or
+/// `o`rthographic (numbers as Rust prints them, so they read back exactly).
+pub fn camera_value(orbit: &crate::view3d::Orbit) -> (String, String) {
+    let kind = if orbit.orthographic { "o" } else { "p" };
+    let value = format!(
+        "{},{},{},{},{},{},{kind}",
+        orbit.yaw, orbit.pitch, orbit.distance, orbit.pan.x, orbit.pan.y, orbit.pan.z
+    );
+    ("camera".into(), value)
+}
+
+/// A camera from its value.
+pub fn parse_camera(value: &str) -> Result<crate::view3d::Orbit, String> {
+    let parts: Vec<&str> = value.split(',').collect();
+    let bad = || {
+        format!(
+            "camera '{}' is not yaw,pitch,distance,x,y,z,p|o",
+            shorten(value)
+        )
+    };
+    let [yaw, pitch, distance, x, y, z, kind] = parts[..] else {
+        return Err(bad());
+    };
+    let number = |text: &str| {
+        text.parse::<f64>()
+            .ok()
+            .filter(|number| number.is_finite())
+            .ok_or_else(bad)
+    };
+    let orthographic = match kind {
+        "o" => true,
+        "p" => false,
+        _ => return Err(bad()),
+    };
+    let distance = number(distance)?;
+    if distance <= 0.0 {
+        return Err(bad());
+    }
+    Ok(crate::view3d::Orbit {
+        yaw: number(yaw)?,
+        pitch: number(pitch)?.clamp(-89.0, 89.0),
+        distance,
+        pan: glam::DVec3::new(number(x)?, number(y)?, number(z)?),
+        orthographic,
+    })
+}
+
+/// A 3D scene's mesh as a value, if it can go in a link (a built-in mesh; a file opened
+/// cannot).
+pub fn mesh_value(scene: &crate::view3d::mesh_scene::MeshScene) -> Option<(String, String)> {
+    scene
+        .name
+        .starts_with("builtin:")
+        .then(|| ("mesh".into(), scene.name.clone()))
+}
+
+/// Shows the built-in mesh a value names, unless it is shown already.
+pub fn restore_mesh(
+    scene: &mut crate::view3d::mesh_scene::MeshScene,
+    value: &str,
+) -> Result<(), String> {
+    if scene.name != value {
+        let named = crate::view3d::mesh_scene::MeshScene::named(value)?;
+        scene.replace((*named.mesh).clone());
+        scene.name = named.name;
+    }
+    Ok(())
+}
+
+fn shorten(text: &str) -> String {
+    let short: String = text.chars().take(40).collect();
+    if short.len() < text.len() {
+        format!("{short}…")
+    } else {
+        short
+    }
+}
+
+/// A value with `%`, `&`, `=`, `#` and spaces escaped as `%XX`.
+fn escape(value: &str) -> String {
+    let mut text = String::with_capacity(value.len());
+    for byte in value.bytes() {
+        if byte.is_ascii_alphanumeric() || b"-_.:,+!*()~".contains(&byte) {
+            text.push(byte as char);
+        } else {
+            text.push_str(&format!("%{byte:02X}"));
+        }
+    }
+    text
+}
+
+fn unescape(value: &str) -> Option<String> {
+    let bytes = value.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut index = 0;
+    while index < bytes.len() {
+        if bytes[index] == b'%' {
+            let hex = std::str::from_utf8(bytes.get(index + 1..index + 3)?).ok()?;
+            out.push(u8::from_str_radix(hex, 16).ok()?);
+            index += 3;
+        } else {
+            out.push(bytes[index]);
+            index += 1;
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
+/// RON without the whitespace between tokens (a scene document holds no strings).
+fn compact(ron: &str) -> String {
+    ron.chars().filter(|c| !c.is_whitespace()).collect()
+}
+
+const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_";
+
+/// Base64 with the URL alphabet and no padding (RFC 4648 §5).
+pub fn base64url(bytes: &[u8]) -> String {
+    let mut text = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for chunk in bytes.chunks(3) {
+        let word = chunk.iter().enumerate().fold(0u32, |word, (at, byte)| {
+            word | (u32::from(*byte) << (16 - 8 * at))
+        });
+        for at in 0..=chunk.len() {
+            text.push(ALPHABET[((word >> (18 - 6 * at)) & 63) as usize] as char);
+        }
+    }
+    text
+}
+
+/// The bytes of [`base64url`] text, or `None` for anything else.
+pub fn unbase64url(text: &str) -> Option<Vec<u8>> {
+    let values: Vec<u32> = text
+        .bytes()
+        .map(|byte| ALPHABET.iter().position(|a| *a == byte).map(|v| v as u32))
+        .collect::<Option<_>>()?;
+    if values.len() % 4 == 1 {
+        return None;
+    }
+    let mut bytes = Vec::with_capacity(values.len() * 3 / 4);
+    for chunk in values.chunks(4) {
+        let word = chunk
+            .iter()
+            .enumerate()
+            .fold(0u32, |word, (at, value)| word | (value << (18 - 6 * at)));
+        for at in 0..chunk.len() - 1 {
+            bytes.push((word >> (16 - 8 * at)) as u8);
+        }
+    }
+    Some(bytes)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64url_round_trips_every_length() {
+        for length in 0..40 {
+            let bytes: Vec<u8> = (0..length).map(|i| (i * 37 + 11) as u8).collect();
+            let text = base64url(&bytes);
+            assert!(!text.contains(['+', '/', '=']));
+            assert_eq!(unbase64url(&text), Some(bytes));
+        }
+        // "Man" is "TWFu" in RFC 4648's example.
+        assert_eq!(base64url(b"Man"), "TWFu");
+        assert_eq!(unbase64url("T"), None);
+        assert_eq!(unbase64url("TW+u"), None);
+    }
+
+    #[test]
+    fn a_state_round_trips_and_garbage_is_refused() {
+        let state = ViewState {
+            lesson: 11,
+            step: 7,
+            values: vec![
+                ("structure".into(), "bvh:sah-binned:16".into()),
+                ("camera".into(), "20,22.5,2.8,0,0,0,p".into()),
+                ("mesh".into(), "builtin:teapot stadium & more".into()),
+            ],
+            scene: Some("(shapes: [Disc(center: (1.0, 2.0), radius: 3.0)])".into()),
+        };
+        let text = state.encode();
+        assert!(!text.contains([' ', '#']));
+        let back = ViewState::decode(&format!("https://x.invalid/#{text}")).unwrap();
+        assert_eq!(back.lesson, 11);
+        assert_eq!(back.step, 7);
+        assert_eq!(back.values, state.values);
+        assert_eq!(
+            back.scene.as_deref(),
+            Some("(shapes:[Disc(center:(1.0,2.0),radius:3.0)])")
+        );
+        for garbage in [
+            "",
+            "hello",
+            "lesson=3",
+            "v=1",
+            "v=2&lesson=1",
+            "v=1&lesson=0",
+            "v=1&lesson=x",
+            "v=1&lesson=1&step=-1",
+            "v=1&lesson=1&scene=!!",
+            "v=1&lesson=1&<b>=1",
+            "v=1&lesson=1&camera=%zz",
+        ] {
+            assert!(ViewState::decode(garbage).is_err(), "{garbage:?}");
+        }
+    }
+}

@@ -1,0 +1,99 @@
+//! Shared views: every lesson, changed (its step, its scene and ray, its structure, its camera
+//! and mesh), written as a link and opened in a new app, shows exactly that view; a garbage
+//! link opens the first lesson with a message saying why.
+
+#![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
+
+mod common;
+
+use accelviz_app::AccelvizApp;
+use accelviz_app::share::ViewState;
+
+/// What a view is made of, to compare two apps.
+fn view_of(app: &AccelvizApp) -> (usize, usize, Option<String>, Vec<(String, String)>) {
+    let lesson = app.lesson().unwrap();
+    let stage = lesson.stage();
+    (
+        app.selected,
+        stage.timeline.shown,
+        stage.scene.flat().map(|flat| flat.scene.to_ron()),
+        lesson.share(),
+    )
+}
+
+#[test]
+fn every_lesson_changed_opens_the_same_from_its_link() {
+    let mut harness = common::app_harness();
+    let count = harness.state().lesson_count();
+    for index in 0..count {
+        harness.state_mut().selected = index;
+        harness.run_steps(2);
+        {
+            let app = harness.state_mut();
+            let lesson = app.lesson_mut().unwrap();
+            // The ray moved, the structure and camera changed where the lesson has them.
+            if let Some(flat) = lesson.stage_mut().scene.as_flat() {
+                flat.scene.ray_origin += glam::DVec2::new(1.25, -0.5);
+                flat.touch_ray();
+            }
+            let _ = lesson.restore("structure", "kd:median");
+            let _ = lesson.restore("structure", "bvh:median");
+            let _ = lesson.restore("camera", "47.5,-12.25,3.5,0.1,0,-0.2,o");
+            let _ = lesson.restore("mesh", "builtin:icosphere");
+        }
+        harness.run_steps(3);
+        if let Some(lesson) = harness.state_mut().lesson_mut() {
+            let timeline = &mut lesson.stage_mut().timeline;
+            timeline.shown = timeline.len * 2 / 3;
+        }
+        harness.run();
+        let before = view_of(harness.state());
+        let link = harness.state().share_state().unwrap().encode();
+        let title = harness.state().titles()[index].clone();
+
+        let mut other = common::app_harness();
+        other
+            .state_mut()
+            .open_state(&format!("https://example.invalid/#{link}"))
+            .unwrap();
+        other.run_steps(4);
+        let after = view_of(other.state());
+        assert_eq!(after, before, "{title}: {link}");
+    }
+}
+
+#[test]
+fn a_garbage_link_opens_the_first_lesson_with_a_reason() {
+    for garbage in [
+        "#hello",
+        "#v=1&lesson=99",
+        "#v=1&lesson=4&structure=bvh:nonsense",
+        "#v=1&lesson=12&camera=1,2,3",
+        "#v=1&lesson=4&scene=KGJyb2tlbg",
+        "#v=9&lesson=4",
+    ] {
+        let mut harness = common::app_harness();
+        harness.state_mut().selected = 5;
+        let error = harness.state_mut().open_state(garbage).unwrap_err();
+        harness.run();
+        let app = harness.state();
+        assert_eq!(app.selected, 0, "{garbage}");
+        let (message, problem) = app.status.clone().unwrap();
+        assert!(problem && message.contains(&error), "{garbage}: {message}");
+    }
+}
+
+#[test]
+fn a_link_keeps_the_lesson_s_own_scene_out() {
+    let mut harness = common::app_harness();
+    harness.state_mut().selected = 3;
+    harness.run_steps(2);
+    let state = harness.state().share_state().unwrap();
+    assert!(
+        state.scene.is_none(),
+        "the lesson's own scene needs no copy"
+    );
+    let text = state.encode();
+    assert!(text.len() < 200, "{text}");
+    assert_eq!(ViewState::decode(&text).unwrap().lesson, 3);
+}
