@@ -295,6 +295,58 @@ try {
   const uploaded = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-uploaded.png') }));
   check(differingShare(stepped, uploaded) > 0.02, `the uploaded scene is drawn (${(100 * differingShare(stepped, uploaded)).toFixed(1)} % of pixels changed)`);
 
+  // The quiz: answer a few steps by keyboard, reload the page, find the progress there.
+  const quizTitle = () => page.title();
+  await page.mouse.click(60, 470);
+  await page.waitForFunction(() => document.title.includes('quiz seed'), null, { timeout: 20_000 })
+    .catch(() => {});
+  check((await quizTitle()).includes('quiz seed 1, question 1 of 9, step 1'), `the quiz opens at its start: "${await quizTitle()}"`);
+  await page.screenshot({ path: path.join(shotDir, 'web-quiz.png') });
+  for (let answer = 0; answer < 3; answer++) {
+    // A moment for the step's controls (a number's field takes the keys once focused).
+    await page.waitForTimeout(400);
+    const before = await quizTitle();
+    if (before.includes('(a number')) {
+      await page.keyboard.type('1');
+      await page.keyboard.press('Enter');
+    } else {
+      await page.keyboard.press('a');
+    }
+    await page.waitForFunction((text) => document.title !== text, before, { timeout: 10_000 }).catch(() => {});
+    await page.waitForTimeout(100);
+    const answered = await quizTitle();
+    await page.keyboard.press('Enter');
+    await page.waitForFunction((text) => document.title !== text, answered, { timeout: 10_000 }).catch(() => {});
+  }
+  const progressTitle = await quizTitle();
+  check(progressTitle.includes('score') && progressTitle.includes('of 3'), `three steps answered by keyboard: "${progressTitle}"`);
+  const stored = await page.evaluate(() => window.localStorage.getItem('accelviz-quiz-progress'));
+  check(stored !== null && stored.includes('"responses"'), `the progress is in localStorage (${stored ? stored.length : 0} bytes)`);
+  await page.reload();
+  await page.waitForFunction(() => document.title.includes('step'), null, { timeout: 120_000 });
+  await page.waitForTimeout(300);
+  await page.mouse.click(60, 470);
+  await page.waitForFunction(() => document.title.includes('quiz seed'), null, { timeout: 20_000 })
+    .catch(() => {});
+  const reloadedTitle = await quizTitle();
+  const place = (title) => title.replace(/^.*quiz /, '');
+  check(place(reloadedTitle) === place(progressTitle), `after a reload the quiz is where it was: "${place(reloadedTitle)}"`);
+
+  // A shared link opens exactly its view; a garbage one opens the first lesson and says why.
+  await page.goto(`${url}?shared#v=1&lesson=4&step=3&structure=bvh:median`);
+  await page.waitForFunction(() => document.title.includes('hierarchy, step 3 of'), null, { timeout: 120_000 })
+    .catch(() => {});
+  const sharedTitle = await page.title();
+  check(sharedTitle.includes('4. Bounding volume hierarchy, step 3 of'), `a shared link opens its lesson at its step: "${sharedTitle}"`);
+  check(logLines.some((line) => line.includes('opened a shared view of lesson 4')), 'the link\'s view was opened');
+  await page.screenshot({ path: path.join(shotDir, 'web-shared.png') });
+  await page.goto(`${url}?garbage#this-is-not-a-view`);
+  await page.waitForFunction(() => document.title.includes('step'), null, { timeout: 120_000 });
+  const garbageTitle = await page.title();
+  check(garbageTitle.includes('1. The trivial loop'), `a garbage link opens the first lesson: "${garbageTitle}"`);
+  check(logLines.some((line) => line.includes('shared view could not be opened')), 'and says why');
+  // The garbage link's message is a warning, not an error.
+
   check(consoleErrors.length === 0, `no console errors${consoleErrors.length ? ': ' + consoleErrors.join(' | ') : ''}`);
   if (failures.length) console.log('console:\n  ' + logLines.join('\n  '));
 } finally {

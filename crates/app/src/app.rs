@@ -19,7 +19,7 @@ const INSPECTOR_WIDTH: (f32, f32, f32) = (280.0, 400.0, 560.0);
 /// canvas keeps at least half the width and the layout stays whole.
 /// Returns (lesson list, inspector default, inspector min, inspector max).
 fn panel_widths(width: f32) -> (f32, f32, f32, f32) {
-    let list = (width * 0.15).clamp(120.0, 210.0);
+    let list = (width * 0.17).clamp(120.0, 210.0);
     let inspector = (width * 0.29).clamp(180.0, INSPECTOR_WIDTH.1);
     let least = INSPECTOR_WIDTH.0.min(inspector);
     // A width the user dragged to is kept, within a share of the window.
@@ -173,6 +173,7 @@ impl AccelvizApp {
     pub fn open_state(&mut self, text: &str) -> Result<(), String> {
         let result = self.apply_state(text);
         if let Err(problem) = &result {
+            log::warn!("accelviz: the shared view could not be opened: {problem}");
             // Nothing half-opened: back to the first lesson, as it starts.
             if let Some(lesson) = self.lesson_mut() {
                 lesson.stage_mut().reset_scene();
@@ -212,6 +213,10 @@ impl AccelvizApp {
         lesson.stage_mut().timeline.playing = false;
         self.pending_step = Some(state.step);
         self.status = Some(("Opened a shared view.".into(), false));
+        log::info!(
+            "accelviz: opened a shared view of lesson {}",
+            state.lesson + 1
+        );
         Ok(())
     }
 
@@ -1013,8 +1018,16 @@ impl AccelvizApp {
             let line = self.quiz.session().map_or_else(
                 || "accelviz: quiz".to_owned(),
                 |session| {
+                    // What the step wants, so a test driving the page by keys knows what to
+                    // press: a letter for a choice, digits for a number.
+                    let wants = match session.ask().map(|ask| &ask.expected) {
+                        Some(accelviz_quiz::Expected::Number { .. }) => "a number",
+                        Some(_) => "a choice",
+                        None => "nothing",
+                    };
+                    let shown = if session.is_revealed() { ", answered" } else { "" };
                     format!(
-                        "accelviz: quiz seed {}, question {} of {}, step {}, score {} of {}",
+                        "accelviz: quiz seed {}, question {} of {}, step {} ({wants}{shown}), score {} of {}",
                         session.seed(),
                         (session.position() + 1).min(session.questions().len()),
                         session.questions().len(),
