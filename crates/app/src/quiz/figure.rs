@@ -184,7 +184,8 @@ fn scene_ui(
             Some(faded(palette::CURRENT, 18)),
         );
     }
-    // The tree, with what the traversal has done so far.
+    // The tree, with what the traversal has done so far (its names drawn over the shapes).
+    let mut node_labels = Vec::new();
     if let (Some(tree), Some(figure_tree)) = (state.tree, figure_tree) {
         let facts = &tree.built.facts;
         let visible: Vec<u32> = if figure_tree.reveal_as_reached {
@@ -254,12 +255,11 @@ fn scene_ui(
                 let bounds = &facts.bounds[node as usize];
                 let depth = facts.depth[node as usize] as usize;
                 let inward = canvas.world_length(3.0 * depth as f32 + 4.0);
-                let name = accelviz_quiz::node_label(facts, node);
-                canvas.label(
+                node_labels.push((
                     DVec2::new(bounds.min.x + inward, bounds.max.y - inward),
-                    &name,
+                    accelviz_quiz::node_label(facts, node),
                     depth_color(depth),
-                );
+                ));
             }
         }
     }
@@ -274,6 +274,9 @@ fn scene_ui(
             ui.visuals().strong_text_color()
         };
         canvas.label(shape.bounds().center(), &index.to_string(), color);
+    }
+    for (at, name, color) in &node_labels {
+        canvas.label(*at, name, *color);
     }
     if let Some(lit) = lit {
         for &shape in &lit.shapes {

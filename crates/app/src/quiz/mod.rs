@@ -45,6 +45,8 @@ pub struct QuizMode {
     pub number_text: String,
     /// The step whose number field has been given focus (focus is given once per step).
     focused_step: Option<(usize, usize)>,
+    /// The step whose "Next" button has been given focus.
+    next_focused: Option<(usize, usize)>,
     /// The last message: text and whether it reports a problem.
     pub message: Option<(String, bool)>,
     view: View2d,
@@ -71,6 +73,7 @@ impl QuizMode {
             count: DEFAULT_COUNT,
             number_text: String::new(),
             focused_step: None,
+            next_focused: None,
             message: None,
             view: View2d::default(),
             shown: None,
@@ -195,7 +198,9 @@ impl QuizMode {
     /// Keyboard shortcuts: a letter picks a choice, Enter moves on once answered; in the
     /// review, the arrows step through the model answer. Not while a text field has the keys.
     pub fn handle_keys(&mut self, ui: &Ui) {
-        if ui.ctx().egui_wants_keyboard_input() {
+        // Typing a number or a seed takes the keys; a focused button does not (Tab and Enter
+        // still work on it as ever).
+        if ui.ctx().text_edit_focused() {
             return;
         }
         let Some(session) = &self.session else {
@@ -494,8 +499,42 @@ impl QuizMode {
                         }
                     }
                 });
+                // Nodes can be picked in the tree too, as the lessons' trees are clicked.
+                if options.iter().any(|option| option.node.is_some())
+                    && let Some(node) = self.tree_ui(ui, ask.frame)
+                    && let Some(index) = options.iter().position(|option| option.node == Some(node))
+                {
+                    self.answer(Response::Choice(index));
+                }
             }
         }
+    }
+
+    /// The question's tree as a diagram (nodes named by path, coloured by the traversal's
+    /// steps shown so far); the node clicked, if any.
+    fn tree_ui(&self, ui: &mut Ui, frame: usize) -> Option<u32> {
+        let tree = self.tree.as_ref()?;
+        let session = self.session.as_ref()?;
+        let accelviz_quiz::Figure::Scene(scene) = &session.question().figure else {
+            return None;
+        };
+        let steps = scene.tree.as_ref().map_or(&[][..], |figure| {
+            &figure.steps[..frame.min(figure.steps.len())]
+        });
+        ui.add_space(6.0);
+        ui.label(RichText::new("The tree (click a node):").weak());
+        let facts = &tree.built.facts;
+        let label = |node: u32| accelviz_quiz::node_label(facts, node);
+        let (mut hovered, mut selected) = (None, None);
+        crate::views::tree_diagram::diagram_ui(
+            ui,
+            facts,
+            &label,
+            steps,
+            &mut hovered,
+            &mut selected,
+        );
+        selected
     }
 
     fn verdict_ui(&mut self, ui: &mut Ui, ask: &accelviz_quiz::Ask, verdict: Option<Verdict>) {
@@ -554,8 +593,14 @@ impl QuizMode {
         }
         ui.add_space(8.0);
         let next = ui.button(RichText::new("Next").size(15.0));
-        // Enter or Space on the focused button moves on.
-        if !ui.ctx().egui_wants_keyboard_input() {
+        // Enter or Space on the focused button moves on; focused once per step, so Tab can
+        // still leave it.
+        let place = self
+            .session
+            .as_ref()
+            .map(|session| (session.position(), session.step()));
+        if self.next_focused != place && !ui.ctx().text_edit_focused() {
+            self.next_focused = place;
             next.request_focus();
         }
         if next.clicked() {
