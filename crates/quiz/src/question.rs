@@ -416,4 +416,8 @@ pub struct Highlight {
     /// How many traversal steps to show with the explanation (the step just asked about
     /// included).
     pub frame: Option<usize>,
+    /// Points on the ray to mark, by their `t` (the slab test's crossings found so far).
+    pub marks: Vec<f64>,
+    /// Whether the slab test's intervals are drawn on number lines (once every one is known).
+    pub intervals: bool,
 }

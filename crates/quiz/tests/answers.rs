@@ -661,11 +661,11 @@ fn the_answers_in_the_json_are_the_steps_answers() {
     for seed in 0..40 {
         let question = generate("slab", seed, Level::Easy).unwrap();
         let json: Value = serde_json::from_str(&question.to_json()).unwrap();
-        let Expected::Number { value, .. } = question.asks[2].expected else {
+        let Expected::Number { value, .. } = question.asks[1].expected else {
             panic!("t_enter is a number")
         };
         assert_eq!(json["answer"]["t_enter"].as_f64(), Some(value));
-        let Expected::Choice { correct, .. } = question.asks[1].expected else {
+        let Expected::Choice { correct, .. } = question.asks[0].expected else {
             panic!("the axis is a choice")
         };
         assert_eq!(json["answer"]["enter_axis"].as_u64(), Some(correct as u64));

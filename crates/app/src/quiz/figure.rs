@@ -449,7 +449,8 @@ fn slab_ui(
     let lit = highlight(state);
     let numbers = slab_numbers(min, max, origin, direction);
     let rows = min.len() + 1;
-    let lines_height = if lit.is_some() {
+    let intervals = lit.is_some_and(|lit| lit.intervals);
+    let lines_height = if intervals {
         number_lines_height(rows)
     } else {
         0.0
@@ -488,10 +489,13 @@ fn slab_ui(
         canvas.ray(o, d, f64::INFINITY, Stroke::new(2.5, palette::RAY));
         canvas.label(o, "o", palette::RAY);
         if let (Some(lit), Some(numbers)) = (lit, &numbers) {
+            // The crossings this step has found, in their axis's colour.
             for axis in 0..2 {
-                let color = palette::AXES[axis];
-                canvas.ray_mark(o, d, numbers.t_near[axis], color, "", 0.0);
-                canvas.ray_mark(o, d, numbers.t_far[axis], color, "", 0.0);
+                for t in [numbers.t_near[axis], numbers.t_far[axis]] {
+                    if lit.marks.contains(&t) {
+                        canvas.ray_mark(o, d, t, palette::AXES[axis], "", 0.0);
+                    }
+                }
             }
             if let Some(t) = lit.t {
                 canvas.ray_mark(o, d, t, palette::HIT, "", 0.0);
@@ -516,7 +520,7 @@ fn slab_ui(
             .size(18.0),
         );
     }
-    if let (Some(_), Some(numbers)) = (lit, &numbers) {
+    if let (true, Some(numbers)) = (intervals, &numbers) {
         ui.add_space(8.0);
         let mut rows: Vec<IntervalRow> = (0..min.len())
             .map(|axis| IntervalRow {

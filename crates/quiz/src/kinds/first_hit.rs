@@ -71,15 +71,24 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     let options = shape_options(&shapes);
     let none = options.len() - 1;
     let all_hits = hits(&shapes, &ray);
-    let hit_list: Vec<String> = all_hits
+    // The shapes in the order the ray meets them (their t comes with the next step).
+    let mut met: Vec<(usize, f64)> = all_hits
         .iter()
         .enumerate()
-        .filter_map(|(index, t)| t.map(|t| format!("shape {index} at t = {}", num(t))))
+        .filter_map(|(index, t)| t.map(|t| (index, t)))
+        .collect();
+    met.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let hit_list: Vec<String> = met
+        .iter()
+        .map(|(index, _)| format!("shape {index}"))
         .collect();
     let listed = if hit_list.is_empty() {
         "The ray meets no shape.".to_owned()
     } else {
-        format!("The ray meets {}.", hit_list.join(", "))
+        format!(
+            "Along the ray it meets {}, in that order.",
+            hit_list.join(", then ")
+        )
     };
     let mut asks = vec![Ask {
         prompt: "Which shape does the ray hit first?".into(),

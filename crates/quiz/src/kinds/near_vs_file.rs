@@ -77,40 +77,8 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             .collect::<Vec<_>>()
             .join(", ")
     };
+    // Which node is skipped, and why, before the counts: their explanations list the nodes.
     let asks = vec![
-        Ask {
-            prompt: "How many nodes does near-first traversal enter (the root included)?".into(),
-            expected: Expected::Number {
-                value: near.len() as f64,
-                tolerance: 0.0,
-            },
-            explanation: format!("Near first enters {}: {}.", near.len(), list(&near)),
-            highlight: Highlight {
-                nodes: near.clone(),
-                frame: Some(near_frames),
-                ..Highlight::default()
-            },
-            frame: 0,
-        },
-        Ask {
-            prompt: "How many nodes does file-order traversal enter?".into(),
-            expected: Expected::Number {
-                value: file.len() as f64,
-                tolerance: 0.0,
-            },
-            explanation: format!(
-                "File order enters {}: {}. It finds the same hit, shape {} at t = {}, later.",
-                file.len(),
-                list(&file),
-                hit.0,
-                num(hit.1)
-            ),
-            highlight: Highlight {
-                nodes: file.clone(),
-                ..Highlight::default()
-            },
-            frame: 0,
-        },
         Ask {
             prompt: "Which of these nodes does file order enter but near first skip?".into(),
             expected: Expected::Choice {
@@ -165,6 +133,39 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 shapes: vec![hit.0],
                 t: Some(hit.1),
                 frame: Some(near_frames),
+                ..Highlight::default()
+            },
+            frame: 0,
+        },
+        Ask {
+            prompt: "How many nodes does near-first traversal enter (the root included)?".into(),
+            expected: Expected::Number {
+                value: near.len() as f64,
+                tolerance: 0.0,
+            },
+            explanation: format!("Near first enters {}: {}.", near.len(), list(&near)),
+            highlight: Highlight {
+                nodes: near.clone(),
+                frame: Some(near_frames),
+                ..Highlight::default()
+            },
+            frame: 0,
+        },
+        Ask {
+            prompt: "How many nodes does file-order traversal enter?".into(),
+            expected: Expected::Number {
+                value: file.len() as f64,
+                tolerance: 0.0,
+            },
+            explanation: format!(
+                "File order enters {}: {}. It finds the same hit, shape {} at t = {}, later.",
+                file.len(),
+                list(&file),
+                hit.0,
+                num(hit.1)
+            ),
+            highlight: Highlight {
+                nodes: file.clone(),
                 ..Highlight::default()
             },
             frame: 0,

@@ -108,7 +108,29 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         glam::DVec2::new(curve.bounds[0][0], curve.bounds[1][0]),
         glam::DVec2::new(curve.bounds[0][1], curve.bounds[1][1]),
     );
+    // The cost first: the choice's explanation lists every candidate's.
     let asks = vec![
+        Ask {
+            prompt: format!(
+                "What is the SAH cost of split ({})? (C_trav = {}, C_isect = {}; a side's probability is its box's perimeter over the node's.)",
+                option_letter(asked),
+                num(cost.traversal_cost),
+                num(cost.intersection_cost)
+            ),
+            expected: Expected::Number {
+                value: candidates[asked].cost,
+                tolerance: tolerance(candidates[asked].cost),
+            },
+            explanation: format!(
+                "cost = C_trav + (P_L · N_L + P_R · N_R) · C_isect = {}.",
+                parts(&candidates[asked])
+            ),
+            highlight: Highlight {
+                candidate: Some(asked),
+                ..Highlight::default()
+            },
+            frame: 0,
+        },
         Ask {
             prompt: "Which candidate split does the SAH builder choose?".into(),
             expected: Expected::Choice {
@@ -156,27 +178,6 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             ),
             highlight: Highlight {
                 candidate: Some(median_index),
-                ..Highlight::default()
-            },
-            frame: 0,
-        },
-        Ask {
-            prompt: format!(
-                "What is the SAH cost of split ({})? (C_trav = {}, C_isect = {}; a side's probability is its box's perimeter over the node's.)",
-                option_letter(asked),
-                num(cost.traversal_cost),
-                num(cost.intersection_cost)
-            ),
-            expected: Expected::Number {
-                value: candidates[asked].cost,
-                tolerance: tolerance(candidates[asked].cost),
-            },
-            explanation: format!(
-                "cost = C_trav + (P_L · N_L + P_R · N_R) · C_isect = {}.",
-                parts(&candidates[asked])
-            ),
-            highlight: Highlight {
-                candidate: Some(asked),
                 ..Highlight::default()
             },
             frame: 0,

@@ -102,6 +102,10 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         })
         .collect();
     let intervals = intervals.join("; ");
+    let near_steps: Vec<String> = (0..dimensions)
+        .map(|axis| format!("{}: t_near = {}", AXES[axis], num(slabs.t_near[axis])))
+        .collect();
+    let near_steps = near_steps.join(", ");
     let verdict = if slabs.hit {
         format!(
             "t_enter = {} ≤ t_exit = {}: the ray is inside every slab at once between them, so it hits the box.",
@@ -121,22 +125,9 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         .iter()
         .map(|name| Choice::text(*name))
         .collect();
+    // In this order each explanation gives away no later step's answer: the axis (in words),
+    // then t_enter (with every t_near), t_exit (with every t_far), and the verdict.
     let asks = vec![
-        Ask {
-            prompt: "Does the ray hit the box?".into(),
-            expected: Expected::Choice {
-                options: yes_no(),
-                correct: if slabs.hit { 0 } else { 1 },
-            },
-            explanation: format!(
-                "Per axis, the ray is between the two planes for t in [t_near, t_far]: {intervals}. {verdict}"
-            ),
-            highlight: Highlight {
-                t: Some(slabs.t_enter),
-                ..Highlight::default()
-            },
-            frame: 0,
-        },
         Ask {
             prompt: "Which axis's slab does the ray enter last (the one whose t_near is t_enter)?"
                 .into(),
@@ -145,13 +136,11 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 correct: enter_axis,
             },
             explanation: format!(
-                "t_enter is the largest t_near: {} on the {} axis. Only then is the ray inside every slab.",
-                num(slabs.t_near[enter_axis]),
+                "The ray is inside the box only once it is inside every slab: t_enter is the largest t_near, here the {} slab's (its planes are crossed last on the way in).",
                 AXES[enter_axis]
             ),
             highlight: Highlight {
                 axis: Some(enter_axis),
-                t: Some(slabs.t_enter),
                 ..Highlight::default()
             },
             frame: 0,
@@ -163,18 +152,13 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 tolerance: tolerance(slabs.t_enter),
             },
             explanation: format!(
-                "t_enter = max of t_near = max({}) = {}.",
-                slabs
-                    .t_near
-                    .iter()
-                    .map(|t| num(*t))
-                    .collect::<Vec<_>>()
-                    .join(", "),
+                "Per axis t = (plane − origin) / direction: {near_steps}. t_enter = max of t_near = {}.",
                 num(slabs.t_enter)
             ),
             highlight: Highlight {
                 axis: Some(enter_axis),
                 t: Some(slabs.t_enter),
+                marks: slabs.t_near.clone(),
                 ..Highlight::default()
             },
             frame: 0,
@@ -199,6 +183,24 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             highlight: Highlight {
                 axis: Some(exit_axis),
                 t: Some(slabs.t_exit),
+                marks: slabs.t_near.iter().chain(&slabs.t_far).copied().collect(),
+                ..Highlight::default()
+            },
+            frame: 0,
+        },
+        Ask {
+            prompt: "Does the ray hit the box?".into(),
+            expected: Expected::Choice {
+                options: yes_no(),
+                correct: if slabs.hit { 0 } else { 1 },
+            },
+            explanation: format!(
+                "Per axis, the ray is between the two planes for t in [t_near, t_far]: {intervals}. {verdict}"
+            ),
+            highlight: Highlight {
+                t: Some(slabs.t_enter),
+                marks: slabs.t_near.iter().chain(&slabs.t_far).copied().collect(),
+                intervals: true,
                 ..Highlight::default()
             },
             frame: 0,
