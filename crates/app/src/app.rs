@@ -1014,7 +1014,38 @@ impl AccelvizApp {
     /// them in the page title on the web.
     fn report_position(&mut self, ui: &Ui) {
         // Read at the end of the frame: a click in the lesson list may have changed the lesson.
-        let (line, title) = if self.mode == Mode::Quiz {
+        let lecture_place = self
+            .lecture
+            .as_ref()
+            .filter(|_| self.mode == Mode::Lecture)
+            .map(|lecture| {
+                let slide = format!(
+                    "lecture slide {} of {}",
+                    lecture.slide + 1,
+                    lecture.script.slides.len()
+                );
+                match lecture.question() {
+                    Some(session) => format!(
+                        "{slide}: question {}, step {}{}",
+                        session.questions()[0].kind,
+                        session.step() + 1,
+                        if session.is_revealed() {
+                            ", revealed"
+                        } else {
+                            ""
+                        }
+                    ),
+                    None => slide,
+                }
+            });
+        let blank = self.lecture.as_ref().is_some_and(|lecture| lecture.blank);
+        let (line, title) = if let Some(place) = lecture_place
+            .clone()
+            .filter(|place| place.contains("question"))
+        {
+            let line = format!("accelviz: {place}{}", if blank { ", blank" } else { "" });
+            (line.clone(), place)
+        } else if self.mode == Mode::Quiz {
             let line = self.quiz.session().map_or_else(
                 || "accelviz: quiz".to_owned(),
                 |session| {
@@ -1054,9 +1085,13 @@ impl AccelvizApp {
                 .get(self.selected)
                 .cloned()
                 .unwrap_or_default();
+            let slide = lecture_place
+                .map(|place| format!("{place}: "))
+                .unwrap_or_default();
             let line = format!(
-                "accelviz: lesson {} ({title}), step {shown} of {len}",
-                self.selected + 1
+                "accelviz: {slide}lesson {} ({title}), step {shown} of {len}{}",
+                self.selected + 1,
+                if blank { ", blank" } else { "" }
             );
             (line, format!("{title}, step {shown} of {len}"))
         };
