@@ -116,19 +116,21 @@ fn a_whole_quiz_by_keyboard_alone_with_the_review() {
     harness.get_by_label_contains("Not quite");
     harness.get_by_label_contains("The answer:");
     press(&mut harness, Key::Enter);
-    // Every other step right, to the end, through the next questions.
+    // Every other step right, to the end, through the next questions, but for the third
+    // question's third step (the lecture's demonstration, a traversal to review).
     let mut questions_seen = vec![0];
     while !session(&harness).is_finished() {
-        let position = session(&harness).position();
+        let (position, step) = (session(&harness).position(), session(&harness).step());
         if !questions_seen.contains(&position) {
             questions_seen.push(position);
         }
-        answer_by_keyboard(&mut harness, true);
+        answer_by_keyboard(&mut harness, (position, step) != (2, 2));
         press(&mut harness, Key::Enter);
     }
     assert_eq!(questions_seen, vec![0, 1, 2]);
+    assert_eq!(session(&harness).questions()[2].kind, "lecture");
     let done = session(&harness);
-    assert_eq!(done.score(), done.answered() - 1);
+    assert_eq!(done.score(), done.answered() - 2);
     harness.get_by_label_contains("Quiz done");
     // The review, by keyboard: Tab to the mistake (through the quiz's settings), Enter opens
     // it; the arrows step the model answer.
@@ -142,8 +144,29 @@ fn a_whole_quiz_by_keyboard_alone_with_the_review() {
         tabs += 1;
     }
     press(&mut harness, Key::Enter);
-    harness.get_by_label_contains("Mistake 1 of 1");
+    harness.get_by_label_contains("Mistake 1 of 2");
     harness.get_by_label_contains("The answer:");
+    // The next mistake has a traversal: the arrows step back and forth through it.
+    harness.get_by_label("Next mistake").click();
+    harness.run();
+    harness.get_by_label_contains("Mistake 2 of 2");
+    let frame = |harness: &Harness<'_, AccelvizApp>| harness.state().quiz.review().unwrap();
+    let (mistake, at_end) = frame(&harness);
+    assert_eq!(mistake, 1);
+    press(&mut harness, Key::ArrowLeft);
+    press(&mut harness, Key::ArrowLeft);
+    assert_eq!(
+        frame(&harness).1,
+        at_end - 2,
+        "the left arrow steps the model answer back"
+    );
+    press(&mut harness, Key::ArrowRight);
+    assert_eq!(
+        frame(&harness).1,
+        at_end - 1,
+        "the right arrow steps it forward"
+    );
+    harness.get_by_label_contains("the left and right arrow keys");
     harness.get_by_label("Back to the score").click();
     harness.run();
     harness.get_by_label_contains("Quiz done");

@@ -87,6 +87,12 @@ impl QuizMode {
         self.session.as_ref()
     }
 
+    /// In the review of mistakes: which mistake, and how many steps of its model answer are
+    /// shown.
+    pub fn review(&self) -> Option<(usize, usize)> {
+        self.review.map(|review| (review.mistake, review.frame))
+    }
+
     /// Where progress is kept.
     pub fn store(&self) -> &ProgressStore {
         &self.store
@@ -700,18 +706,24 @@ impl QuizMode {
         let frames = self.review_frames(review.mistake);
         if frames > 0 {
             ui.add_space(6.0);
-            ui.label(RichText::new("The model answer, step by step (← →):").weak());
+            ui.label(
+                RichText::new("The model answer, step by step (the left and right arrow keys):")
+                    .weak(),
+            );
             let mut frame = review.frame;
-            ui.horizontal(|ui| {
-                if ui.button("Step back").clicked() {
-                    frame = frame.saturating_sub(1);
-                }
-                if ui.button("Step forward").clicked() {
-                    frame = (frame + 1).min(frames);
-                }
-                ui.label(format!("{frame} of {frames}"));
-            });
-            ui.add(egui::Slider::new(&mut frame, 0..=frames).show_value(false));
+            let position = ui
+                .horizontal(|ui| {
+                    if ui.button("Step back").clicked() {
+                        frame = frame.saturating_sub(1);
+                    }
+                    if ui.button("Step forward").clicked() {
+                        frame = (frame + 1).min(frames);
+                    }
+                    ui.label(format!("step {frame} of {frames}"))
+                })
+                .inner;
+            ui.add(egui::Slider::new(&mut frame, 0..=frames).show_value(false))
+                .labelled_by(position.id);
             if let Some(review) = &mut self.review {
                 review.frame = frame;
             }

@@ -166,9 +166,8 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             }
             asks.push(Ask {
                 prompt: format!(
-                    "Step {}: which node does the traversal ({}) enter next?",
-                    asks.len() + 1,
-                    order_name(order)
+                    "Which node does the traversal ({}) enter next?",
+                    order_name(order).replace('-', " ")
                 ),
                 expected: Expected::Choice {
                     options: options
