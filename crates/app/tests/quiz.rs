@@ -264,5 +264,21 @@ fn a_question_and_an_explanation_match_their_snapshots() {
     if let Err(error) = harness.try_snapshot("quiz_explanation") {
         failures.push(error.to_string());
     }
+    // A hard slab question is in 3D: the box and ray in the 3D view, t_enter lit once given.
+    {
+        let quiz = &mut harness.state_mut().quiz;
+        quiz.seed_text = "9".into();
+        quiz.level = Level::Hard;
+        quiz.start();
+    }
+    harness.run();
+    assert_eq!(session(&harness).question().kind, "slab");
+    answer_by_keyboard(&mut harness, true);
+    press(&mut harness, Key::Enter);
+    answer_by_keyboard(&mut harness, false);
+    harness.run_steps(2);
+    if let Err(error) = harness.try_snapshot("quiz_slab_3d") {
+        failures.push(error.to_string());
+    }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }

@@ -241,6 +241,7 @@ pub struct Lecture {
     /// lecturer reveals and moves on).
     question: Option<Session>,
     view: View2d,
+    view3d: crate::view3d::View3d,
     tree: Option<SceneTree>,
     /// Whether full screen was asked for.
     pub full_screen: bool,
@@ -260,6 +261,7 @@ impl Lecture {
             pending: None,
             question: None,
             view: View2d::default(),
+            view3d: crate::view3d::View3d::default(),
             tree: None,
             full_screen: false,
         }
@@ -545,7 +547,7 @@ impl Lecture {
             tree: self.tree.as_ref(),
         };
         egui::CentralPanel::default().show(ui, |ui| {
-            figure_ui(ui, &mut self.view, &state);
+            figure_ui(ui, &mut self.view, &mut self.view3d, &state);
         });
     }
 }

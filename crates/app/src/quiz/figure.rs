@@ -57,7 +57,12 @@ fn scene_bounds() -> Aabb<DVec2> {
 }
 
 /// Draws the figure; returns the option a click picked, if any.
-pub fn figure_ui(ui: &mut Ui, view: &mut View2d, state: &FigureState) -> Option<usize> {
+pub fn figure_ui(
+    ui: &mut Ui,
+    view: &mut View2d,
+    view3d: &mut crate::view3d::View3d,
+    state: &FigureState,
+) -> Option<usize> {
     match &state.question.figure {
         Figure::Slab {
             min,
@@ -65,7 +70,7 @@ pub fn figure_ui(ui: &mut Ui, view: &mut View2d, state: &FigureState) -> Option<
             origin,
             direction,
         } => {
-            slab_ui(ui, view, state, min, max, origin, direction);
+            slab_ui(ui, view, view3d, state, min, max, origin, direction);
             None
         }
         Figure::Scene(scene) => {
@@ -437,9 +442,11 @@ fn slab_numbers(
     }
 }
 
+#[allow(clippy::too_many_arguments)] // The slab's four vectors, as the figure holds them.
 fn slab_ui(
     ui: &mut Ui,
     view: &mut View2d,
+    view3d: &mut crate::view3d::View3d,
     state: &FigureState,
     min: &[f64],
     max: &[f64],
@@ -508,16 +515,27 @@ fn slab_ui(
         }
         canvas.finish();
     } else {
-        // In 3D the numbers carry the question; the box and ray are listed.
+        // In 3D: the box and the ray in the 3D view (orbit with a drag), the numbers beside.
         ui.label(
             egui::RichText::new(format!(
-                "Box from ({}) to ({})\nRay from ({}) in direction ({})",
+                "Box from ({}) to ({}); ray from ({}) in direction ({})",
                 list(min),
                 list(max),
                 list(origin),
                 list(direction)
             ))
-            .size(18.0),
+            .strong(),
+        );
+        let size = ui.available_size() - Vec2::new(0.0, lines_height + 8.0);
+        slab_3d_ui(
+            ui,
+            view3d,
+            size.max(Vec2::splat(80.0)),
+            lit,
+            min,
+            max,
+            origin,
+            direction,
         );
     }
     if let (true, Some(numbers)) = (intervals, &numbers) {
@@ -538,6 +556,92 @@ fn slab_ui(
         });
         number_lines_ui(ui, &rows, lines_height);
     }
+}
+
+/// The 3D slab figure: the box, the ray from its origin to past the box, and the crossings
+/// this step has found as small cubes in their axis's colour (the answer's point larger).
+#[allow(clippy::too_many_arguments)] // The slab's four vectors, as the figure holds them.
+fn slab_3d_ui(
+    ui: &mut Ui,
+    view3d: &mut crate::view3d::View3d,
+    size: Vec2,
+    lit: Option<&Highlight>,
+    min: &[f64],
+    max: &[f64],
+    origin: &[f64],
+    direction: &[f64],
+) {
+    use crate::view3d::{Content, HiddenEdges, Instance, relative, revision_of};
+    let rgba = |color: Color32| [color.r(), color.g(), color.b(), 255];
+    let (low, high) = (DVec3::from_slice(min), DVec3::from_slice(max));
+    let (o, d) = (DVec3::from_slice(origin), DVec3::from_slice(direction));
+    let numbers = slab_numbers(min, max, origin, direction);
+    let reach = numbers
+        .as_ref()
+        .map_or(1.0, |n| n.t_exit.max(n.t_enter).max(1.0))
+        + 0.5;
+    let everything = Aabb::new(
+        low.min(o).min(o + d * reach),
+        high.max(o).max(o + d * reach),
+    );
+    let sphere = (
+        everything.center(),
+        (everything.extent().length() * 0.5).max(1e-6),
+    );
+    let mut boxes = vec![Instance {
+        a: relative(low, sphere),
+        b: relative(high, sphere),
+        color: rgba(palette::BOX),
+    }];
+    let cube = |t: f64, color: Color32, scale: f64| {
+        let half = DVec3::splat(sphere.1 * scale);
+        let at = o + d * t;
+        Instance {
+            a: relative(at - half, sphere),
+            b: relative(at + half, sphere),
+            color: rgba(color),
+        }
+    };
+    if let (Some(lit), Some(numbers)) = (lit, &numbers) {
+        for axis in 0..3 {
+            for t in [numbers.t_near[axis], numbers.t_far[axis]] {
+                if lit.marks.contains(&t) {
+                    boxes.push(cube(t, palette::AXES[axis], 0.015));
+                }
+            }
+        }
+        if let Some(t) = lit.t {
+            boxes.push(cube(t, palette::HIT, 0.03));
+        }
+    }
+    let segments = [Instance {
+        a: relative(o, sphere),
+        b: relative(o + d * reach, sphere),
+        color: rgba(palette::RAY),
+    }];
+    let key = revision_of((
+        [min, max, origin, direction].map(|v| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>()),
+        lit.map(|lit| {
+            (
+                lit.marks.iter().map(|t| t.to_bits()).collect::<Vec<_>>(),
+                lit.t.map(f64::to_bits),
+            )
+        }),
+    ));
+    view3d.ui(
+        ui,
+        size,
+        &Content {
+            sphere,
+            mesh: (0, &[]),
+            highlights: (0, &[]),
+            boxes: (key, &boxes),
+            segments: (key, &segments),
+            quads: (0, &[]),
+            hidden_edges: HiddenEdges::Dimmed,
+            wireframe: false,
+        },
+    );
 }
 
 fn list(values: &[f64]) -> String {

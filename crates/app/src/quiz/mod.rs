@@ -50,6 +50,7 @@ pub struct QuizMode {
     /// The last message: text and whether it reports a problem.
     pub message: Option<(String, bool)>,
     view: View2d,
+    view3d: crate::view3d::View3d,
     /// The question the view and the tree were made for.
     shown: Option<usize>,
     tree: Option<SceneTree>,
@@ -76,6 +77,7 @@ impl QuizMode {
             next_focused: None,
             message: None,
             view: View2d::default(),
+            view3d: crate::view3d::View3d::default(),
             shown: None,
             tree: None,
             review: None,
@@ -325,7 +327,7 @@ impl QuizMode {
             exercise,
             tree: self.tree.as_ref(),
         };
-        let picked = figure_ui(ui, &mut self.view, &state);
+        let picked = figure_ui(ui, &mut self.view, &mut self.view3d, &state);
         if let Some(option) = picked {
             self.answer(Response::Choice(option));
         }
