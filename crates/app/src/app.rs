@@ -494,30 +494,8 @@ impl AccelvizApp {
         let ctx = ui.ctx().clone();
         // The clicker's keys first, so the frame shows where they lead.
         for action in Lecture::pressed(ui) {
-            let on_lesson = matches!(
-                self.lecture.as_ref().map(Lecture::current),
-                Some(crate::lecture::script::Slide::Lesson { .. })
-            );
-            let selected = self.selected;
-            let lesson = if on_lesson {
-                self.lessons
-                    .get_mut(selected)
-                    .and_then(|lesson| lesson.as_mut().ok())
-                    .map(|lesson| lesson.as_mut() as &mut dyn Lesson)
-            } else {
-                None
-            };
-            let Some(lecture) = &mut self.lecture else {
+            if !self.lecture_act(&ctx, action) {
                 return;
-            };
-            match lecture.act(action, lesson) {
-                Outcome::Stay => {}
-                Outcome::Open(index, at_end) => self.open_slide(index, at_end),
-                Outcome::FullScreen(on) => set_full_screen(&ctx, on),
-                Outcome::Exit => {
-                    self.stop_lecture(&ctx);
-                    return;
-                }
             }
         }
         let on_lesson = matches!(
@@ -674,30 +652,38 @@ impl AccelvizApp {
             }
         });
         if let Some(action) = outcome {
-            let ctx = ui.ctx().clone();
-            let on_lesson = matches!(
-                lecture.current(),
-                crate::lecture::script::Slide::Lesson { .. }
-            );
-            let selected = self.selected;
-            let lesson = if on_lesson {
-                self.lessons
-                    .get_mut(selected)
-                    .and_then(|lesson| lesson.as_mut().ok())
-                    .map(|lesson| lesson.as_mut() as &mut dyn Lesson)
-            } else {
-                None
-            };
-            let Some(lecture) = &mut self.lecture else {
-                return;
-            };
-            match lecture.act(action, lesson) {
-                Outcome::Stay => {}
-                Outcome::Open(index, at_end) => self.open_slide(index, at_end),
-                Outcome::FullScreen(on) => set_full_screen(&ctx, on),
-                Outcome::Exit => self.stop_lecture(&ctx),
+            self.lecture_act(&ui.ctx().clone(), action);
+        }
+    }
+
+    /// Does what a lecture key or button asks; false once lecture mode is left.
+    fn lecture_act(&mut self, ctx: &egui::Context, action: crate::lecture::Action) -> bool {
+        let on_lesson = matches!(
+            self.lecture.as_ref().map(Lecture::current),
+            Some(crate::lecture::script::Slide::Lesson { .. })
+        );
+        let selected = self.selected;
+        let lesson = if on_lesson {
+            self.lessons
+                .get_mut(selected)
+                .and_then(|lesson| lesson.as_mut().ok())
+                .map(|lesson| lesson.as_mut() as &mut dyn Lesson)
+        } else {
+            None
+        };
+        let Some(lecture) = &mut self.lecture else {
+            return false;
+        };
+        match lecture.act(action, lesson) {
+            Outcome::Stay => {}
+            Outcome::Open(index, at_end) => self.open_slide(index, at_end),
+            Outcome::FullScreen(on) => set_full_screen(ctx, on),
+            Outcome::Exit => {
+                self.stop_lecture(ctx);
+                return false;
             }
         }
+        true
     }
 
     /// The quiz: its panel on the right, its figure in the middle.

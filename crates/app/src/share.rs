@@ -182,6 +182,35 @@ pub fn restore_mesh(
     Ok(())
 }
 
+/// What a mesh lesson keeps (its built-in mesh, structure and camera).
+pub fn mesh_view_values(
+    scene: &crate::view3d::mesh_scene::MeshScene,
+    structure: &accelviz_core::Structure,
+    orbit: &crate::view3d::Orbit,
+) -> Vec<(String, String)> {
+    let mut values = Vec::from_iter(mesh_value(scene));
+    values.push(structure_value(structure));
+    values.push(camera_value(orbit));
+    values
+}
+
+/// Restores one of [`mesh_view_values`]'s pairs.
+pub fn restore_mesh_view(
+    scene: &mut crate::view3d::mesh_scene::MeshScene,
+    structure: &mut accelviz_core::Structure,
+    orbit: &mut crate::view3d::Orbit,
+    key: &str,
+    value: &str,
+) -> Result<(), String> {
+    match key {
+        "mesh" => restore_mesh(scene, value)?,
+        "structure" => *structure = parse_structure(value)?,
+        "camera" => *orbit = parse_camera(value)?,
+        _ => return Err(format!("this lesson keeps no '{key}'")),
+    }
+    Ok(())
+}
+
 fn shorten(text: &str) -> String {
     let short: String = text.chars().take(40).collect();
     if short.len() < text.len() {

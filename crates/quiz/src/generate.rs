@@ -363,6 +363,32 @@ pub(crate) fn kd_json(built: &Built<DVec2>) -> Value {
     )
 }
 
+/// The JSON fields and the figure of a traversal question: the shapes, the ray, the
+/// structure's name and its nodes (a BVH's boxes or a kD-tree's cells), and the scene with its
+/// tree and recorded steps.
+pub(crate) fn traversal_question(
+    shapes: ShapeSet<DVec2>,
+    ray: Ray<DVec2>,
+    tree: crate::question::TreeFigure,
+) -> (serde_json::Map<String, Value>, crate::question::SceneFigure) {
+    let mut fields = serde_json::Map::new();
+    fields.insert("shapes".into(), shapes_json(&shapes));
+    fields.insert(
+        "ray".into(),
+        ray_json(&ray.origin.to_array(), &ray.direction.to_array()),
+    );
+    fields.insert("structure".into(), json!(tree.built.structure.name()));
+    let nodes = match tree.built.tree {
+        Tree::Bvh(_) => bvh_json(&tree.built),
+        Tree::Kd(_) => kd_json(&tree.built),
+    };
+    fields.insert("nodes".into(), nodes);
+    let mut scene = crate::question::SceneFigure::of(shapes);
+    scene.ray = Some(ray);
+    scene.tree = Some(tree);
+    (fields, scene)
+}
+
 /// A shape in words, for print.
 pub(crate) fn describe_shape(shape: &Shape<DVec2>) -> String {
     let number = num;

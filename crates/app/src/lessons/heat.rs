@@ -384,20 +384,12 @@ impl Lesson for HeatLesson {
     crate::staged!(tree);
 
     fn share(&self) -> Vec<(String, String)> {
-        let mut values = Vec::from_iter(crate::share::mesh_value(&self.stage.scene));
-        values.push(crate::share::structure_value(&self.structure));
-        values.push(crate::share::camera_value(&self.view.orbit));
-        values
+        crate::share::mesh_view_values(&self.stage.scene, &self.structure, &self.view.orbit)
     }
 
     fn restore(&mut self, key: &str, value: &str) -> Result<(), String> {
-        match key {
-            "mesh" => crate::share::restore_mesh(&mut self.stage.scene, value)?,
-            "structure" => self.structure = crate::share::parse_structure(value)?,
-            "camera" => self.view.orbit = crate::share::parse_camera(value)?,
-            _ => return Err(format!("this lesson keeps no '{key}'")),
-        }
-        Ok(())
+        let (scene, structure) = (&mut self.stage.scene, &mut self.structure);
+        crate::share::restore_mesh_view(scene, structure, &mut self.view.orbit, key, value)
     }
 
     fn update(&mut self) {

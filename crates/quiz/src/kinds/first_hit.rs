@@ -38,6 +38,14 @@ pub(super) fn clear_hits(shapes: &ShapeSet<DVec2>, ray: &Ray<DVec2>) -> bool {
     apart && !grazing
 }
 
+/// A scene of the level's size and a ray into it whose hits are clear (see [`clear_hits`]),
+/// or `None` for a draw to throw away.
+pub(super) fn scene_and_ray(generator: &mut Gen) -> Option<(ShapeSet<DVec2>, Ray<DVec2>)> {
+    let shapes = generator.shapes(generator.level.shape_count());
+    let ray = generator.ray_into(&shapes);
+    clear_hits(&shapes, &ray).then_some((shapes, ray))
+}
+
 /// A shape's name in a choice: its number and kind.
 pub(super) fn shape_name(shapes: &ShapeSet<DVec2>, index: u32) -> String {
     let kind = match shapes.shapes[index as usize] {
@@ -62,11 +70,7 @@ pub(super) fn shape_options(shapes: &ShapeSet<DVec2>) -> Vec<Choice> {
 }
 
 pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
-    let shapes = generator.shapes(generator.level.shape_count());
-    let ray = generator.ray_into(&shapes);
-    if !clear_hits(&shapes, &ray) {
-        return None;
-    }
+    let (shapes, ray) = scene_and_ray(generator)?;
     let hit = brute_force(&shapes, &ray, &TraceOptions::default(), &mut NoObserver);
     let options = shape_options(&shapes);
     let none = options.len() - 1;

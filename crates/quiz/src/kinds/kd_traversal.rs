@@ -3,16 +3,14 @@
 //! it)? The steps are the core's kD traversal, recorded.
 
 use accelviz_core::{Order, Step, Structure};
-use serde_json::{Map, json};
+use serde_json::json;
 
 use super::Draft;
-use super::first_hit::clear_hits;
+use super::first_hit::scene_and_ray;
 use crate::generate::{
-    AXES, Gen, Level, build, clear_steps, entered, final_hit, kd_json, num, ray_json, record,
+    AXES, Gen, Level, build, clear_steps, entered, final_hit, num, record, traversal_question,
 };
-use crate::question::{
-    Ask, Choice, Expected, Figure, Highlight, SceneFigure, TreeFigure, node_label,
-};
+use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node_label};
 
 /// The most cells a question asks about.
 const MOST_ASKED: usize = 3;
@@ -26,11 +24,7 @@ const OUTCOMES: [&str; 4] = [
 ];
 
 pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
-    let shapes = generator.shapes(generator.level.shape_count());
-    let ray = generator.ray_into(&shapes);
-    if !clear_hits(&shapes, &ray) {
-        return None;
-    }
+    let (shapes, ray) = scene_and_ray(generator)?;
     let structure = if generator.index(2) == 0 {
         Structure::KdMiddle
     } else {
@@ -193,22 +187,16 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     }
     let visited = entered(&steps);
     let hit = final_hit(&steps);
-    let mut fields = Map::new();
-    fields.insert("shapes".into(), crate::generate::shapes_json(&shapes));
-    fields.insert(
-        "ray".into(),
-        ray_json(&ray.origin.to_array(), &ray.direction.to_array()),
+    let (fields, scene) = traversal_question(
+        shapes,
+        ray,
+        TreeFigure {
+            built,
+            order: Order::NearFirst,
+            steps,
+            reveal_as_reached: false,
+        },
     );
-    fields.insert("structure".into(), json!(built.structure.name()));
-    fields.insert("nodes".into(), kd_json(&built));
-    let mut scene = SceneFigure::of(shapes);
-    scene.ray = Some(ray);
-    scene.tree = Some(TreeFigure {
-        built,
-        order: Order::NearFirst,
-        steps,
-        reveal_as_reached: false,
-    });
     Some(Draft {
         prompt: "A kD-tree over the shapes, traversed as in the lecture: near child first, the far child only if the ray reaches it and nothing nearer was hit.".into(),
         figure: Figure::Scene(Box::new(scene)),

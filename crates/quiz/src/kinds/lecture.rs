@@ -3,17 +3,15 @@
 //! two orders differ, recorded by the core's traversal.
 
 use accelviz_core::{Order, Step};
-use serde_json::{Map, json};
+use serde_json::json;
 
 use super::Draft;
-use super::first_hit::clear_hits;
+use super::first_hit::scene_and_ray;
 use super::visit_order::bvh_structure;
 use crate::generate::{
-    Gen, Level, build, bvh_json, clear_steps, entered, final_hit, num, ray_json, record,
+    Gen, Level, build, clear_steps, entered, final_hit, num, record, traversal_question,
 };
-use crate::question::{
-    Ask, Choice, Expected, Figure, Highlight, SceneFigure, TreeFigure, node_label,
-};
+use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node_label};
 
 const WHY_NEAR: [&str; 4] = [
     "a hit on the near side lies before anything on the far side, so once one is found the far side can often be skipped",
@@ -39,11 +37,7 @@ fn choice(generator: &mut Gen, texts: &[&str; 4]) -> Expected {
 }
 
 pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
-    let shapes = generator.shapes(generator.level.shape_count());
-    let ray = generator.ray_into(&shapes);
-    if !clear_hits(&shapes, &ray) {
-        return None;
-    }
+    let (shapes, ray) = scene_and_ray(generator)?;
     let structure = bvh_structure(generator);
     let leaf_size = if generator.level == Level::Easy { 1 } else { 2 };
     let built = build(structure, &shapes, leaf_size);
@@ -115,22 +109,16 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             frame: 0,
         },
     ];
-    let mut fields = Map::new();
-    fields.insert("shapes".into(), crate::generate::shapes_json(&shapes));
-    fields.insert(
-        "ray".into(),
-        ray_json(&ray.origin.to_array(), &ray.direction.to_array()),
+    let (fields, scene) = traversal_question(
+        shapes,
+        ray,
+        TreeFigure {
+            built,
+            order: Order::NearFirst,
+            steps: near_steps,
+            reveal_as_reached: false,
+        },
     );
-    fields.insert("structure".into(), json!(built.structure.name()));
-    fields.insert("nodes".into(), bvh_json(&built));
-    let mut scene = SceneFigure::of(shapes);
-    scene.ray = Some(ray);
-    scene.tree = Some(TreeFigure {
-        built,
-        order: Order::NearFirst,
-        steps: near_steps,
-        reveal_as_reached: false,
-    });
     Some(Draft {
         prompt: "The lecture's quiz: why first do the near side, and what happens in file order? Then see it on a scene.".into(),
         figure: Figure::Scene(Box::new(scene)),

@@ -3,17 +3,15 @@
 //! lecture's answer to "why first do the near side?".
 
 use accelviz_core::{Order, Step};
-use serde_json::{Map, json};
+use serde_json::json;
 
 use super::Draft;
-use super::first_hit::clear_hits;
+use super::first_hit::scene_and_ray;
 use super::visit_order::bvh_structure;
 use crate::generate::{
-    Gen, Level, build, bvh_json, clear_steps, entered, final_hit, num, ray_json, record,
+    Gen, Level, build, clear_steps, entered, final_hit, num, record, traversal_question,
 };
-use crate::question::{
-    Ask, Choice, Expected, Figure, Highlight, SceneFigure, TreeFigure, node_label,
-};
+use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node_label};
 
 /// Why near first does not enter a node that file order enters.
 const REASONS: [&str; 4] = [
@@ -24,11 +22,7 @@ const REASONS: [&str; 4] = [
 ];
 
 pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
-    let shapes = generator.shapes(generator.level.shape_count());
-    let ray = generator.ray_into(&shapes);
-    if !clear_hits(&shapes, &ray) {
-        return None;
-    }
+    let (shapes, ray) = scene_and_ray(generator)?;
     let structure = bvh_structure(generator);
     let leaf_size = if generator.level == Level::Easy { 1 } else { 2 };
     let built = build(structure, &shapes, leaf_size);
@@ -171,22 +165,16 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             frame: 0,
         },
     ];
-    let mut fields = Map::new();
-    fields.insert("shapes".into(), crate::generate::shapes_json(&shapes));
-    fields.insert(
-        "ray".into(),
-        ray_json(&ray.origin.to_array(), &ray.direction.to_array()),
+    let (fields, scene) = traversal_question(
+        shapes,
+        ray,
+        TreeFigure {
+            built,
+            order: Order::NearFirst,
+            steps: near_steps,
+            reveal_as_reached: false,
+        },
     );
-    fields.insert("structure".into(), json!(built.structure.name()));
-    fields.insert("nodes".into(), bvh_json(&built));
-    let mut scene = SceneFigure::of(shapes);
-    scene.ray = Some(ray);
-    scene.tree = Some(TreeFigure {
-        built,
-        order: Order::NearFirst,
-        steps: near_steps,
-        reveal_as_reached: false,
-    });
     Some(Draft {
         prompt: "The same ray through the same BVH, traversed near first and in file order (left child first). Compare the work.".into(),
         figure: Figure::Scene(Box::new(scene)),

@@ -3,16 +3,14 @@
 //! only once the traversal reaches them). The steps are the core's traversal, recorded.
 
 use accelviz_core::{Order, Step, Structure};
-use serde_json::{Map, json};
+use serde_json::json;
 
 use super::Draft;
-use super::first_hit::{clear_hits, shape_options};
+use super::first_hit::{scene_and_ray, shape_options};
 use crate::generate::{
-    Gen, Level, build, bvh_json, clear_steps, entered, final_hit, num, ray_json, record,
+    Gen, Level, build, clear_steps, entered, final_hit, num, record, traversal_question,
 };
-use crate::question::{
-    Ask, Choice, Expected, Figure, Highlight, SceneFigure, TreeFigure, node_label,
-};
+use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node_label};
 
 /// The most nodes a question asks about: past that, it is the same step again.
 const MOST_ASKED: usize = 8;
@@ -111,11 +109,7 @@ fn why_entered(
 }
 
 pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
-    let shapes = generator.shapes(generator.level.shape_count());
-    let ray = generator.ray_into(&shapes);
-    if !clear_hits(&shapes, &ray) {
-        return None;
-    }
+    let (shapes, ray) = scene_and_ray(generator)?;
     let structure = bvh_structure(generator);
     let order = if generator.index(2) == 0 {
         Order::NearFirst
@@ -219,18 +213,9 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             .rposition(|step| matches!(step, Step::NodeEntered { .. }))
             .map_or(0, |at| at + 1),
     });
-    let mut fields = Map::new();
-    fields.insert("shapes".into(), crate::generate::shapes_json(&shapes));
-    fields.insert(
-        "ray".into(),
-        ray_json(&ray.origin.to_array(), &ray.direction.to_array()),
-    );
-    fields.insert("order".into(), json!(order_name(order)));
-    fields.insert("structure".into(), json!(figure.built.structure.name()));
-    fields.insert("nodes".into(), bvh_json(&figure.built));
-    let mut scene = SceneFigure::of(shapes);
-    scene.ray = Some(ray);
-    scene.tree = Some(figure);
+    let order_value = json!(order_name(order));
+    let (mut fields, scene) = traversal_question(shapes, ray, figure);
+    fields.insert("order".into(), order_value);
     Some(Draft {
         prompt: format!(
             "A BVH over the shapes, and a ray. The traversal pauses before each node it enters: which comes next? Order: {}.",
