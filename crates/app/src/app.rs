@@ -1029,8 +1029,8 @@ impl AccelvizApp {
             .clone()
             .filter(|place| place.contains("question"))
         {
-            let line = format!("accelviz: {place}{}", if blank { ", blank" } else { "" });
-            (line.clone(), place)
+            let place = format!("{place}{}", if blank { ", blank" } else { "" });
+            (format!("accelviz: {place}"), place)
         } else if self.mode == Mode::Quiz {
             let line = self.quiz.session().map_or_else(
                 || "accelviz: quiz".to_owned(),
@@ -1079,7 +1079,11 @@ impl AccelvizApp {
                 self.selected + 1,
                 if blank { ", blank" } else { "" }
             );
-            (line, format!("{title}, step {shown} of {len}"))
+            let blanked = if blank { ", blank" } else { "" };
+            (
+                line,
+                format!("{slide}{title}, step {shown} of {len}{blanked}"),
+            )
         };
         if self.reported.as_deref() == Some(line.as_str()) {
             return;

@@ -468,9 +468,10 @@ impl Lecture {
             let mut actions = Vec::new();
             for binding in LECTURE_KEYS {
                 for key in binding.keys {
-                    if input.consume_key(egui::Modifiers::NONE, *key) {
-                        actions.push(binding.action);
-                    }
+                    // Every press, not one a frame: a clicker pressed quickly on a slow
+                    // machine sends several before the next frame.
+                    let presses = input.count_and_consume_key(egui::Modifiers::NONE, *key);
+                    actions.extend(std::iter::repeat_n(binding.action, presses));
                 }
             }
             actions
