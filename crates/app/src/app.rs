@@ -1025,10 +1025,11 @@ impl AccelvizApp {
                 }
             });
         let blank = self.lecture.as_ref().is_some_and(|lecture| lecture.blank);
-        let (line, title) = if let Some(place) = lecture_place
-            .clone()
-            .filter(|place| place.contains("question"))
-        {
+        let on_question = self
+            .lecture
+            .as_ref()
+            .is_some_and(|lecture| lecture.question().is_some());
+        let (line, title) = if let Some(place) = lecture_place.clone().filter(|_| on_question) {
             let place = format!("{place}{}", if blank { ", blank" } else { "" });
             (format!("accelviz: {place}"), place)
         } else if self.mode == Mode::Quiz {
