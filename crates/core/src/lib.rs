@@ -63,4 +63,4 @@ pub use ray::{Ray, Ray2, Ray3, RayError};
 pub use sah::SahCost;
 pub use slab::{SlabRay, SlabRecord, slab_clip, slab_record};
 pub use stats::TreeStats;
-pub use structure::{Built, CATALOGUE, Family, SplitRule, Structure, TraversalStacks, Tree};
+pub use structure::{Built, CATALOGUE, Family, SplitRule, Structure, TraversalStacks, Tree, Width};

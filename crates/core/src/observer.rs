@@ -8,6 +8,10 @@ use crate::math::Real;
 
 /// Told about every step of a traversal (or of brute force).
 pub trait Observer<S: Real> {
+    /// False for an observer that ignores every step: traversal then skips even computing
+    /// what it would report (a node's number in another numbering, say), so observing costs
+    /// nothing at all.
+    const ACTIVE: bool = true;
     /// A ray/box slab test of node `node`: its clipped interval and whether it hit.
     #[inline(always)]
     fn box_tested(&mut self, _node: u32, _t_enter: S, _t_exit: S, _hit: bool) {}
@@ -44,7 +48,9 @@ pub trait Observer<S: Real> {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct NoObserver;
 
-impl<S: Real> Observer<S> for NoObserver {}
+impl<S: Real> Observer<S> for NoObserver {
+    const ACTIVE: bool = false;
+}
 
 /// Counts the work of one or many traversals.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -247,6 +253,7 @@ pub fn counters_of<S: Real>(steps: &[Step<S>]) -> Counters {
 
 /// Forwards every step to two observers (e.g. count and record at once).
 impl<S: Real, A: Observer<S>, B: Observer<S>> Observer<S> for (A, B) {
+    const ACTIVE: bool = A::ACTIVE || B::ACTIVE;
     #[inline(always)]
     fn box_tested(&mut self, node: u32, t_enter: S, t_exit: S, hit: bool) {
         self.0.box_tested(node, t_enter, t_exit, hit);

@@ -10,6 +10,7 @@ use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReasons, NoBuildObserver};
 use crate::bvh::{
     self, BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, SweepSah, TraversalStack,
+    WideBvh, WideStack,
 };
 use crate::facts::{Hierarchy, TreeFacts};
 use crate::kd::{
@@ -63,19 +64,67 @@ impl SplitRule {
     }
 }
 
-/// A structure with its parameters, as the CLI names it: `bvh:sah-binned:16`, `kd:sah`.
+/// How many children a BVH node has: binary as built, or a binary BVH collapsed into 4 or 8
+/// children a node ([`bvh::collapse`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Width {
+    /// Two children a node: the tree the builders make.
+    #[default]
+    Binary,
+    /// Four: [`bvh::WideBvh`] with `W = 4`.
+    Four,
+    /// Eight: [`bvh::WideBvh`] with `W = 8`.
+    Eight,
+}
+
+impl Width {
+    /// Every width, narrowest first.
+    pub const ALL: [Width; 3] = [Width::Binary, Width::Four, Width::Eight];
+
+    /// Children a node.
+    pub fn children(self) -> usize {
+        match self {
+            Width::Binary => 2,
+            Width::Four => 4,
+            Width::Eight => 8,
+        }
+    }
+
+    /// The family part of a structure's name: `bvh`, `bvh4`, `bvh8`.
+    pub fn prefix(self) -> &'static str {
+        match self {
+            Width::Binary => "bvh",
+            Width::Four => "bvh4",
+            Width::Eight => "bvh8",
+        }
+    }
+}
+
+/// A structure with its parameters, as the CLI names it: `bvh:sah-binned:16`,
+/// `bvh8:sah-binned`, `kd:sah`. Every BVH rule comes in every [`Width`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Structure {
     /// [`MiddleSplit`].
-    BvhMiddle,
+    BvhMiddle {
+        /// Children a node.
+        width: Width,
+    },
     /// [`MedianSplit`].
-    BvhMedian,
+    BvhMedian {
+        /// Children a node.
+        width: Width,
+    },
     /// [`SweepSah`]: every candidate.
-    BvhSahSweep,
+    BvhSahSweep {
+        /// Children a node.
+        width: Width,
+    },
     /// [`BinnedSah`] with this many bins.
     BvhSahBinned {
         /// Bins per axis.
         bins: u16,
+        /// Children a node.
+        width: Width,
     },
     /// [`KdMiddleSplit`].
     KdMiddle,
@@ -136,7 +185,9 @@ const BINS: Parameter = Parameter {
 /// is the one the lessons compare (the exact SAH before its approximations).
 pub const CATALOGUE: [Entry; 9] = [
     Entry {
-        structure: Structure::BvhMiddle,
+        structure: Structure::BvhMiddle {
+            width: Width::Binary,
+        },
         name: "bvh:middle",
         family: Family::Bvh,
         rule: SplitRule::Middle,
@@ -145,7 +196,9 @@ pub const CATALOGUE: [Entry; 9] = [
         parameter: None,
     },
     Entry {
-        structure: Structure::BvhMedian,
+        structure: Structure::BvhMedian {
+            width: Width::Binary,
+        },
         name: "bvh:median",
         family: Family::Bvh,
         rule: SplitRule::Median,
@@ -154,7 +207,9 @@ pub const CATALOGUE: [Entry; 9] = [
         parameter: None,
     },
     Entry {
-        structure: Structure::BvhSahSweep,
+        structure: Structure::BvhSahSweep {
+            width: Width::Binary,
+        },
         name: "bvh:sah-sweep",
         family: Family::Bvh,
         rule: SplitRule::Sah,
@@ -163,7 +218,10 @@ pub const CATALOGUE: [Entry; 9] = [
         parameter: None,
     },
     Entry {
-        structure: Structure::BvhSahBinned { bins: BINS.default },
+        structure: Structure::BvhSahBinned {
+            bins: BINS.default,
+            width: Width::Binary,
+        },
         name: "bvh:sah-binned",
         family: Family::Bvh,
         rule: SplitRule::Sah,
@@ -256,12 +314,27 @@ pub fn valid_names() -> String {
 }
 
 impl Structure {
-    /// Parses a name from the catalogue, with its parameter if it takes one:
-    /// `bvh:sah-binned:8`.
+    /// Parses a name from the catalogue, with its parameter if it takes one
+    /// (`bvh:sah-binned:8`), and for a BVH its width (`bvh4:sah-binned:8`, `bvh8:middle`).
     pub fn parse(text: &str) -> Result<Self, StructureError> {
-        let (name, value) = match CATALOGUE.iter().find(|entry| entry.name == text) {
+        let wide = Width::ALL[1..].iter().find_map(|&width| {
+            let rest = text.strip_prefix(width.prefix())?.strip_prefix(':')?;
+            Some((width, format!("{}:{rest}", Width::Binary.prefix())))
+        });
+        let (width, binary_name) = match &wide {
+            Some((width, name)) => (*width, name.as_str()),
+            None => (Width::Binary, text),
+        };
+        Self::parse_binary(binary_name, text).map(|structure| structure.with_width(width))
+    }
+
+    /// Parses a catalogue name with its parameter; errors quote `text`, as given.
+    fn parse_binary(name_and_value: &str, text: &str) -> Result<Self, StructureError> {
+        let (name, value) = match CATALOGUE.iter().find(|entry| entry.name == name_and_value) {
             Some(entry) => return Ok(entry.structure),
-            None => text.rsplit_once(':').unwrap_or((text, "")),
+            None => name_and_value
+                .rsplit_once(':')
+                .unwrap_or((name_and_value, "")),
         };
         let unknown = || StructureError::Unknown {
             name: text.to_owned(),
@@ -288,9 +361,9 @@ impl Structure {
         }
     }
 
-    /// Its catalogue entry.
+    /// Its catalogue entry (the binary one for a wide BVH).
     pub fn entry(&self) -> &'static Entry {
-        let plain = self.with_parameter(0);
+        let plain = self.with_parameter(0).with_width(Width::Binary);
         CATALOGUE
             .iter()
             .find(|entry| entry.structure.with_parameter(0) == plain)
@@ -300,7 +373,7 @@ impl Structure {
     /// Its parameter's value, if it has one.
     pub fn parameter(&self) -> Option<u16> {
         match *self {
-            Structure::BvhSahBinned { bins } => Some(bins),
+            Structure::BvhSahBinned { bins, .. } => Some(bins),
             _ => None,
         }
     }
@@ -308,17 +381,45 @@ impl Structure {
     /// The same structure with its parameter set to `value` (unchanged if it has none).
     pub fn with_parameter(self, value: u16) -> Self {
         match self {
-            Structure::BvhSahBinned { .. } => Structure::BvhSahBinned { bins: value },
+            Structure::BvhSahBinned { width, .. } => Structure::BvhSahBinned { bins: value, width },
             other => other,
         }
     }
 
-    /// The canonical name: `bvh:sah-binned:16`, `kd:sah`.
+    /// Children a node: [`Width::Binary`] for every kD-tree.
+    pub fn width(&self) -> Width {
+        match *self {
+            Structure::BvhMiddle { width }
+            | Structure::BvhMedian { width }
+            | Structure::BvhSahSweep { width }
+            | Structure::BvhSahBinned { width, .. } => width,
+            _ => Width::Binary,
+        }
+    }
+
+    /// The same BVH with `width` children a node (a kD-tree is unchanged: it is binary).
+    pub fn with_width(self, width: Width) -> Self {
+        match self {
+            Structure::BvhMiddle { .. } => Structure::BvhMiddle { width },
+            Structure::BvhMedian { .. } => Structure::BvhMedian { width },
+            Structure::BvhSahSweep { .. } => Structure::BvhSahSweep { width },
+            Structure::BvhSahBinned { bins, .. } => Structure::BvhSahBinned { bins, width },
+            other => other,
+        }
+    }
+
+    /// The canonical name: `bvh:sah-binned:16`, `bvh8:sah-binned:16`, `kd:sah`.
     pub fn name(&self) -> String {
         let entry = self.entry();
+        let name = match self.width() {
+            Width::Binary => entry.name.to_owned(),
+            width => entry
+                .name
+                .replacen(Width::Binary.prefix(), width.prefix(), 1),
+        };
         match self.parameter() {
-            Some(value) => format!("{}:{value}", entry.name),
-            None => entry.name.to_owned(),
+            Some(value) => format!("{name}:{value}"),
+            None => name,
         }
     }
 
@@ -341,20 +442,24 @@ impl Structure {
             .unwrap_or_else(|| unreachable!("every family has every rule"))
     }
 
-    /// Every structure as a comparison measures it: each entry, and a parameterised one at
-    /// each of its compared values.
+    /// Every structure as a comparison measures it: each entry, a parameterised one at each
+    /// of its compared values, and the SAH BVHs (at their default parameter) 4 and 8 wide.
     pub fn compared() -> Vec<Self> {
-        CATALOGUE
+        let entries = CATALOGUE.iter().flat_map(|entry| match entry.parameter {
+            Some(parameter) => parameter
+                .compared
+                .iter()
+                .map(|&value| entry.structure.with_parameter(value))
+                .collect(),
+            None => vec![entry.structure],
+        });
+        let wide = CATALOGUE
             .iter()
-            .flat_map(|entry| match entry.parameter {
-                Some(parameter) => parameter
-                    .compared
-                    .iter()
-                    .map(|&value| entry.structure.with_parameter(value))
-                    .collect(),
-                None => vec![entry.structure],
-            })
-            .collect()
+            .filter(|entry| entry.family == Family::Bvh && entry.rule == SplitRule::Sah)
+            .flat_map(|entry| {
+                [Width::Four, Width::Eight].map(|width| entry.structure.with_width(width))
+            });
+        entries.chain(wide).collect()
     }
 
     /// Builds the structure over `primitives`.
@@ -374,20 +479,21 @@ impl Structure {
         observer: &mut O,
     ) -> Tree<V> {
         let bounds = primitives.all_bounds();
+        let bvh = |binary: Bvh<V>| Tree::from_binary(binary, self.width(), &params.cost);
         match *self {
-            Structure::BvhMiddle => {
-                Tree::Bvh(MiddleSplit.build_observed(&bounds, params, observer))
+            Structure::BvhMiddle { .. } => {
+                bvh(MiddleSplit.build_observed(&bounds, params, observer))
             }
-            Structure::BvhMedian => {
-                Tree::Bvh(MedianSplit.build_observed(&bounds, params, observer))
+            Structure::BvhMedian { .. } => {
+                bvh(MedianSplit.build_observed(&bounds, params, observer))
             }
-            Structure::BvhSahSweep => Tree::Bvh(SweepSah.build_observed(&bounds, params, observer)),
-            Structure::BvhSahBinned { bins } => Tree::Bvh(
-                BinnedSah {
-                    bins: bins as usize,
-                }
-                .build_observed(&bounds, params, observer),
-            ),
+            Structure::BvhSahSweep { .. } => {
+                bvh(SweepSah.build_observed(&bounds, params, observer))
+            }
+            Structure::BvhSahBinned { bins, .. } => bvh(BinnedSah {
+                bins: bins as usize,
+            }
+            .build_observed(&bounds, params, observer)),
             Structure::KdMiddle => {
                 Tree::Kd(KdMiddleSplit.build_observed(&bounds, params, observer))
             }
@@ -403,11 +509,15 @@ impl Structure {
     }
 }
 
-/// A built structure: a BVH or a kD-tree.
+/// A built structure: a BVH (binary or wide) or a kD-tree.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Tree<V: Vector> {
     /// A bounding volume hierarchy.
     Bvh(Bvh<V>),
+    /// A BVH of 4 children a node, with the binary tree it was collapsed from.
+    Bvh4(WideBvh<V, 4>),
+    /// A BVH of 8 children a node, with the binary tree it was collapsed from.
+    Bvh8(WideBvh<V, 8>),
     /// A kD-tree.
     Kd(KdTree<V>),
 }
@@ -416,15 +526,36 @@ pub enum Tree<V: Vector> {
 #[derive(Clone, Debug, Default)]
 pub struct TraversalStacks<S: Real> {
     bvh: TraversalStack<S>,
+    wide: WideStack<S>,
     kd: KdTraversalStack<S>,
 }
 
 impl<V: Vector> Tree<V> {
+    /// A binary BVH as it is, or collapsed to `width` children a node.
+    pub fn from_binary(binary: Bvh<V>, width: Width, cost: &crate::sah::SahCost) -> Self {
+        match width {
+            Width::Binary => Tree::Bvh(binary),
+            Width::Four => Tree::Bvh4(bvh::collapse(&binary, cost)),
+            Width::Eight => Tree::Bvh8(bvh::collapse(&binary, cost)),
+        }
+    }
+
     /// BVH or kD-tree.
     pub fn family(&self) -> Family {
         match self {
-            Tree::Bvh(_) => Family::Bvh,
+            Tree::Bvh(_) | Tree::Bvh4(_) | Tree::Bvh8(_) => Family::Bvh,
             Tree::Kd(_) => Family::Kd,
+        }
+    }
+
+    /// The binary tree the views draw: a binary BVH itself, the one a wide BVH was collapsed
+    /// from (whose numbering its traversal reports), or `None` for a kD-tree.
+    pub fn binary_bvh(&self) -> Option<&Bvh<V>> {
+        match self {
+            Tree::Bvh(bvh) => Some(bvh),
+            Tree::Bvh4(wide) => Some(&wide.binary),
+            Tree::Bvh8(wide) => Some(&wide.binary),
+            Tree::Kd(_) => None,
         }
     }
 
@@ -443,6 +574,12 @@ impl<V: Vector> Tree<V> {
             Tree::Bvh(bvh) => {
                 bvh::traverse(bvh, primitives, ray, options, &mut stacks.bvh, observer)
             }
+            Tree::Bvh4(wide) => {
+                bvh::traverse_wide(wide, primitives, ray, options, &mut stacks.wide, observer)
+            }
+            Tree::Bvh8(wide) => {
+                bvh::traverse_wide(wide, primitives, ray, options, &mut stacks.wide, observer)
+            }
             Tree::Kd(tree) => {
                 kd::traverse(tree, primitives, ray, options, &mut stacks.kd, observer)
             }
@@ -453,50 +590,62 @@ impl<V: Vector> Tree<V> {
     pub fn leaf_ordered<P: PrimitiveSet<V>>(&self, primitives: &P) -> LeafOrdered<P> {
         match self {
             Tree::Bvh(bvh) => bvh.leaf_ordered(primitives),
+            Tree::Bvh4(wide) => wide.leaf_ordered(primitives),
+            Tree::Bvh8(wide) => wide.leaf_ordered(primitives),
             Tree::Kd(tree) => tree.leaf_ordered(primitives),
         }
     }
 
-    /// The tree's statistics with these cost constants.
+    /// The tree's statistics with these cost constants (a wide BVH's count its wide nodes
+    /// and leaves, see [`WideBvh::stats`]).
     pub fn stats(&self, cost: &crate::sah::SahCost) -> TreeStats {
-        TreeStats::of(self, cost)
+        match self {
+            Tree::Bvh4(wide) => wide.stats(cost),
+            Tree::Bvh8(wide) => wide.stats(cost),
+            _ => TreeStats::of(self, cost),
+        }
     }
 
     /// The kD build's limits, for a kD-tree.
     pub fn kd_limits(&self) -> Option<&kd::KdLimits> {
         match self {
-            Tree::Bvh(_) => None,
             Tree::Kd(tree) => Some(&tree.limits),
+            _ => None,
         }
     }
 }
 
+/// A wide BVH's facts are its binary tree's: the numbering its traversal reports.
 impl<V: Vector> Hierarchy<V> for Tree<V> {
     fn node_count(&self) -> usize {
-        match self {
-            Tree::Bvh(bvh) => bvh.node_count(),
-            Tree::Kd(tree) => Hierarchy::node_count(tree),
+        match (self.binary_bvh(), self) {
+            (Some(bvh), _) => bvh.node_count(),
+            (None, Tree::Kd(tree)) => Hierarchy::node_count(tree),
+            (None, _) => unreachable!("every BVH has a binary tree"),
         }
     }
 
     fn children(&self, node: u32) -> Option<[u32; 2]> {
-        match self {
-            Tree::Bvh(bvh) => Hierarchy::children(bvh, node),
-            Tree::Kd(tree) => Hierarchy::children(tree, node),
+        match (self.binary_bvh(), self) {
+            (Some(bvh), _) => Hierarchy::children(bvh, node),
+            (None, Tree::Kd(tree)) => Hierarchy::children(tree, node),
+            (None, _) => unreachable!("every BVH has a binary tree"),
         }
     }
 
     fn leaf_primitives(&self, node: u32) -> &[u32] {
-        match self {
-            Tree::Bvh(bvh) => Hierarchy::leaf_primitives(bvh, node),
-            Tree::Kd(tree) => Hierarchy::leaf_primitives(tree, node),
+        match (self.binary_bvh(), self) {
+            (Some(bvh), _) => Hierarchy::leaf_primitives(bvh, node),
+            (None, Tree::Kd(tree)) => Hierarchy::leaf_primitives(tree, node),
+            (None, _) => unreachable!("every BVH has a binary tree"),
         }
     }
 
     fn node_bounds(&self) -> Vec<Aabb<V>> {
-        match self {
-            Tree::Bvh(bvh) => bvh.node_bounds(),
-            Tree::Kd(tree) => tree.node_bounds(),
+        match (self.binary_bvh(), self) {
+            (Some(bvh), _) => bvh.node_bounds(),
+            (None, Tree::Kd(tree)) => tree.node_bounds(),
+            (None, _) => unreachable!("every BVH has a binary tree"),
         }
     }
 }
@@ -523,6 +672,8 @@ impl Structure {
     ) -> Result<(), TreeValidationError> {
         match tree {
             Tree::Bvh(bvh) => bvh::validate(bvh, &primitives.all_bounds())?,
+            Tree::Bvh4(wide) => bvh::validate_wide(wide, &primitives.all_bounds())?,
+            Tree::Bvh8(wide) => bvh::validate_wide(wide, &primitives.all_bounds())?,
             Tree::Kd(tree) if *self == Structure::KdSahPerfect => {
                 kd::validate_clipped(tree, primitives)?
             }
@@ -579,7 +730,7 @@ impl<V: Vector> Built<V> {
                 let entry = tree.nodes.get(node as usize)?;
                 (!entry.is_leaf()).then(|| (entry.axis as usize, entry.split.to_f64()))
             }
-            Tree::Bvh(_) => None,
+            _ => None,
         }
     }
 

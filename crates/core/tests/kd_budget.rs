@@ -17,7 +17,7 @@ use glam::DVec2;
 fn kd(tree: Tree<DVec2>) -> KdTree<DVec2> {
     match tree {
         Tree::Kd(tree) => tree,
-        Tree::Bvh(_) => panic!("a kD structure built a BVH"),
+        _ => panic!("a kD structure built a BVH"),
     }
 }
 

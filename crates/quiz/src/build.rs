@@ -7,7 +7,7 @@
 
 use accelviz_core::bvh::{BuildParams, Bvh, BvhNode, validate};
 use accelviz_core::curve::bvh_curve;
-use accelviz_core::{Aabb, Built, NoBuildObserver, SahCost, ShapeSet, Structure, TreeStats};
+use accelviz_core::{Aabb, Built, NoBuildObserver, SahCost, ShapeSet, Structure, TreeStats, Width};
 use glam::DVec2;
 
 use crate::generate::{AXES, num};
@@ -77,7 +77,9 @@ impl BuildExercise {
             ..BuildParams::default()
         };
         let built = Built::new(
-            Structure::BvhSahSweep,
+            Structure::BvhSahSweep {
+                width: Width::Binary,
+            },
             &shapes,
             &params,
             &mut NoBuildObserver,

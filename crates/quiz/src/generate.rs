@@ -379,7 +379,7 @@ pub(crate) fn traversal_question(
     );
     fields.insert("structure".into(), json!(tree.built.structure.name()));
     let nodes = match tree.built.tree {
-        Tree::Bvh(_) => bvh_json(&tree.built),
+        Tree::Bvh(_) | Tree::Bvh4(_) | Tree::Bvh8(_) => bvh_json(&tree.built),
         Tree::Kd(_) => kd_json(&tree.built),
     };
     fields.insert("nodes".into(), nodes);

@@ -5,7 +5,8 @@
 
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::{
-    NoObserver, Structure, TraceOptions, TraversalStacks, Tree, TriangleSet, Vector3, brute_force,
+    NoObserver, Structure, TraceOptions, TraversalStacks, Tree, TriangleSet, Vector3, Width,
+    brute_force,
 };
 use accelviz_scene::Mesh;
 use accelviz_scene::obj::load_obj;
@@ -25,8 +26,13 @@ fn agree<V: Vector3>(mesh: &Mesh, ray_count: usize, options: TraceOptions) -> us
     let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
     let params = BuildParams::default();
     let trees: Vec<(Structure, Tree<V>)> = [
-        Structure::BvhSahBinned { bins: 16 },
-        Structure::BvhSahSweep,
+        Structure::BvhSahBinned {
+            bins: 16,
+            width: Width::Binary,
+        },
+        Structure::BvhSahSweep {
+            width: Width::Binary,
+        },
         Structure::KdMiddle,
         Structure::KdMedian,
     ]

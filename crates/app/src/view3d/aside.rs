@@ -10,10 +10,9 @@
 //! field for field), its facts made again from the tree.
 
 use accelviz_core::Tree;
-use accelviz_core::bvh::Bvh;
-use accelviz_core::bvh::BvhNode;
+use accelviz_core::bvh::{Bvh, BvhNode, WideBvh};
 use accelviz_core::kd::{KdBudgetExceeded, KdLimits, KdNode, KdTree};
-use accelviz_core::{Aabb, Built, LeafReason, Structure, TreeFacts, TreeStats};
+use accelviz_core::{Aabb, Built, LeafReason, SahCost, Structure, TreeFacts, TreeStats};
 use glam::DVec3;
 
 use super::DrawTriangle;
@@ -65,8 +64,11 @@ pub fn pack(built: &MeshBuild) -> Vec<u8> {
     for value in [stats.mean_leaf_size, stats.empty_leaf_share, stats.sah_cost] {
         out.f64(value);
     }
+    // A wide BVH travels as its binary tree and is collapsed again (deterministic, and quick).
     match &built.built.tree {
-        Tree::Bvh(bvh) => {
+        Tree::Bvh(bvh)
+        | Tree::Bvh4(WideBvh { binary: bvh, .. })
+        | Tree::Bvh8(WideBvh { binary: bvh, .. }) => {
             out.u64(0);
             out.u64(bvh.nodes.len() as u64);
             for node in &bvh.nodes {
@@ -184,10 +186,11 @@ pub fn unpack(bytes: &[u8]) -> Result<MeshBuild, String> {
                 first: u32_at(node, 48),
                 count: u32_at(node, 52),
             })?;
-            Tree::Bvh(Bvh {
+            let binary = Bvh {
                 nodes,
                 primitive_indices: input.u32s()?,
-            })
+            };
+            Tree::from_binary(binary, structure.width(), &SahCost::default())
         }
         1 => {
             let bounds = input.aabb()?;

@@ -212,7 +212,7 @@ pub fn traversal_emphasis(steps: &[Step<f64>], node_count: usize) -> Vec<Option<
 mod tests {
     use super::*;
     use accelviz_core::bvh::BuildParams;
-    use accelviz_core::{Built, NoBuildObserver, Shape, ShapeSet, Sphere, Structure};
+    use accelviz_core::{Built, NoBuildObserver, Shape, ShapeSet, Sphere, Structure, Width};
 
     /// Leaves take columns left to right; a parent sits between its children; a cut-off node
     /// takes one column for its whole subtree.
@@ -232,7 +232,14 @@ mod tests {
             max_leaf_size: 1,
             ..BuildParams::default()
         };
-        let built = Built::new(Structure::BvhMedian, &shapes, &params, &mut NoBuildObserver);
+        let built = Built::new(
+            Structure::BvhMedian {
+                width: Width::Binary,
+            },
+            &shapes,
+            &params,
+            &mut NoBuildObserver,
+        );
         let facts = &built.facts;
         let (column, leaves) = columns(facts, facts.max_depth());
         assert_eq!(leaves, 4);

@@ -1,26 +1,34 @@
-//! Bounding volume hierarchies: a flat array of nodes, four builders, one traversal.
+//! Bounding volume hierarchies: a flat array of nodes, four builders, one traversal; and wide
+//! BVHs (4 or 8 children a node) collapsed from them, with their own traversal.
 //!
 //! Boxes → a builder (`build_*`) → [`Bvh`] (flat nodes, index children) → [`traverse`] told
 //! about each step by an [`Observer`](crate::observer::Observer). [`validate`] checks any tree;
-//! [`TreeStats`](crate::stats::TreeStats) measures it.
+//! [`TreeStats`](crate::stats::TreeStats) measures it. A [`Bvh`] → [`collapse`] →
+//! [`WideBvh`] → [`traverse_wide`], checked by [`validate_wide`].
 
 mod build;
 pub(crate) mod build_binned;
 mod build_median;
 mod build_middle;
 pub(crate) mod build_sweep;
+mod collapse;
 mod traverse;
 mod tree;
 mod validate;
+mod wide;
+mod wide_traverse;
 
 pub use build::{BuildParams, Builder, KdBudget};
 pub use build_binned::BinnedSah;
 pub use build_median::MedianSplit;
 pub use build_middle::MiddleSplit;
 pub use build_sweep::SweepSah;
+pub use collapse::collapse;
 pub use traverse::{TraversalStack, traverse};
 pub use tree::{Bvh, BvhNode};
-pub use validate::{ValidationError, validate};
+pub use validate::{ValidationError, validate, validate_wide};
+pub use wide::{EMPTY_SLOT, LEAF_BLOCK, Slot, WideBvh, WideNode};
+pub use wide_traverse::{ChildTests, WideStack, test_children, traverse_wide};
 
 /// A 2D BVH in f32.
 pub type Bvh2 = Bvh<glam::Vec2>;

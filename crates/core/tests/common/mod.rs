@@ -4,16 +4,17 @@
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 #![allow(dead_code)]
 
-use accelviz_core::bvh::{BuildParams, Bvh, TraversalStack, traverse};
+use accelviz_core::bvh::BuildParams;
 use accelviz_core::kd::{self, KdTraversalStack, KdTree};
 use accelviz_core::structure::Entry;
 use accelviz_core::{
     Built, CATALOGUE, Counters, Family, Hit, LeafPrimitives, NoBuildObserver, NoObserver, Order,
-    PrimitiveSet, Query, Ray, Real, Structure, TraceOptions, Tree, Vector, brute_force,
+    PrimitiveSet, Query, Ray, Real, Structure, TraceOptions, TraversalStacks, Tree, Vector, Width,
+    brute_force,
 };
 
 /// Every structure of `family` in the catalogue; one with a parameter at its smallest value
-/// and at its default.
+/// and at its default; a BVH in every width.
 fn structures_of(family: Family) -> Vec<Structure> {
     CATALOGUE
         .iter()
@@ -24,6 +25,10 @@ fn structures_of(family: Family) -> Vec<Structure> {
                 entry.structure.with_parameter(parameter.default),
             ],
             None => vec![entry.structure],
+        })
+        .flat_map(|structure| match family {
+            Family::Bvh => Width::ALL.map(|width| structure.with_width(width)).to_vec(),
+            Family::Kd => vec![structure],
         })
         .collect()
 }
@@ -73,15 +78,10 @@ fn build_checked<V: Vector, P: PrimitiveSet<V>>(
     trees
 }
 
-/// Builds with every BVH builder of the catalogue (two leaf sizes), validating each tree.
-pub fn all_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(String, Bvh<V>)> {
+/// Builds with every BVH builder of the catalogue (two leaf sizes), binary and wide,
+/// validating each tree.
+pub fn all_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(String, Tree<V>)> {
     build_checked(primitives, Family::Bvh)
-        .into_iter()
-        .filter_map(|(name, tree)| match tree {
-            Tree::Bvh(bvh) => Some((name, bvh)),
-            Tree::Kd(_) => None,
-        })
-        .collect()
 }
 
 /// Builds a kD-tree with every kD builder of the catalogue (two leaf sizes), validating each.
@@ -102,7 +102,7 @@ pub fn all_kd_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(Strin
         .into_iter()
         .filter_map(|(name, tree)| match tree {
             Tree::Kd(tree) => Some((name, tree)),
-            Tree::Bvh(_) => None,
+            _ => None,
         })
         .collect()
 }
@@ -147,7 +147,7 @@ pub fn assert_agrees_with_brute_force<
         .iter()
         .map(|(_, tree)| tree.leaf_ordered(primitives))
         .collect();
-    let mut stack = TraversalStack::new();
+    let mut stacks = TraversalStacks::default();
     let mut kd_stack = KdTraversalStack::new();
     for options in all_options() {
         for (index, ray) in rays.iter().enumerate() {
@@ -158,16 +158,15 @@ pub fn assert_agrees_with_brute_force<
             let expected = brute_force(primitives, ray, &closest_options, &mut NoObserver);
             for ((name, bvh), leaf_ordered) in trees.iter().zip(&leaf_ordered) {
                 let mut counters = Counters::default();
-                let got = traverse(bvh, primitives, ray, &options, &mut stack, &mut counters);
+                let got = bvh.trace(primitives, ray, &options, &mut stacks, &mut counters);
                 let context = format!("{name}, {options:?}, ray {index} {ray:?}");
                 // The leaf-ordered copy takes exactly the same steps to the same hit.
                 let mut counters_ordered = Counters::default();
-                let got_ordered = traverse(
-                    bvh,
+                let got_ordered = bvh.trace(
                     leaf_ordered,
                     ray,
                     &options,
-                    &mut stack,
+                    &mut stacks,
                     &mut counters_ordered,
                 );
                 assert_eq!(

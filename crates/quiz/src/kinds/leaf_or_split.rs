@@ -4,7 +4,7 @@
 
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::curve::bvh_curve;
-use accelviz_core::{Built, NoBuildObserver, SahCost, Structure};
+use accelviz_core::{Built, NoBuildObserver, SahCost, Structure, Width};
 use serde_json::{Map, json};
 
 use super::{Draft, tolerance, yes_no};
@@ -37,7 +37,9 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         ..BuildParams::default()
     };
     let built = Built::new(
-        Structure::BvhSahSweep,
+        Structure::BvhSahSweep {
+            width: Width::Binary,
+        },
         &shapes,
         &params,
         &mut NoBuildObserver,

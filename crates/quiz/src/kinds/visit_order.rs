@@ -2,7 +2,7 @@
 //! which one comes next (OpenDSA's order-reproduction exercises, with child boxes revealed
 //! only once the traversal reaches them). The steps are the core's traversal, recorded.
 
-use accelviz_core::{Order, Step, Structure};
+use accelviz_core::{Order, Step, Structure, Width};
 use serde_json::json;
 
 use super::Draft;
@@ -18,9 +18,13 @@ const MOST_ASKED: usize = 8;
 /// The structures questions are asked on.
 pub(super) fn bvh_structure(generator: &mut Gen) -> Structure {
     if generator.index(2) == 0 {
-        Structure::BvhMedian
+        Structure::BvhMedian {
+            width: Width::Binary,
+        }
     } else {
-        Structure::BvhSahSweep
+        Structure::BvhSahSweep {
+            width: Width::Binary,
+        }
     }
 }
 

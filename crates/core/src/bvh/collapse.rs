@@ -1,0 +1,365 @@
+//! Collapsing a binary BVH into a wide one, SAH-optimally (Ylitie, Karras & Laine 2017,
+//! "Efficient Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs", §3.1).
+//!
+//! Every binary node `n` becomes, in the wide tree, a leaf, a wide node, or part of its
+//! parent's wide node (its children then take slots of that node directly). A dynamic programme
+//! over the binary tree, bottom up, finds the cheapest choice under the SAH: `cost(n, i)` is the
+//! least cost of the subtree of `n` when it may fill at most `i` slots of a wide node,
+//!
+//! ```text
+//! cost(n, 1)     = min(leaf(n), node(n))
+//! cost(n, i > 1) = min(cost(n, i − 1), min over 0 < k < i of cost(left, k) + cost(right, i − k))
+//! node(n)        = A(n)·C_trav + min over 0 < k < W of cost(left, k) + cost(right, W − k)
+//! leaf(n)        = A(n)·N(n)·C_isect   (a binary leaf, or a subtree of at most LEAF_BLOCK)
+//! ```
+//!
+//! with `A` the node's area and the shared [`SahCost`] constants, so the collapse minimises
+//! the cost the binary builders minimise, counted for wide nodes. A subtree of up to
+//! [`LEAF_BLOCK`] primitives may become one leaf, tested at once. The tree keeps the binary
+//! order of the children (the wide tree's "file order" is the binary one).
+
+use crate::bvh::tree::Bvh;
+use crate::bvh::wide::{EMPTY_SLOT, LEAF_BLOCK, WideBvh, WideNode};
+use crate::math::{Real, Vector};
+use crate::sah::SahCost;
+
+/// What the cheapest way to fill `i` slots with a subtree does.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Choice {
+    /// One slot: the subtree is a leaf.
+    Leaf,
+    /// One slot: the subtree is a wide node of its own.
+    Node,
+    /// The left child fills `k` slots and the right child the rest.
+    Distribute(u8),
+    /// Fewer slots do as well: see `i − 1`.
+    Fewer,
+}
+
+/// The binary subtree of each node: its primitive range (contiguous in a top-down build).
+fn subtree_ranges<V: Vector>(binary: &Bvh<V>) -> Vec<(u32, u32)> {
+    let mut ranges = vec![(0u32, 0u32); binary.nodes.len()];
+    // Children come after their parents, so a backward pass sees children first.
+    for index in (0..binary.nodes.len()).rev() {
+        let node = &binary.nodes[index];
+        ranges[index] = if node.is_leaf() {
+            (node.first, node.count)
+        } else {
+            let [left, right] = node.children().map(|child| ranges[child as usize]);
+            debug_assert_eq!(
+                left.0 + left.1,
+                right.0,
+                "a subtree's primitives are contiguous"
+            );
+            (left.0, left.1 + right.1)
+        };
+    }
+    ranges
+}
+
+/// Collapses `binary` into a BVH of `W` children per node (`2 <= W <= 16`), with the
+/// SAH-optimal choice of which binary nodes to keep (see the module docs).
+pub fn collapse<V: Vector, const W: usize>(binary: &Bvh<V>, cost: &SahCost) -> WideBvh<V, W> {
+    assert!(
+        (2..=16).contains(&W),
+        "a wide BVH has 2 to 16 children per node"
+    );
+    if binary.nodes.is_empty() {
+        return WideBvh {
+            binary: binary.clone(),
+            ..WideBvh::default()
+        };
+    }
+    let ranges = subtree_ranges(binary);
+    let node_count = binary.nodes.len();
+    // costs[n][i - 1] and choices[n][i - 1]: the cheapest way to fill at most i slots.
+    let mut costs = vec![[f64::INFINITY; W]; node_count];
+    let mut choices = vec![[Choice::Fewer; W]; node_count];
+    // How a wide node standing for n splits its W slots between n's children.
+    let mut node_splits = vec![0u8; node_count];
+    for index in (0..node_count).rev() {
+        let node = &binary.nodes[index];
+        let area = node.bounds.area().to_f64();
+        let count = ranges[index].1 as usize;
+        if node.is_leaf() {
+            costs[index] = [area * cost.leaf_cost(count); W];
+            choices[index] = [Choice::Leaf; W];
+            continue;
+        }
+        let [left, right] = node.children().map(|child| child as usize);
+        // The best split of i slots between the two children, for each i.
+        let distribute = |slots: usize| -> (f64, u8) {
+            (1..slots)
+                .map(|k| (costs[left][k - 1] + costs[right][slots - k - 1], k as u8))
+                .fold((f64::INFINITY, 0), |best, next| {
+                    if next.0 < best.0 { next } else { best }
+                })
+        };
+        let (children_cost, node_split) = distribute(W);
+        node_splits[index] = node_split;
+        let as_node = area * cost.traversal_cost + children_cost;
+        let as_leaf = if count <= LEAF_BLOCK {
+            area * cost.leaf_cost(count)
+        } else {
+            f64::INFINITY
+        };
+        let mut row_costs = [f64::INFINITY; W];
+        let mut row_choices = [Choice::Fewer; W];
+        (row_costs[0], row_choices[0]) = if as_leaf <= as_node {
+            (as_leaf, Choice::Leaf)
+        } else {
+            (as_node, Choice::Node)
+        };
+        for slots in 2..=W {
+            let (split_cost, k) = distribute(slots);
+            (row_costs[slots - 1], row_choices[slots - 1]) = if split_cost < row_costs[slots - 2] {
+                (split_cost, Choice::Distribute(k))
+            } else {
+                (row_costs[slots - 2], Choice::Fewer)
+            };
+        }
+        costs[index] = row_costs;
+        choices[index] = row_choices;
+    }
+
+    let mut wide = WideBvh {
+        nodes: vec![WideNode::default()],
+        primitive_indices: Vec::with_capacity(binary.primitive_indices.len() * 2),
+        node_sources: vec![0],
+        leaf_sources: Vec::new(),
+        binary: binary.clone(),
+    };
+    // The root is a wide node even when the binary root would rather be a leaf.
+    let mut pending = vec![(0usize, 0u32)];
+    let mut subtrees = Vec::with_capacity(W);
+    while let Some((wide_index, source)) = pending.pop() {
+        subtrees.clear();
+        if binary.nodes[source as usize].is_leaf() {
+            subtrees.push(source);
+        } else {
+            let [left, right] = binary.nodes[source as usize].children();
+            let k = node_splits[source as usize] as usize;
+            slot_subtrees(binary, &choices, left, k, &mut subtrees);
+            slot_subtrees(binary, &choices, right, W - k, &mut subtrees);
+        }
+        // Wide children are allocated side by side, then filled (depth first).
+        let mut node = WideNode::<V::Scalar, W>::default();
+        let mut children = Vec::new();
+        for (slot, &subtree) in subtrees.iter().enumerate() {
+            let bounds = binary.nodes[subtree as usize].bounds;
+            for axis in 0..V::DIM {
+                node.lower[axis][slot] = bounds.min[axis];
+                node.upper[axis][slot] = bounds.max[axis];
+            }
+            let is_leaf = binary.nodes[subtree as usize].is_leaf()
+                || choices[subtree as usize][0] == Choice::Leaf;
+            if is_leaf {
+                let (first, count) = ranges[subtree as usize];
+                node.child[slot] = wide.primitive_indices.len() as u32;
+                node.count[slot] = count;
+                let primitives = &binary.primitive_indices[first as usize..][..count as usize];
+                wide.primitive_indices.extend_from_slice(primitives);
+                let blocks = (count as usize).div_ceil(LEAF_BLOCK);
+                let last = primitives[primitives.len() - 1];
+                wide.primitive_indices
+                    .resize(blocks * LEAF_BLOCK + node.child[slot] as usize, last);
+                wide.leaf_sources.push(subtree);
+                wide.leaf_sources
+                    .extend(std::iter::repeat_n(EMPTY_SLOT, blocks - 1));
+            } else {
+                let child_index = wide.nodes.len() + children.len();
+                node.child[slot] = child_index as u32;
+                children.push((child_index, subtree));
+            }
+        }
+        wide.nodes[wide_index] = node;
+        wide.nodes
+            .resize(wide.nodes.len() + children.len(), WideNode::default());
+        for &(child_index, subtree) in &children {
+            wide.node_sources.push(subtree);
+            debug_assert_eq!(wide.node_sources.len(), child_index + 1);
+        }
+        // Reversed, so the first child's subtree is laid out first.
+        pending.extend(children.into_iter().rev());
+    }
+    wide
+}
+
+/// The binary subtrees that fill at most `slots` slots of a wide node for the subtree of
+/// `node`, by the choices made for it, in binary (left to right) order.
+fn slot_subtrees<V: Vector, const W: usize>(
+    binary: &Bvh<V>,
+    choices: &[[Choice; W]],
+    node: u32,
+    slots: usize,
+    out: &mut Vec<u32>,
+) {
+    match choices[node as usize][slots - 1] {
+        Choice::Leaf | Choice::Node => out.push(node),
+        Choice::Fewer => slot_subtrees(binary, choices, node, slots - 1, out),
+        Choice::Distribute(k) => {
+            let [left, right] = binary.nodes[node as usize].children();
+            slot_subtrees(binary, choices, left, k as usize, out);
+            slot_subtrees(binary, choices, right, slots - k as usize, out);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::aabb::Aabb;
+    use crate::bvh::{BinnedSah, BuildParams, Builder, MiddleSplit, validate_wide};
+    use glam::DVec3;
+
+    /// Boxes from a small linear congruential generator, so the test needs no dependency.
+    fn boxes(count: usize, seed: u64) -> Vec<Aabb<DVec3>> {
+        let mut state = seed;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        (0..count)
+            .map(|_| {
+                let corner = DVec3::new(next(), next(), next()) * 10.0;
+                Aabb::new(corner, corner + DVec3::new(next(), next(), next()))
+            })
+            .collect()
+    }
+
+    /// Every way to fill at most `width` slots with subtrees of `node` (the node itself, or
+    /// the ways of its children side by side).
+    fn frontiers(binary: &Bvh<DVec3>, node: u32, width: usize) -> Vec<Vec<u32>> {
+        let mut ways = vec![vec![node]];
+        if !binary.nodes[node as usize].is_leaf() {
+            ways.extend(children_frontiers(binary, node, width));
+        }
+        ways
+    }
+
+    fn children_frontiers(binary: &Bvh<DVec3>, node: u32, width: usize) -> Vec<Vec<u32>> {
+        let [left, right] = binary.nodes[node as usize].children();
+        let mut ways = Vec::new();
+        for a in frontiers(binary, left, width) {
+            for b in frontiers(binary, right, width) {
+                if a.len() + b.len() <= width {
+                    ways.push([a.clone(), b].concat());
+                }
+            }
+        }
+        ways
+    }
+
+    /// The least SAH cost of the subtree of `node` in one slot, by trying every collapse.
+    fn exhaustive(binary: &Bvh<DVec3>, node: u32, width: usize, cost: &SahCost) -> f64 {
+        let entry = &binary.nodes[node as usize];
+        let area = entry.bounds.area();
+        let count = subtree_ranges(binary)[node as usize].1 as usize;
+        let leaf = if entry.is_leaf() || count <= LEAF_BLOCK {
+            area * cost.leaf_cost(count)
+        } else {
+            f64::INFINITY
+        };
+        if entry.is_leaf() {
+            return leaf;
+        }
+        leaf.min(as_node(binary, node, width, cost))
+    }
+
+    fn as_node(binary: &Bvh<DVec3>, node: u32, width: usize, cost: &SahCost) -> f64 {
+        let area = binary.nodes[node as usize].bounds.area();
+        let children = children_frontiers(binary, node, width)
+            .into_iter()
+            .map(|way| {
+                way.iter()
+                    .map(|&child| exhaustive(binary, child, width, cost))
+                    .sum::<f64>()
+            })
+            .fold(f64::INFINITY, f64::min);
+        area * cost.traversal_cost + children
+    }
+
+    #[test]
+    fn the_collapse_costs_what_trying_every_collapse_finds() {
+        for seed in 0..40 {
+            let bounds = boxes(3 + seed as usize % 14, seed);
+            for (max_leaf_size, cost) in [
+                (1, SahCost::default()),
+                (2, SahCost::default()),
+                (
+                    1,
+                    SahCost {
+                        traversal_cost: 1.0,
+                        ..SahCost::default()
+                    },
+                ),
+            ] {
+                let params = BuildParams {
+                    max_leaf_size,
+                    cost,
+                    ..BuildParams::default()
+                };
+                let binary = MiddleSplit.build(&bounds, &params);
+                let root_area = binary.bounds().area();
+                for (width, wide_cost) in [
+                    (
+                        4,
+                        collapse::<DVec3, 4>(&binary, &cost).stats(&cost).sah_cost,
+                    ),
+                    (
+                        8,
+                        collapse::<DVec3, 8>(&binary, &cost).stats(&cost).sah_cost,
+                    ),
+                ] {
+                    let best = if binary.nodes[0].is_leaf() {
+                        // A root leaf sits in a wide root node.
+                        root_area * cost.traversal_cost + exhaustive(&binary, 0, width, &cost)
+                    } else {
+                        as_node(&binary, 0, width, &cost)
+                    };
+                    let expected = best / root_area;
+                    assert!(
+                        (wide_cost - expected).abs() <= 1e-9 * expected,
+                        "seed {seed}, width {width}: collapse {wide_cost}, best {expected}"
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn wide_trees_are_valid_and_fill_their_nodes() {
+        let bounds = boxes(5000, 7);
+        let binary = BinnedSah { bins: 16 }.build(&bounds, &BuildParams::default());
+        let cost = SahCost::default();
+        let four = collapse::<DVec3, 4>(&binary, &cost);
+        let eight = collapse::<DVec3, 8>(&binary, &cost);
+        validate_wide(&four, &bounds).unwrap();
+        validate_wide(&eight, &bounds).unwrap();
+        let binary_interior = binary.nodes.iter().filter(|node| !node.is_leaf()).count();
+        for (width, nodes, slots) in [
+            (
+                4,
+                four.node_count(),
+                four.nodes.iter().map(WideNode::slots_used).sum::<usize>(),
+            ),
+            (
+                8,
+                eight.node_count(),
+                eight.nodes.iter().map(WideNode::slots_used).sum::<usize>(),
+            ),
+        ] {
+            // Each wide node replaces at least one binary interior node; most are full.
+            assert!(nodes < binary_interior, "width {width}: {nodes} nodes");
+            let fill = slots as f64 / (nodes * width) as f64;
+            assert!(fill > 0.6, "width {width}: slots {fill:.2} full");
+        }
+        // Wider is shallower and never costs more under the same SAH.
+        let (cost4, cost8) = (four.stats(&cost), eight.stats(&cost));
+        assert!(cost8.sah_cost <= cost4.sah_cost);
+        assert!(cost8.max_depth < cost4.max_depth);
+        assert!(cost4.max_leaf_size <= BuildParams::default().max_leaf_size);
+    }
+}
