@@ -1,8 +1,7 @@
 //! `accelviz-cli bench`: build each structure, trace the same rays, report the figures.
 
-use std::time::Instant;
-
 use accelviz_core::bvh::BuildParams;
+use accelviz_core::simd::Isa;
 use accelviz_core::{Counters, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
 use accelviz_scene::rays::{RaySource, RaySpec};
@@ -11,6 +10,7 @@ use clap::Args;
 
 use crate::json::JsonObject;
 use crate::spec::{Accel, AccelSpec};
+use crate::timing::{Samples, interleaved};
 use crate::{BuildArgs, Precision, TraceArgs, convert_rays, load_mesh};
 
 #[derive(Args, Debug)]
@@ -43,10 +43,15 @@ pub struct BenchArgs {
     trace: TraceArgs,
     #[command(flatten)]
     build: BuildArgs,
-    /// Build and trace this many times and report the fastest of each (the run least
-    /// disturbed by the rest of the machine).
-    #[arg(long, default_value_t = 1)]
+    /// Rounds: every structure is built and traced once per round, the rounds interleaved,
+    /// and each figure is the median of its rounds with the range it moved in (`±%`).
+    #[arg(long, default_value_t = 5)]
     repeat: usize,
+    /// Comma-separated instruction sets to trace with, each measured in the same rounds:
+    /// portable, avx2, avx512 (x86-64), simd128 (WebAssembly). Default: the best this
+    /// machine has.
+    #[arg(long)]
+    isa: Option<String>,
     /// Threads tracing rays (the build is single-threaded).
     #[arg(long, default_value_t = 1)]
     threads: usize,
@@ -65,7 +70,8 @@ impl BenchArgs {
             rays_file: None,
             camera: None,
             aimed: false,
-            repeat: 1,
+            repeat: 5,
+            isa: None,
             seed: 1,
             trace: TraceArgs {
                 order: crate::OrderArg::NearFirst,
@@ -96,11 +102,12 @@ fn precision_name(precision: Precision) -> &'static str {
     }
 }
 
-/// The figures of one structure.
+/// The figures of one structure traced with one instruction set.
 struct Figures {
     accel: String,
+    isa: Isa,
     triangles: usize,
-    build_ms: f64,
+    build: Samples,
     nodes: usize,
     leaves: usize,
     max_depth: usize,
@@ -108,13 +115,46 @@ struct Figures {
     max_leaf_size: usize,
     sah_cost: f64,
     rays: usize,
-    trace_ms: f64,
+    trace: Samples,
     counters: Counters,
     hits: usize,
 }
 
+/// Parses `--isa`: the sets named, each one this machine can run.
+fn parse_isas(list: Option<&str>) -> Result<Vec<Isa>> {
+    let Some(list) = list else {
+        return Ok(vec![Isa::active()]);
+    };
+    list.split(',')
+        .map(|name| {
+            let name = name.trim();
+            let isa = Isa::parse(name).ok_or_else(|| {
+                let valid: Vec<_> = Isa::ALL.iter().map(|isa| isa.name()).collect();
+                anyhow::anyhow!(
+                    "unknown instruction set '{name}'; valid ones are: {}",
+                    valid.join(", ")
+                )
+            })?;
+            if !isa.is_available() {
+                bail!(
+                    "this machine cannot run {} kernels; it has: {}",
+                    isa.name(),
+                    Isa::ALL
+                        .iter()
+                        .filter(|isa| isa.is_available())
+                        .map(|isa| isa.name())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
+            }
+            Ok(isa)
+        })
+        .collect()
+}
+
 pub fn run(args: &BenchArgs) -> Result<String> {
     let specs = AccelSpec::parse_list(&args.accel)?;
+    let isas = parse_isas(args.isa.as_deref())?;
     let params = args.build.params()?;
     if args.threads == 0 {
         bail!("--threads must be at least 1");
@@ -131,31 +171,38 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     let rays = source.rays(&mesh)?;
     let ray_source = source.label();
     let figures = match args.trace.precision {
-        Precision::F32 => measure::<glam::Vec3>(&specs, &params, &mesh, &rays, &ray_source, args)?,
-        Precision::F64 => measure::<glam::DVec3>(&specs, &params, &mesh, &rays, &ray_source, args)?,
+        Precision::F32 => {
+            measure::<glam::Vec3>(&specs, &isas, &params, &mesh, &rays, &ray_source, args)?
+        }
+        Precision::F64 => {
+            measure::<glam::DVec3>(&specs, &isas, &params, &mesh, &rays, &ray_source, args)?
+        }
     };
     let options = args.trace.options();
     let mut output = String::new();
     if !args.json {
         output.push_str(&format!(
-            "mesh {} ({} triangles), {} rays ({ray_source}), {} order, {}, {}, {} thread(s)\n",
+            "mesh {} ({} triangles), {} rays ({ray_source}), {} order, {}, {}, {} thread(s), median of {} interleaved rounds (±: half their range)\n",
             mesh.name,
             mesh.triangles.len(),
             rays.len(),
             order_name(options.order),
             precision_name(args.trace.precision),
             if args.trace.robust { "robust" } else { "fast" },
-            args.threads
+            args.threads,
+            args.repeat.max(1)
         ));
         output.push_str(&format!(
-            "{:<22} {:>10} {:>8} {:>8} {:>6} {:>9} {:>10} {:>9} {:>11} {:>11} {:>8}\n",
+            "{:<22} {:<8} {:>10} {:>8} {:>8} {:>6} {:>9} {:>10} {:>6} {:>9} {:>11} {:>11} {:>8}\n",
             "accel",
+            "isa",
             "build ms",
             "nodes",
             "leaves",
             "depth",
             "SAH cost",
             "trace ms",
+            "±%",
             "Mrays/s",
             "nodes/ray",
             "prims/ray",
@@ -164,15 +211,19 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     }
     for f in &figures {
         let rays = f.rays.max(1) as f64;
-        let mrays_per_s = f.rays as f64 / (f.trace_ms * 1e3);
+        let trace_ms = f.trace.median();
+        let mrays_per_s = f.rays as f64 / (trace_ms * 1e3);
         let avg_nodes = f.counters.nodes_visited as f64 / rays;
         let avg_prims = f.counters.primitive_tests as f64 / rays;
         if args.json {
             let object = JsonObject::new()
                 .string("accel", &f.accel)
+                .string("isa", f.isa.name())
                 .string("mesh", &mesh.name)
                 .integer("triangles", f.triangles as u64)
-                .number("build_ms", f.build_ms)
+                .number("build_ms", f.build.median())
+                .number("build_ms_min", f.build.min())
+                .number("build_ms_max", f.build.max())
                 .integer("nodes", f.nodes as u64)
                 .integer("leaves", f.leaves as u64)
                 .integer("max_depth", f.max_depth as u64)
@@ -181,7 +232,10 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .number("sah_cost", f.sah_cost)
                 .integer("rays", f.rays as u64)
                 .string("ray_source", &ray_source)
-                .number("trace_ms", f.trace_ms)
+                .number("trace_ms", trace_ms)
+                .number("trace_ms_min", f.trace.min())
+                .number("trace_ms_max", f.trace.max())
+                .number("trace_spread_percent", f.trace.spread_percent())
                 .number("mrays_per_s", mrays_per_s)
                 .number("avg_nodes_visited", avg_nodes)
                 .number("avg_box_tests", f.counters.box_tests as f64 / rays)
@@ -200,9 +254,20 @@ pub fn run(args: &BenchArgs) -> Result<String> {
             output.push('\n');
         } else {
             output.push_str(&format!(
-                "{:<22} {:>10.2} {:>8} {:>8} {:>6} {:>9.2} {:>10.2} {:>9.3} {:>11.2} {:>11.2} {:>8}\n",
-                f.accel, f.build_ms, f.nodes, f.leaves, f.max_depth, f.sah_cost, f.trace_ms,
-                mrays_per_s, avg_nodes, avg_prims, f.hits
+                "{:<22} {:<8} {:>10.2} {:>8} {:>8} {:>6} {:>9.2} {:>10.2} {:>6.1} {:>9.3} {:>11.2} {:>11.2} {:>8}\n",
+                f.accel,
+                f.isa.name(),
+                f.build.median(),
+                f.nodes,
+                f.leaves,
+                f.max_depth,
+                f.sah_cost,
+                trace_ms,
+                f.trace.spread_percent(),
+                mrays_per_s,
+                avg_nodes,
+                avg_prims,
+                f.hits
             ));
         }
     }
@@ -211,6 +276,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
 
 fn measure<V: Vector3>(
     specs: &[AccelSpec],
+    isas: &[Isa],
     params: &BuildParams,
     mesh: &Mesh,
     ray_specs: &[RaySpec],
@@ -220,34 +286,40 @@ fn measure<V: Vector3>(
     let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
     let rays = convert_rays::<V>(ray_specs, ray_source)?;
     let options = args.trace.options();
-    let mut all = Vec::with_capacity(specs.len());
-    let repeat = args.repeat.max(1);
-    for spec in specs {
-        let (mut accel, mut build_ms) = spec.build(&triangles, params);
-        for _ in 1..repeat {
-            let (again, again_ms) = spec.build(&triangles, params);
-            if again_ms < build_ms {
-                (accel, build_ms) = (again, again_ms);
-            }
-        }
+    let rounds = args.repeat.max(1);
+    // Build every structure once per round; keep the first round's.
+    let mut accels: Vec<Option<Accel<V, TriangleSet<V>>>> = specs.iter().map(|_| None).collect();
+    let builds = interleaved(rounds, specs.len(), |index| {
+        let (accel, _) = specs[index].build(&triangles, params);
+        accels[index].get_or_insert(accel);
+    });
+    let accels: Vec<_> = accels.into_iter().flatten().collect();
+    // Trace with every structure and instruction set once per round.
+    let configurations: Vec<(usize, Isa)> = (0..specs.len())
+        .flat_map(|spec| isas.iter().map(move |&isa| (spec, isa)))
+        .collect();
+    let mut hits = vec![0; configurations.len()];
+    let traces = interleaved(rounds, configurations.len(), |index| {
+        let (spec, isa) = configurations[index];
+        Isa::set_active(isa).unwrap_or_else(|_| unreachable!("checked by parse_isas"));
+        hits[index] = trace_all(&accels[spec], &rays, &options, args.threads);
+    });
+    Isa::set_active(Isa::detect()).unwrap_or_else(|_| unreachable!("detected"));
+    let mut all = Vec::with_capacity(configurations.len());
+    for (index, &(spec, isa)) in configurations.iter().enumerate() {
+        let accel = &accels[spec];
         let stats = accel.stats(triangles.triangles().len(), &params.cost);
-        // Time with the observer that does nothing; count in a second, untimed pass.
-        let mut trace_ms = f64::INFINITY;
-        let mut hits = 0;
-        for _ in 0..repeat {
-            let start = Instant::now();
-            hits = trace_all(&accel, &rays, &options, args.threads);
-            trace_ms = trace_ms.min(start.elapsed().as_secs_f64() * 1e3);
-        }
+        // Count in a separate, untimed pass (the counts are the same whatever the kernels).
         let mut counters = Counters::default();
         let mut stack = accelviz_core::TraversalStacks::default();
         for ray in &rays {
             accel.trace(ray, &options, &mut stack, &mut counters);
         }
         all.push(Figures {
-            accel: spec.name(),
+            accel: specs[spec].name(),
+            isa,
             triangles: triangles.triangles().len(),
-            build_ms,
+            build: builds[spec].clone(),
             nodes: stats.node_count,
             leaves: stats.leaf_count,
             max_depth: stats.max_depth,
@@ -255,9 +327,9 @@ fn measure<V: Vector3>(
             max_leaf_size: stats.max_leaf_size,
             sah_cost: stats.sah_cost,
             rays: rays.len(),
-            trace_ms,
+            trace: traces[index].clone(),
             counters,
-            hits,
+            hits: hits[index],
         });
     }
     Ok(all)

@@ -12,6 +12,7 @@ mod quiz;
 mod sah;
 mod slab;
 mod spec;
+mod timing;
 mod tradeoff;
 
 use std::process::ExitCode;

@@ -53,7 +53,7 @@ impl AccelSpec {
 
     /// Builds the structure over `primitives`, timing the build: the boxes, the tree, and the
     /// copy of the primitives in the tree's leaf order that traversal reads.
-    pub fn build<'a, V: Vector, P: PrimitiveSet<V>>(
+    pub fn build<'a, V: Vector, P: PrimitiveSet<V> + 'static>(
         &self,
         primitives: &'a P,
         params: &BuildParams,

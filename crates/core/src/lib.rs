@@ -45,6 +45,7 @@ pub mod query;
 pub mod ray;
 pub mod sah;
 mod search;
+pub mod simd;
 pub mod slab;
 pub mod stats;
 pub mod structure;

@@ -13,7 +13,7 @@ pub(crate) struct HitSearch<S: Real> {
     pub(crate) closest: Option<Hit<S>>,
     /// Where the search interval now ends: the closest hit, or the ray's `t_max`.
     pub(crate) t_closest: S,
-    query: Query,
+    pub(crate) query: Query,
 }
 
 impl<S: Real> HitSearch<S> {

@@ -587,7 +587,7 @@ impl<V: Vector> Tree<V> {
     }
 
     /// A copy of `primitives` in this tree's leaf order, for faster traversal.
-    pub fn leaf_ordered<P: PrimitiveSet<V>>(&self, primitives: &P) -> LeafOrdered<P> {
+    pub fn leaf_ordered<P: PrimitiveSet<V> + 'static>(&self, primitives: &P) -> LeafOrdered<P> {
         match self {
             Tree::Bvh(bvh) => bvh.leaf_ordered(primitives),
             Tree::Bvh4(wide) => wide.leaf_ordered(primitives),

@@ -16,7 +16,7 @@ mod traverse;
 mod tree;
 mod validate;
 mod wide;
-mod wide_traverse;
+pub(crate) mod wide_traverse;
 
 pub use build::{BuildParams, Builder, KdBudget};
 pub use build_binned::BinnedSah;

@@ -6,18 +6,23 @@
 //! using multi-branching BVHs": one ray against the `W` boxes of a node at once, instead of a
 //! packet of rays against one box.
 
+use std::any::Any;
+
+use glam::Vec3;
+
 use crate::bvh::wide::{LEAF_BLOCK, WideBvh, WideNode};
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
-use crate::primitive::{LeafPrimitives, PrimitiveSet};
-use crate::query::{Hit, Order, TraceOptions};
+use crate::primitive::{HitTest, LeafPrimitives, PrimitiveSet, TriangleBlock};
+use crate::query::{Hit, Order, Query, TraceOptions};
 use crate::ray::Ray;
 use crate::search::HitSearch;
+use crate::simd::Kernel;
 use crate::slab::SlabRay;
 
 /// One child waiting to be visited: a wide node or a leaf, and where the ray enters its box.
 #[derive(Clone, Copy, Debug)]
-struct Pending<S: Real> {
+pub(crate) struct Pending<S: Real> {
     /// A node's index or a leaf's first slot.
     child: u32,
     /// A leaf's primitive count; 0 for a node.
@@ -97,9 +102,10 @@ pub fn test_children<V: Vector, const W: usize>(
 ///
 /// From the root: test every child's box of the node at once; order the children hit (nearest
 /// entry first, or slot order), visit the first and push the others; at a leaf, test its
-/// primitives, shrinking the interval at each hit; skip a pushed child the ray enters beyond
-/// the closest hit (a cull). The observer hears the binary numbering: a node entered, each
-/// child's box test, culls, primitives.
+/// primitives (four triangles at once where they are stored in blocks), shrinking the interval
+/// at each hit; skip a pushed child the ray enters beyond the closest hit (a cull). The
+/// observer hears the binary numbering: a node entered, each child's box test, culls,
+/// primitives. The kernels are those of [`Isa::active`](crate::simd::Isa::active).
 pub fn traverse_wide<V, P, O, const W: usize>(
     tree: &WideBvh<V, W>,
     primitives: &P,
@@ -113,11 +119,37 @@ where
     P: LeafPrimitives<V>,
     O: Observer<V::Scalar>,
 {
+    crate::simd::traverse_wide(tree, primitives, ray, options, stack, observer)
+}
+
+/// [`traverse_wide`] with the kernels of `K`: compiled once per instruction set.
+#[inline(always)]
+pub(crate) fn traverse_wide_with<K, V, P, O, const W: usize>(
+    tree: &WideBvh<V, W>,
+    primitives: &P,
+    ray: &Ray<V>,
+    options: &TraceOptions,
+    stack: &mut WideStack<V::Scalar>,
+    observer: &mut O,
+) -> Option<Hit<V::Scalar>>
+where
+    K: Kernel,
+    V: Vector,
+    P: LeafPrimitives<V>,
+    O: Observer<V::Scalar>,
+{
     if tree.nodes.is_empty() {
         return None;
     }
     let slab_ray = SlabRay::new(ray, options.robust_traversal);
     let primitive_ray = primitives.stored().prepare(ray, options.hit_test);
+    // Blocks of four triangles are 3D f32 (the type test is resolved at compile time), and
+    // hold the fast test's arithmetic.
+    let block_ray = (ray as &dyn Any).downcast_ref::<Ray<Vec3>>();
+    let blocks = match (primitives.triangle_blocks(), block_ray, options.hit_test) {
+        (Some(blocks), Some(block_ray), HitTest::Fast) => Some((blocks, block_ray)),
+        _ => None,
+    };
     let mut search = HitSearch::new(ray.t_max, options.query);
     let nodes = tree.nodes.as_slice();
     let entries = &mut stack.entries;
@@ -144,21 +176,27 @@ where
         }
         if count > 0 {
             let numbers = tree.leaf_primitives(child, count);
-            if search.test_leaf(
-                primitives,
-                &primitive_ray,
-                ray.t_min,
-                child as usize,
-                numbers,
-                |_| false,
-                observer,
-            ) {
+            let done = match blocks {
+                Some((blocks, block_ray)) => {
+                    search.test_blocks::<K, O>(blocks, block_ray, child, numbers, observer)
+                }
+                None => search.test_leaf(
+                    primitives,
+                    &primitive_ray,
+                    ray.t_min,
+                    child as usize,
+                    numbers,
+                    |_| false,
+                    observer,
+                ),
+            };
+            if done {
                 return search.closest;
             }
             continue;
         }
         let node = &nodes[child as usize];
-        let tests = test_children(node, &slab_ray, search.t_closest);
+        let tests = K::test_children(node, &slab_ray, search.t_closest);
         if O::ACTIVE {
             for slot in 0..node.slots_used() {
                 observer.box_tested(
@@ -172,6 +210,52 @@ where
         current = visit_children(node, &tests, options.order, entries);
     }
     search.closest
+}
+
+impl<S: Real> HitSearch<S> {
+    /// Tests a wide leaf's triangles a block of four at a time (`first` is its first slot, a
+    /// multiple of four). The observer hears each triangle in slot order, hit only within
+    /// the interval as it stood when the triangle's turn came, as if tested one by one; the
+    /// closest hit is the same either way (the least `t`, ties to the lower number). Returns
+    /// true when an any-hit query has its answer.
+    #[inline(always)]
+    fn test_blocks<K: Kernel, O: Observer<S>>(
+        &mut self,
+        blocks: &[TriangleBlock],
+        ray: &Ray<Vec3>,
+        first: u32,
+        numbers: &[u32],
+        observer: &mut O,
+    ) -> bool {
+        let t_min = ray.t_min;
+        for (block_index, block_numbers) in (first as usize / LEAF_BLOCK..).zip(numbers.chunks(4)) {
+            let t_hits = K::test_triangles(
+                &blocks[block_index],
+                ray.origin,
+                ray.direction,
+                t_min,
+                self.t_closest.to_f64() as f32,
+            );
+            for (&primitive, &t) in block_numbers.iter().zip(&t_hits) {
+                let t = S::from_f32(t);
+                let hit = t <= self.t_closest;
+                observer.primitive_tested(primitive, hit.then_some(t));
+                if hit
+                    && self
+                        .closest
+                        .is_none_or(|closest| closest.is_beaten_by(primitive, t))
+                {
+                    self.closest = Some(Hit { primitive, t });
+                    self.t_closest = t;
+                    observer.closest_hit_updated(primitive, t);
+                    if self.query == Query::Any {
+                        return true;
+                    }
+                }
+            }
+        }
+        false
+    }
 }
 
 /// Pushes the children hit, farthest (or last) first, and returns the one to visit next.

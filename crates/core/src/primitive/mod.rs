@@ -9,7 +9,7 @@ mod shape;
 mod triangle;
 
 pub use shape::{Shape, ShapeSet, Sphere};
-pub use triangle::{TriangleRay, TriangleSet};
+pub use triangle::{TriangleBlock, TriangleRay, TriangleSet};
 
 use crate::aabb::Aabb;
 use crate::math::{Vector, Vector3};
@@ -84,6 +84,13 @@ pub trait LeafPrimitives<V: Vector> {
     fn stored(&self) -> &Self::Set;
     /// Where the primitive of leaf slot `slot`, numbered `primitive`, is stored.
     fn storage_index(&self, slot: usize, primitive: u32) -> usize;
+    /// The primitives as 3D f32 triangles four to a block, block `b` holding slots `4b..4b + 4`
+    /// (a wide BVH's leaf order, see [`WideBvh::leaf_ordered`](crate::bvh::WideBvh::leaf_ordered)),
+    /// when stored so.
+    #[inline(always)]
+    fn triangle_blocks(&self) -> Option<&[TriangleBlock]> {
+        None
+    }
 }
 
 /// Implements [`LeafPrimitives`] for a set stored in its own numbering. (A blanket impl over
@@ -115,13 +122,31 @@ stored_in_own_order!(ShapeSet, Vector);
 #[derive(Clone, Debug)]
 pub struct LeafOrdered<P> {
     stored: P,
+    /// For 3D f32 triangles in a wide BVH's leaf order: the same triangles in blocks of four.
+    blocks: Option<Vec<TriangleBlock>>,
 }
 
 impl<P> LeafOrdered<P> {
     /// Wraps `stored`, which must hold the primitives in the leaf order of the tree it is
     /// traversed with.
     pub(crate) fn new(stored: P) -> Self {
-        Self { stored }
+        Self {
+            stored,
+            blocks: None,
+        }
+    }
+
+    /// Wraps `stored`, in the leaf order of a wide BVH (each leaf starting at a multiple of
+    /// four), and when it is a set of 3D f32 triangles packs them in blocks of four too.
+    pub(crate) fn with_blocks(stored: P) -> Self
+    where
+        P: 'static,
+    {
+        let any = &stored as &dyn std::any::Any;
+        let blocks = any
+            .downcast_ref::<TriangleSet<glam::Vec3>>()
+            .map(|triangles| TriangleBlock::pack(triangles.triangles()));
+        Self { stored, blocks }
     }
 }
 
@@ -136,5 +161,10 @@ impl<V: Vector, P: PrimitiveSet<V>> LeafPrimitives<V> for LeafOrdered<P> {
     #[inline(always)]
     fn storage_index(&self, slot: usize, _primitive: u32) -> usize {
         slot
+    }
+
+    #[inline(always)]
+    fn triangle_blocks(&self) -> Option<&[TriangleBlock]> {
+        self.blocks.as_deref()
     }
 }

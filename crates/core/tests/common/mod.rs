@@ -132,7 +132,7 @@ pub fn all_options() -> Vec<TraceOptions> {
 /// any-hit queries a hit exactly when brute force has one.
 pub fn assert_agrees_with_brute_force<
     V: Vector,
-    P: PrimitiveSet<V> + LeafPrimitives<V, Set = P>,
+    P: PrimitiveSet<V> + LeafPrimitives<V, Set = P> + 'static,
 >(
     primitives: &P,
     rays: &[Ray<V>],

@@ -1,0 +1,817 @@
+//! The SIMD kernels of the wide BVH's hot path, chosen at run time: the one module of the core
+//! allowed `unsafe`.
+//!
+//! One binary runs on any x86-64 machine: [`Isa::detect`] asks the processor once which
+//! instruction sets it has, and the wide traversal is compiled once per set (a
+//! `#[target_feature]` copy of the same generic code, so the kernels inline into the loop).
+//! `unsafe` is needed for two things only, both here:
+//! - calling a `#[target_feature]` function, which is sound only on a processor that has the
+//!   feature: every such call is behind [`Isa::active`], which only ever holds a detected set;
+//! - loading SIMD registers through pointers into nodes and triangle blocks, which are
+//!   `#[repr(C, align(64))]` arrays of exactly the lanes loaded.
+//!
+//! Every kernel does the arithmetic of the portable code ([`Portable`]) in the same order, with
+//! the same NaN rules (`max_ps(a, b)` is `a > b ? a : b`, which ignores a NaN `a`, like the
+//! slab module's reductions), and no fused multiply-adds, so its results are bit for bit the
+//! portable ones; the tests below hold every kernel to that on random and extreme inputs.
+//!
+//! In the browser the kernels are WebAssembly `simd128`, chosen when the module is compiled
+//! (WebAssembly has no run-time detection; every browser of the last years has it).
+
+#![allow(unsafe_code)]
+
+use std::sync::atomic::{AtomicU8, Ordering};
+
+use glam::Vec3;
+
+use crate::bvh::wide_traverse::traverse_wide_with;
+use crate::bvh::{ChildTests, WideBvh, WideNode, WideStack};
+use crate::math::{Real, Vector};
+use crate::observer::Observer;
+use crate::primitive::{LeafPrimitives, TriangleBlock};
+use crate::query::{Hit, TraceOptions};
+use crate::ray::Ray;
+use crate::slab::SlabRay;
+
+/// An instruction set the kernels are written for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Isa {
+    /// Plain Rust, one lane at a time (what the compiler makes of it): every machine.
+    Portable,
+    /// x86-64 with AVX2 and FMA (Intel since 2013, AMD since 2015): 8 lanes of f32.
+    Avx2,
+    /// x86-64 with AVX-512 F and VL: 8 lanes with mask registers and compress.
+    Avx512,
+    /// WebAssembly `simd128`: 4 lanes, fixed when the module is compiled.
+    Simd128,
+}
+
+impl Isa {
+    /// Every instruction set, in order of preference (best last).
+    pub const ALL: [Isa; 4] = [Isa::Portable, Isa::Simd128, Isa::Avx2, Isa::Avx512];
+
+    /// The name the CLI takes: `portable`, `avx2`, `avx512`, `simd128`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Isa::Portable => "portable",
+            Isa::Avx2 => "avx2",
+            Isa::Avx512 => "avx512",
+            Isa::Simd128 => "simd128",
+        }
+    }
+
+    /// The set named `name`.
+    pub fn parse(name: &str) -> Option<Isa> {
+        Isa::ALL.into_iter().find(|isa| isa.name() == name)
+    }
+
+    /// Whether this machine (or this WebAssembly module) can run the set.
+    pub fn is_available(self) -> bool {
+        match self {
+            Isa::Portable => true,
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => {
+                std::arch::is_x86_feature_detected!("avx2")
+                    && std::arch::is_x86_feature_detected!("fma")
+            }
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => {
+                Isa::Avx2.is_available()
+                    && std::arch::is_x86_feature_detected!("avx512f")
+                    && std::arch::is_x86_feature_detected!("avx512vl")
+            }
+            #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+            Isa::Simd128 => true,
+            _ => false,
+        }
+    }
+
+    /// The best set this machine has.
+    pub fn detect() -> Isa {
+        Isa::ALL
+            .into_iter()
+            .rev()
+            .find(|isa| isa.is_available())
+            .unwrap_or(Isa::Portable)
+    }
+
+    fn code(self) -> u8 {
+        match self {
+            Isa::Portable => 1,
+            Isa::Avx2 => 2,
+            Isa::Avx512 => 3,
+            Isa::Simd128 => 4,
+        }
+    }
+
+    /// The set traversal uses: the best one detected, unless [`Isa::set_active`] chose another.
+    #[inline]
+    pub fn active() -> Isa {
+        match ACTIVE.load(Ordering::Relaxed) {
+            1 => Isa::Portable,
+            2 => Isa::Avx2,
+            3 => Isa::Avx512,
+            4 => Isa::Simd128,
+            _ => {
+                let detected = Isa::detect();
+                ACTIVE.store(detected.code(), Ordering::Relaxed);
+                detected
+            }
+        }
+    }
+
+    /// Makes traversal use `isa` from now on (to measure one set against another, or test
+    /// one); refused for a set this machine cannot run.
+    pub fn set_active(isa: Isa) -> Result<(), IsaError> {
+        if !isa.is_available() {
+            return Err(IsaError::Unavailable {
+                isa,
+                detected: Isa::detect(),
+            });
+        }
+        ACTIVE.store(isa.code(), Ordering::Relaxed);
+        Ok(())
+    }
+}
+
+/// The instruction set in use: 0 until first asked.
+static ACTIVE: AtomicU8 = AtomicU8::new(0);
+
+/// An instruction set this machine does not have.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum IsaError {
+    /// Asked for a set the processor lacks.
+    #[error("this machine cannot run {} kernels (the best it has is {})", isa.name(), detected.name())]
+    Unavailable {
+        /// What was asked for.
+        isa: Isa,
+        /// The best it has.
+        detected: Isa,
+    },
+}
+
+/// [`traverse_wide`](crate::bvh::traverse_wide) with the kernels of the active instruction
+/// set.
+#[inline]
+pub(crate) fn traverse_wide<V, P, O, const W: usize>(
+    tree: &WideBvh<V, W>,
+    primitives: &P,
+    ray: &Ray<V>,
+    options: &TraceOptions,
+    stack: &mut WideStack<V::Scalar>,
+    observer: &mut O,
+) -> Option<Hit<V::Scalar>>
+where
+    V: Vector,
+    P: LeafPrimitives<V>,
+    O: Observer<V::Scalar>,
+{
+    #[cfg(target_arch = "x86_64")]
+    match Isa::active() {
+        // SAFETY: `Isa::active` holds only an instruction set this machine has.
+        Isa::Avx512 => {
+            return unsafe {
+                x86::traverse_avx512(tree, primitives, ray, options, stack, observer)
+            };
+        }
+        // SAFETY: as above.
+        Isa::Avx2 => {
+            return unsafe { x86::traverse_avx2(tree, primitives, ray, options, stack, observer) };
+        }
+        _ => {}
+    }
+    traverse_wide_with::<Portable, V, P, O, W>(tree, primitives, ray, options, stack, observer)
+}
+
+/// What a wide traversal needs done in lanes: a node's child boxes, a block of triangles.
+/// Implemented by [`Portable`] for every vector type, and by the SIMD kernels for 3D f32 (other
+/// types fall back to the portable code inside them).
+pub(crate) trait Kernel {
+    /// The slab test of every child of `node`, as
+    /// [`test_children`](crate::bvh::test_children) computes it.
+    fn test_children<V: Vector, const W: usize>(
+        node: &WideNode<V::Scalar, W>,
+        ray: &SlabRay<V>,
+        t_max: V::Scalar,
+    ) -> ChildTests<V::Scalar, W>;
+
+    /// Möller–Trumbore on the four triangles of `block`: each lane's `t` where it is hit
+    /// within `[t_min, t_max]`, `NaN` where not, as [`TriangleBlock::intersect`] computes it.
+    fn test_triangles(
+        block: &TriangleBlock,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> [f32; 4];
+}
+
+/// The reference kernels: plain Rust.
+pub(crate) struct Portable;
+
+impl Kernel for Portable {
+    #[inline(always)]
+    fn test_children<V: Vector, const W: usize>(
+        node: &WideNode<V::Scalar, W>,
+        ray: &SlabRay<V>,
+        t_max: V::Scalar,
+    ) -> ChildTests<V::Scalar, W> {
+        crate::bvh::test_children(node, ray, t_max)
+    }
+
+    #[inline(always)]
+    fn test_triangles(
+        block: &TriangleBlock,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> [f32; 4] {
+        block.intersect(origin, direction, t_min, t_max)
+    }
+}
+
+/// The same generic code with the slab test of a 3D f32 node in SIMD lanes: `$test8` for 8
+/// children, `$test4` for 4, `$triangles` for a triangle block. Other vector types take the
+/// portable path (the type test is resolved when the code is compiled).
+macro_rules! kernel {
+    ($name:ident, $test4:path, $test8:path, $triangles:path) => {
+        impl Kernel for $name {
+            #[inline(always)]
+            fn test_children<V: Vector, const W: usize>(
+                node: &WideNode<V::Scalar, W>,
+                ray: &SlabRay<V>,
+                t_max: V::Scalar,
+            ) -> ChildTests<V::Scalar, W> {
+                use std::any::Any;
+                let (Some(ray3), Some(&t_max3)) = (
+                    (ray as &dyn Any).downcast_ref::<SlabRay<Vec3>>(),
+                    (&t_max as &dyn Any).downcast_ref::<f32>(),
+                ) else {
+                    return Portable::test_children(node, ray, t_max);
+                };
+                let mut tests = ChildTests {
+                    t_enter: [V::Scalar::ZERO; W],
+                    t_exit: [V::Scalar::ZERO; W],
+                    hit_mask: 0,
+                };
+                let any_node = node as &dyn Any;
+                if let (Some(node8), Some(out)) = (
+                    any_node.downcast_ref::<WideNode<f32, 8>>(),
+                    (&mut tests as &mut dyn Any).downcast_mut::<ChildTests<f32, 8>>(),
+                ) {
+                    // SAFETY: this kernel runs only when `Isa::active` says the machine has
+                    // its instruction set (see `traverse_wide`).
+                    *out = unsafe { $test8(node8, ray3, t_max3) };
+                    return tests;
+                }
+                if let (Some(node4), Some(out)) = (
+                    any_node.downcast_ref::<WideNode<f32, 4>>(),
+                    (&mut tests as &mut dyn Any).downcast_mut::<ChildTests<f32, 4>>(),
+                ) {
+                    // SAFETY: as above.
+                    *out = unsafe { $test4(node4, ray3, t_max3) };
+                    return tests;
+                }
+                Portable::test_children(node, ray, t_max)
+            }
+
+            #[inline(always)]
+            fn test_triangles(
+                block: &TriangleBlock,
+                origin: Vec3,
+                direction: Vec3,
+                t_min: f32,
+                t_max: f32,
+            ) -> [f32; 4] {
+                // SAFETY: as above.
+                unsafe { $triangles(block, origin, direction, t_min, t_max) }
+            }
+        }
+    };
+}
+
+#[cfg(target_arch = "x86_64")]
+mod x86 {
+    use std::arch::x86_64::*;
+
+    use super::*;
+
+    /// AVX2 + FMA kernels (FMA is not used: it would round differently from the portable
+    /// code; it comes with every AVX2 processor and the compiler may use it elsewhere).
+    pub(crate) struct Avx2;
+    /// AVX-512 F + VL kernels.
+    pub(crate) struct Avx512;
+
+    kernel!(Avx2, children4_avx2, children8_avx2, triangles_avx2);
+    kernel!(Avx512, children4_avx512, children8_avx512, triangles_avx512);
+
+    /// The whole traversal compiled for one instruction set, so the kernels inline into it.
+    macro_rules! traversal {
+        ($name:ident, $kernel:ty, $features:literal) => {
+            #[target_feature(enable = $features)]
+            pub(super) fn $name<V, P, O, const W: usize>(
+                tree: &WideBvh<V, W>,
+                primitives: &P,
+                ray: &Ray<V>,
+                options: &TraceOptions,
+                stack: &mut WideStack<V::Scalar>,
+                observer: &mut O,
+            ) -> Option<Hit<V::Scalar>>
+            where
+                V: Vector,
+                P: LeafPrimitives<V>,
+                O: Observer<V::Scalar>,
+            {
+                traverse_wide_with::<$kernel, V, P, O, W>(
+                    tree, primitives, ray, options, stack, observer,
+                )
+            }
+        };
+    }
+
+    traversal!(traverse_avx2, Avx2, "avx2,fma");
+    traversal!(traverse_avx512, Avx512, "avx2,fma,avx512f,avx512vl");
+
+    /// The near and far planes of `axis` for this ray: lower and upper, or the reverse when
+    /// the ray moves towards −∞ on that axis (chosen once per ray by the sign; Williams et
+    /// al. 2005).
+    #[inline(always)]
+    fn planes<const W: usize>(
+        node: &WideNode<f32, W>,
+        ray: &SlabRay<Vec3>,
+        axis: usize,
+    ) -> (*const f32, *const f32) {
+        if ray.negative[axis] {
+            (node.upper[axis].as_ptr(), node.lower[axis].as_ptr())
+        } else {
+            (node.lower[axis].as_ptr(), node.upper[axis].as_ptr())
+        }
+    }
+
+    macro_rules! children8 {
+        ($name:ident, $features:literal, $mask:expr) => {
+            #[target_feature(enable = $features)]
+            pub(super) fn $name(
+                node: &WideNode<f32, 8>,
+                ray: &SlabRay<Vec3>,
+                t_max: f32,
+            ) -> ChildTests<f32, 8> {
+                let mut t_enter = _mm256_set1_ps(ray.t_min);
+                let mut t_exit = _mm256_set1_ps(f32::INFINITY);
+                for axis in 0..3 {
+                    let (near, far) = planes(node, ray, axis);
+                    let origin = _mm256_set1_ps(ray.origin[axis]);
+                    let inverse = _mm256_set1_ps(ray.inv_direction[axis]);
+                    // SAFETY: `near` and `far` point at 8 floats of a 64-byte aligned node.
+                    let (near, far) = unsafe { (_mm256_load_ps(near), _mm256_load_ps(far)) };
+                    let t_near = _mm256_mul_ps(_mm256_sub_ps(near, origin), inverse);
+                    let t_far = _mm256_mul_ps(_mm256_sub_ps(far, origin), inverse);
+                    t_enter = _mm256_max_ps(t_near, t_enter);
+                    t_exit = _mm256_min_ps(t_far, t_exit);
+                }
+                let scaled = _mm256_mul_ps(t_exit, _mm256_set1_ps(ray.far_scale));
+                let t_exit = _mm256_min_ps(scaled, _mm256_set1_ps(t_max));
+                let hit_mask = $mask(t_enter, t_exit);
+                let mut tests = ChildTests {
+                    t_enter: [0.0; 8],
+                    t_exit: [0.0; 8],
+                    hit_mask,
+                };
+                // SAFETY: each array holds 8 floats.
+                unsafe {
+                    _mm256_storeu_ps(tests.t_enter.as_mut_ptr(), t_enter);
+                    _mm256_storeu_ps(tests.t_exit.as_mut_ptr(), t_exit);
+                }
+                tests
+            }
+        };
+    }
+
+    macro_rules! children4 {
+        ($name:ident, $features:literal) => {
+            #[target_feature(enable = $features)]
+            pub(super) fn $name(
+                node: &WideNode<f32, 4>,
+                ray: &SlabRay<Vec3>,
+                t_max: f32,
+            ) -> ChildTests<f32, 4> {
+                let mut t_enter = _mm_set1_ps(ray.t_min);
+                let mut t_exit = _mm_set1_ps(f32::INFINITY);
+                for axis in 0..3 {
+                    let (near, far) = planes(node, ray, axis);
+                    let origin = _mm_set1_ps(ray.origin[axis]);
+                    let inverse = _mm_set1_ps(ray.inv_direction[axis]);
+                    // SAFETY: `near` and `far` point at 4 floats of a 64-byte aligned node.
+                    let (near, far) = unsafe { (_mm_load_ps(near), _mm_load_ps(far)) };
+                    let t_near = _mm_mul_ps(_mm_sub_ps(near, origin), inverse);
+                    let t_far = _mm_mul_ps(_mm_sub_ps(far, origin), inverse);
+                    t_enter = _mm_max_ps(t_near, t_enter);
+                    t_exit = _mm_min_ps(t_far, t_exit);
+                }
+                let scaled = _mm_mul_ps(t_exit, _mm_set1_ps(ray.far_scale));
+                let t_exit = _mm_min_ps(scaled, _mm_set1_ps(t_max));
+                let hit_mask = _mm_movemask_ps(_mm_cmple_ps(t_enter, t_exit)) as u32;
+                let mut tests = ChildTests {
+                    t_enter: [0.0; 4],
+                    t_exit: [0.0; 4],
+                    hit_mask,
+                };
+                // SAFETY: each array holds 4 floats.
+                unsafe {
+                    _mm_storeu_ps(tests.t_enter.as_mut_ptr(), t_enter);
+                    _mm_storeu_ps(tests.t_exit.as_mut_ptr(), t_exit);
+                }
+                tests
+            }
+        };
+    }
+
+    children8!(children8_avx2, "avx2,fma", |t_enter, t_exit| {
+        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t_enter, t_exit)) as u32
+    });
+    children8!(
+        children8_avx512,
+        "avx2,fma,avx512f,avx512vl",
+        |t_enter, t_exit| { u32::from(_mm256_cmp_ps_mask::<_CMP_LE_OQ>(t_enter, t_exit)) }
+    );
+    children4!(children4_avx2, "avx2,fma");
+    children4!(children4_avx512, "avx2,fma,avx512f,avx512vl");
+
+    macro_rules! triangles {
+        ($name:ident, $features:literal) => {
+            /// Möller–Trumbore on four triangles in the lanes of SSE registers: the portable
+            /// code's products and sums in its order (glam's cross and dot), so the same `t`.
+            #[target_feature(enable = $features)]
+            pub(super) fn $name(
+                block: &TriangleBlock,
+                origin: Vec3,
+                direction: Vec3,
+                t_min: f32,
+                t_max: f32,
+            ) -> [f32; 4] {
+                // SAFETY: every row of a block is 4 floats, 16-byte aligned.
+                let load = |row: &[f32; 4]| unsafe { _mm_load_ps(row.as_ptr()) };
+                let [v0x, v0y, v0z] = block.v0.each_ref().map(load);
+                let [e1x, e1y, e1z] = block.edge1.each_ref().map(load);
+                let [e2x, e2y, e2z] = block.edge2.each_ref().map(load);
+                let (dx, dy, dz) = (
+                    _mm_set1_ps(direction.x),
+                    _mm_set1_ps(direction.y),
+                    _mm_set1_ps(direction.z),
+                );
+                let mul = |a, b| _mm_mul_ps(a, b);
+                let sub = |a, b| _mm_sub_ps(a, b);
+                let add = |a, b| _mm_add_ps(a, b);
+                // p = d × e2
+                let px = sub(mul(dy, e2z), mul(e2y, dz));
+                let py = sub(mul(dz, e2x), mul(e2z, dx));
+                let pz = sub(mul(dx, e2y), mul(e2x, dy));
+                let det = add(add(mul(e1x, px), mul(e1y, py)), mul(e1z, pz));
+                let zero = _mm_setzero_ps();
+                let one = _mm_set1_ps(1.0);
+                let inv_det = _mm_div_ps(one, det);
+                let sx = sub(_mm_set1_ps(origin.x), v0x);
+                let sy = sub(_mm_set1_ps(origin.y), v0y);
+                let sz = sub(_mm_set1_ps(origin.z), v0z);
+                let u = mul(add(add(mul(sx, px), mul(sy, py)), mul(sz, pz)), inv_det);
+                // q = s × e1
+                let qx = sub(mul(sy, e1z), mul(e1y, sz));
+                let qy = sub(mul(sz, e1x), mul(e1z, sx));
+                let qz = sub(mul(sx, e1y), mul(e1x, sy));
+                let v = mul(add(add(mul(dx, qx), mul(dy, qy)), mul(dz, qz)), inv_det);
+                let t = mul(add(add(mul(e2x, qx), mul(e2y, qy)), mul(e2z, qz)), inv_det);
+                // The portable test's rejections, written as it writes them (a NaN `u` or `v`
+                // is not rejected by them; only by `t`), as a mask of the lanes that pass.
+                let rejected = _mm_or_ps(
+                    _mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmpgt_ps(u, one)),
+                    _mm_or_ps(_mm_cmplt_ps(v, zero), _mm_cmpgt_ps(add(u, v), one)),
+                );
+                let accepted = _mm_and_ps(
+                    _mm_cmpneq_ps(det, zero),
+                    _mm_and_ps(
+                        _mm_cmpge_ps(t, _mm_set1_ps(t_min)),
+                        _mm_cmple_ps(t, _mm_set1_ps(t_max)),
+                    ),
+                );
+                let valid = _mm_andnot_ps(rejected, accepted);
+                let t = _mm_blendv_ps(_mm_set1_ps(f32::NAN), t, valid);
+                let mut out = [0.0; 4];
+                // SAFETY: `out` holds 4 floats.
+                unsafe { _mm_storeu_ps(out.as_mut_ptr(), t) };
+                out
+            }
+        };
+    }
+
+    triangles!(triangles_avx2, "avx2,fma");
+    triangles!(triangles_avx512, "avx2,fma,avx512f,avx512vl");
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bvh::{BinnedSah, BuildParams, Builder, WideBvh, collapse};
+    use crate::observer::{Counters, NoObserver};
+    use crate::primitive::{PrimitiveSet, TriangleSet};
+    use crate::query::Order;
+    use proptest::prelude::*;
+
+    type Children4 = fn(&WideNode<f32, 4>, &SlabRay<Vec3>, f32) -> ChildTests<f32, 4>;
+    type Children8 = fn(&WideNode<f32, 8>, &SlabRay<Vec3>, f32) -> ChildTests<f32, 8>;
+    type Triangles = fn(&TriangleBlock, Vec3, Vec3, f32, f32) -> [f32; 4];
+
+    /// Every kernel this machine can run, by instruction set.
+    fn kernels() -> Vec<(Isa, Children4, Children8, Triangles)> {
+        let mut kernels: Vec<(Isa, Children4, Children8, Triangles)> = vec![(
+            Isa::Portable,
+            <Portable as Kernel>::test_children::<Vec3, 4>,
+            <Portable as Kernel>::test_children::<Vec3, 8>,
+            <Portable as Kernel>::test_triangles,
+        )];
+        #[cfg(target_arch = "x86_64")]
+        {
+            use x86::{Avx2, Avx512};
+            if Isa::Avx2.is_available() {
+                kernels.push((
+                    Isa::Avx2,
+                    <Avx2 as Kernel>::test_children::<Vec3, 4>,
+                    <Avx2 as Kernel>::test_children::<Vec3, 8>,
+                    <Avx2 as Kernel>::test_triangles,
+                ));
+            }
+            if Isa::Avx512.is_available() {
+                kernels.push((
+                    Isa::Avx512,
+                    <Avx512 as Kernel>::test_children::<Vec3, 4>,
+                    <Avx512 as Kernel>::test_children::<Vec3, 8>,
+                    <Avx512 as Kernel>::test_triangles,
+                ));
+            }
+        }
+        kernels
+    }
+
+    /// Coordinates that make the hard cases common: planes through the origin, zeros of both
+    /// signs, huge and tiny values.
+    fn coordinate() -> impl Strategy<Value = f32> {
+        prop_oneof![
+            4 => -10.0..10.0f32,
+            2 => (-3i32..3).prop_map(|value| value as f32),
+            1 => Just(-0.0f32),
+            1 => prop_oneof![Just(1e30f32), Just(-1e30), Just(1e-30), Just(-1e-30)],
+        ]
+    }
+
+    fn vec3() -> impl Strategy<Value = Vec3> {
+        [coordinate(), coordinate(), coordinate()].prop_map(Vec3::from_array)
+    }
+
+    /// A node with its first slots holding random (possibly flat) boxes, the rest empty.
+    fn node<const W: usize>() -> impl Strategy<Value = WideNode<f32, W>> {
+        (prop::collection::vec((vec3(), vec3()), W), 1..=W).prop_map(|(boxes, used)| {
+            let mut node = WideNode::<f32, W>::default();
+            for (slot, (a, b)) in boxes.into_iter().enumerate().take(used) {
+                for axis in 0..3 {
+                    node.lower[axis][slot] = a[axis].min(b[axis]);
+                    node.upper[axis][slot] = a[axis].max(b[axis]);
+                }
+                node.child[slot] = slot as u32;
+            }
+            node
+        })
+    }
+
+    fn ray() -> impl Strategy<Value = (Ray<Vec3>, bool, f32)> {
+        (
+            vec3(),
+            vec3(),
+            any::<bool>(),
+            prop_oneof![Just(f32::INFINITY), 0.0..20.0f32],
+        )
+            .prop_filter_map("a direction", |(origin, direction, robust, t_max)| {
+                let ray = Ray::try_new(origin, direction).ok()?;
+                Some((ray, robust, t_max))
+            })
+    }
+
+    /// Bit-for-bit equality, NaN included.
+    fn bits(values: &[f32]) -> Vec<u32> {
+        values.iter().map(|value| value.to_bits()).collect()
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig {
+            cases: 3000,
+            failure_persistence: None,
+            ..ProptestConfig::default()
+        })]
+
+        #[test]
+        fn every_child_kernel_computes_the_portable_intervals(
+            node4 in node::<4>(),
+            node8 in node::<8>(),
+            (ray, robust, t_max) in ray(),
+        ) {
+            let slab_ray = SlabRay::new(&ray, robust);
+            let kernels = kernels();
+            let (_, portable4, portable8, _) = kernels[0];
+            let (want4, want8) = (portable4(&node4, &slab_ray, t_max), portable8(&node8, &slab_ray, t_max));
+            for (isa, children4, children8, _) in kernels {
+                let (got4, got8) = (children4(&node4, &slab_ray, t_max), children8(&node8, &slab_ray, t_max));
+                prop_assert_eq!(got4.hit_mask, want4.hit_mask, "{:?}", isa);
+                prop_assert_eq!(bits(&got4.t_enter), bits(&want4.t_enter), "{:?}", isa);
+                prop_assert_eq!(bits(&got4.t_exit), bits(&want4.t_exit), "{:?}", isa);
+                prop_assert_eq!(got8.hit_mask, want8.hit_mask, "{:?}", isa);
+                prop_assert_eq!(bits(&got8.t_enter), bits(&want8.t_enter), "{:?}", isa);
+                prop_assert_eq!(bits(&got8.t_exit), bits(&want8.t_exit), "{:?}", isa);
+            }
+        }
+
+        #[test]
+        fn every_triangle_kernel_computes_the_portable_hits(
+            corners in prop::collection::vec([vec3(), vec3(), vec3()], 4),
+            aim in (0usize..4, 0.0..1.0f32, 0.0..1.0f32, 0usize..3),
+            (ray, _, t_max) in ray(),
+        ) {
+            let block = TriangleBlock::pack(&corners)[0];
+            // Half the rays aim at a corner, an edge or inside one of the triangles.
+            let (lane, a, b, kind) = aim;
+            let [v0, v1, v2] = corners[lane];
+            let target = match kind {
+                0 => v0,
+                1 => v0 + (v1 - v0) * a,
+                _ => v0 + (v1 - v0) * (a * 0.5) + (v2 - v0) * (b * 0.5),
+            };
+            let aimed = Ray::try_new(ray.origin, target - ray.origin).unwrap_or(ray);
+            for ray in [ray, aimed] {
+                let kernels = kernels();
+                let want = (kernels[0].3)(&block, ray.origin, ray.direction, 0.0, t_max);
+                // The portable block test is the one-triangle test, lane by lane.
+                let triangles = TriangleSet::<Vec3>::from_f64(
+                    &corners
+                        .iter()
+                        .map(|corner| corner.map(|v| v.as_dvec3().to_array()))
+                        .collect::<Vec<_>>(),
+                );
+                for (lane, &t) in want.iter().enumerate() {
+                    let prepared = triangles.prepare(&ray, crate::primitive::HitTest::Fast);
+                    // A degenerate triangle is stored collapsed, so never hit; skip it.
+                    if triangles.triangles()[lane][0] != corners[lane][0]
+                        || triangles.triangles()[lane] != corners[lane]
+                    {
+                        continue;
+                    }
+                    let single = triangles.intersect(&prepared, lane, 0.0, t_max);
+                    prop_assert_eq!(single.map(f32::to_bits), (!t.is_nan()).then(|| t.to_bits()));
+                }
+                for (isa, _, _, triangles) in &kernels {
+                    let got = triangles(&block, ray.origin, ray.direction, 0.0, t_max);
+                    prop_assert_eq!(bits(&got), bits(&want), "{:?}", isa);
+                }
+            }
+        }
+    }
+
+    /// Whole traversals on every instruction set: the same hits and the same steps.
+    #[test]
+    fn every_instruction_set_traces_the_same_hits_and_steps() {
+        let mut state = 3u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut point = || Vec3::new(next(), next(), next()) * 10.0;
+        let corners: Vec<[[f64; 3]; 3]> = (0..3000)
+            .map(|_| {
+                let a = point();
+                [a, a + (point() - a) * 0.05, a + (point() - a) * 0.05]
+                    .map(|v| v.as_dvec3().to_array())
+            })
+            .collect();
+        let triangles = TriangleSet::<Vec3>::from_f64(&corners);
+        let binary = BinnedSah { bins: 16 }.build(&triangles.all_bounds(), &BuildParams::default());
+        let cost = BuildParams::default().cost;
+        let four: WideBvh<Vec3, 4> = collapse(&binary, &cost);
+        let eight: WideBvh<Vec3, 8> = collapse(&binary, &cost);
+        let (ordered4, ordered8) = (
+            four.leaf_ordered(&triangles),
+            eight.leaf_ordered(&triangles),
+        );
+        let rays: Vec<Ray<Vec3>> = (0..2000)
+            .filter_map(|_| {
+                let origin = point() * 3.0 - Vec3::splat(10.0);
+                Ray::try_new(origin, point() - origin).ok()
+            })
+            .collect();
+        let mut stack = WideStack::default();
+        for robust in [false, true] {
+            for order in [Order::NearFirst, Order::FileOrder] {
+                let options = TraceOptions {
+                    order,
+                    ..TraceOptions::default()
+                }
+                .with_robust(robust);
+                for ray in &rays {
+                    let mut reference = None;
+                    for isa in Isa::ALL.into_iter().filter(|isa| isa.is_available()) {
+                        let mut trace = |tree4: bool| {
+                            let mut counters = Counters::default();
+                            let hit = match (tree4, isa) {
+                                #[cfg(target_arch = "x86_64")]
+                                (true, Isa::Avx2) => unsafe {
+                                    x86::traverse_avx2(
+                                        &four,
+                                        &ordered4,
+                                        ray,
+                                        &options,
+                                        &mut stack,
+                                        &mut counters,
+                                    )
+                                },
+                                #[cfg(target_arch = "x86_64")]
+                                (false, Isa::Avx2) => unsafe {
+                                    x86::traverse_avx2(
+                                        &eight,
+                                        &ordered8,
+                                        ray,
+                                        &options,
+                                        &mut stack,
+                                        &mut counters,
+                                    )
+                                },
+                                #[cfg(target_arch = "x86_64")]
+                                (true, Isa::Avx512) => unsafe {
+                                    x86::traverse_avx512(
+                                        &four,
+                                        &ordered4,
+                                        ray,
+                                        &options,
+                                        &mut stack,
+                                        &mut counters,
+                                    )
+                                },
+                                #[cfg(target_arch = "x86_64")]
+                                (false, Isa::Avx512) => unsafe {
+                                    x86::traverse_avx512(
+                                        &eight,
+                                        &ordered8,
+                                        ray,
+                                        &options,
+                                        &mut stack,
+                                        &mut counters,
+                                    )
+                                },
+                                (true, _) => traverse_wide_with::<Portable, _, _, _, 4>(
+                                    &four,
+                                    &ordered4,
+                                    ray,
+                                    &options,
+                                    &mut stack,
+                                    &mut counters,
+                                ),
+                                (false, _) => traverse_wide_with::<Portable, _, _, _, 8>(
+                                    &eight,
+                                    &ordered8,
+                                    ray,
+                                    &options,
+                                    &mut stack,
+                                    &mut counters,
+                                ),
+                            };
+                            // The plain triangles, tested one by one, agree too.
+                            let plain = if tree4 {
+                                traverse_wide_with::<Portable, _, _, _, 4>(
+                                    &four,
+                                    &triangles,
+                                    ray,
+                                    &options,
+                                    &mut WideStack::default(),
+                                    &mut NoObserver,
+                                )
+                            } else {
+                                traverse_wide_with::<Portable, _, _, _, 8>(
+                                    &eight,
+                                    &triangles,
+                                    ray,
+                                    &options,
+                                    &mut WideStack::default(),
+                                    &mut NoObserver,
+                                )
+                            };
+                            assert_eq!(hit, plain, "{isa:?} blocks against one by one");
+                            (hit, counters)
+                        };
+                        let got = (trace(true), trace(false));
+                        match &reference {
+                            None => reference = Some(got),
+                            Some(expected) => assert_eq!(&got, expected, "{isa:?} {options:?}"),
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
