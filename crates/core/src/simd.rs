@@ -10,7 +10,7 @@
 //! - loading SIMD registers through pointers into nodes and triangle blocks, which are
 //!   `#[repr(C, align(64))]` arrays of exactly the lanes loaded.
 //!
-//! Every kernel does the arithmetic of the portable code ([`Portable`]) in the same order, with
+//! Every kernel does the arithmetic of the portable code (`Portable`) in the same order, with
 //! the same NaN rules (`max_ps(a, b)` is `a > b ? a : b`, which ignores a NaN `a`, like the
 //! slab module's reductions), and no fused multiply-adds, so its results are bit for bit the
 //! portable ones; the tests below hold every kernel to that on random and extreme inputs.
@@ -180,6 +180,12 @@ where
         }
         _ => {}
     }
+    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+    if Isa::active() == Isa::Simd128 {
+        return traverse_wide_with::<wasm::Simd128, V, P, O, W>(
+            tree, primitives, ray, options, stack, observer,
+        );
+    }
     traverse_wide_with::<Portable, V, P, O, W>(tree, primitives, ray, options, stack, observer)
 }
 
@@ -261,8 +267,11 @@ macro_rules! kernel {
                     (&mut tests as &mut dyn Any).downcast_mut::<ChildTests<f32, 8>>(),
                 ) {
                     // SAFETY: this kernel runs only when `Isa::active` says the machine has
-                    // its instruction set (see `traverse_wide`).
-                    *out = unsafe { $test8(node8, ray3, t_max3) };
+                    // its instruction set (see `traverse_wide`). (WebAssembly's kernels are
+                    // safe: the module is compiled for its set.)
+                    #[allow(unused_unsafe)]
+                    let tests8 = unsafe { $test8(node8, ray3, t_max3) };
+                    *out = tests8;
                     return tests;
                 }
                 if let (Some(node4), Some(out)) = (
@@ -270,7 +279,9 @@ macro_rules! kernel {
                     (&mut tests as &mut dyn Any).downcast_mut::<ChildTests<f32, 4>>(),
                 ) {
                     // SAFETY: as above.
-                    *out = unsafe { $test4(node4, ray3, t_max3) };
+                    #[allow(unused_unsafe)]
+                    let tests4 = unsafe { $test4(node4, ray3, t_max3) };
+                    *out = tests4;
                     return tests;
                 }
                 Portable::test_children(node, ray, t_max)
@@ -285,7 +296,9 @@ macro_rules! kernel {
                 t_max: f32,
             ) -> [f32; 4] {
                 // SAFETY: as above.
-                unsafe { $triangles(block, origin, direction, t_min, t_max) }
+                #[allow(unused_unsafe)]
+                let t_hits = unsafe { $triangles(block, origin, direction, t_min, t_max) };
+                t_hits
             }
         }
     };
@@ -508,6 +521,159 @@ mod x86 {
     triangles!(triangles_avx512, "avx2,fma,avx512f,avx512vl");
 }
 
+#[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+mod wasm {
+    use std::arch::wasm32::*;
+
+    use super::*;
+
+    /// WebAssembly `simd128` kernels: four lanes; eight children are two halves. `pmax(a, b)`
+    /// is `a < b ? b : a` and `pmin(a, b)` is `b < a ? b : a`, the x86 rules with the operands
+    /// swapped, so a NaN plane distance is ignored the same way.
+    pub(crate) struct Simd128;
+
+    kernel!(
+        Simd128,
+        children4_simd128,
+        children8_simd128,
+        triangles_simd128
+    );
+
+    /// Four lanes from an array.
+    #[inline(always)]
+    fn load(row: &[f32; 4]) -> v128 {
+        f32x4(row[0], row[1], row[2], row[3])
+    }
+
+    /// The slab test of four children: slots `offset..offset + 4` of the planes.
+    #[inline(always)]
+    fn children4_at<const W: usize>(
+        node: &WideNode<f32, W>,
+        ray: &SlabRay<Vec3>,
+        t_max: f32,
+        offset: usize,
+    ) -> (v128, v128, u32) {
+        let mut t_enter = f32x4_splat(ray.t_min);
+        let mut t_exit = f32x4_splat(f32::INFINITY);
+        for axis in 0..3 {
+            let (near, far) = if ray.negative[axis] {
+                (&node.upper[axis], &node.lower[axis])
+            } else {
+                (&node.lower[axis], &node.upper[axis])
+            };
+            let lanes = |row: &[f32; W]| {
+                f32x4(
+                    row[offset],
+                    row[offset + 1],
+                    row[offset + 2],
+                    row[offset + 3],
+                )
+            };
+            let origin = f32x4_splat(ray.origin[axis]);
+            let inverse = f32x4_splat(ray.inv_direction[axis]);
+            let t_near = f32x4_mul(f32x4_sub(lanes(near), origin), inverse);
+            let t_far = f32x4_mul(f32x4_sub(lanes(far), origin), inverse);
+            t_enter = f32x4_pmax(t_enter, t_near);
+            t_exit = f32x4_pmin(t_exit, t_far);
+        }
+        let scaled = f32x4_mul(t_exit, f32x4_splat(ray.far_scale));
+        let t_exit = f32x4_pmin(f32x4_splat(t_max), scaled);
+        let mask = u32::from(i32x4_bitmask(f32x4_le(t_enter, t_exit)));
+        (t_enter, t_exit, mask)
+    }
+
+    fn lanes_of(vector: v128) -> [f32; 4] {
+        [
+            f32x4_extract_lane::<0>(vector),
+            f32x4_extract_lane::<1>(vector),
+            f32x4_extract_lane::<2>(vector),
+            f32x4_extract_lane::<3>(vector),
+        ]
+    }
+
+    pub(super) fn children4_simd128(
+        node: &WideNode<f32, 4>,
+        ray: &SlabRay<Vec3>,
+        t_max: f32,
+    ) -> ChildTests<f32, 4> {
+        let (t_enter, t_exit, hit_mask) = children4_at(node, ray, t_max, 0);
+        ChildTests {
+            t_enter: lanes_of(t_enter),
+            t_exit: lanes_of(t_exit),
+            hit_mask,
+        }
+    }
+
+    pub(super) fn children8_simd128(
+        node: &WideNode<f32, 8>,
+        ray: &SlabRay<Vec3>,
+        t_max: f32,
+    ) -> ChildTests<f32, 8> {
+        let (enter_low, exit_low, mask_low) = children4_at(node, ray, t_max, 0);
+        let (enter_high, exit_high, mask_high) = children4_at(node, ray, t_max, 4);
+        let join = |low: v128, high: v128| {
+            let (low, high) = (lanes_of(low), lanes_of(high));
+            std::array::from_fn(|slot| if slot < 4 { low[slot] } else { high[slot - 4] })
+        };
+        ChildTests {
+            t_enter: join(enter_low, enter_high),
+            t_exit: join(exit_low, exit_high),
+            hit_mask: mask_low | mask_high << 4,
+        }
+    }
+
+    /// Möller–Trumbore on four triangles, the portable code's operations in its order.
+    pub(super) fn triangles_simd128(
+        block: &TriangleBlock,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> [f32; 4] {
+        let [v0x, v0y, v0z] = block.v0.each_ref().map(load);
+        let [e1x, e1y, e1z] = block.edge1.each_ref().map(load);
+        let [e2x, e2y, e2z] = block.edge2.each_ref().map(load);
+        let (dx, dy, dz) = (
+            f32x4_splat(direction.x),
+            f32x4_splat(direction.y),
+            f32x4_splat(direction.z),
+        );
+        let mul = f32x4_mul;
+        let sub = f32x4_sub;
+        let add = f32x4_add;
+        let px = sub(mul(dy, e2z), mul(e2y, dz));
+        let py = sub(mul(dz, e2x), mul(e2z, dx));
+        let pz = sub(mul(dx, e2y), mul(e2x, dy));
+        let det = add(add(mul(e1x, px), mul(e1y, py)), mul(e1z, pz));
+        let zero = f32x4_splat(0.0);
+        let one = f32x4_splat(1.0);
+        let inv_det = f32x4_div(one, det);
+        let sx = sub(f32x4_splat(origin.x), v0x);
+        let sy = sub(f32x4_splat(origin.y), v0y);
+        let sz = sub(f32x4_splat(origin.z), v0z);
+        let u = mul(add(add(mul(sx, px), mul(sy, py)), mul(sz, pz)), inv_det);
+        let qx = sub(mul(sy, e1z), mul(e1y, sz));
+        let qy = sub(mul(sz, e1x), mul(e1z, sx));
+        let qz = sub(mul(sx, e1y), mul(e1x, sy));
+        let v = mul(add(add(mul(dx, qx), mul(dy, qy)), mul(dz, qz)), inv_det);
+        let t = mul(add(add(mul(e2x, qx), mul(e2y, qy)), mul(e2z, qz)), inv_det);
+        let rejected = v128_or(
+            v128_or(f32x4_lt(u, zero), f32x4_gt(u, one)),
+            v128_or(f32x4_lt(v, zero), f32x4_gt(add(u, v), one)),
+        );
+        let accepted = v128_and(
+            f32x4_ne(det, zero),
+            v128_and(
+                f32x4_ge(t, f32x4_splat(t_min)),
+                f32x4_le(t, f32x4_splat(t_max)),
+            ),
+        );
+        // `v128_andnot(a, b)` is `a & !b`.
+        let valid = v128_andnot(accepted, rejected);
+        lanes_of(v128_bitselect(t, f32x4_splat(f32::NAN), valid))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -549,6 +715,13 @@ mod tests {
                 ));
             }
         }
+        #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+        kernels.push((
+            Isa::Simd128,
+            <wasm::Simd128 as Kernel>::test_children::<Vec3, 4>,
+            <wasm::Simd128 as Kernel>::test_children::<Vec3, 8>,
+            <wasm::Simd128 as Kernel>::test_triangles,
+        ));
         kernels
     }
 
@@ -764,6 +937,28 @@ mod tests {
                                         &mut counters,
                                     )
                                 },
+                                #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+                                (true, Isa::Simd128) => {
+                                    traverse_wide_with::<wasm::Simd128, _, _, _, 4>(
+                                        &four,
+                                        &ordered4,
+                                        ray,
+                                        &options,
+                                        &mut stack,
+                                        &mut counters,
+                                    )
+                                }
+                                #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+                                (false, Isa::Simd128) => {
+                                    traverse_wide_with::<wasm::Simd128, _, _, _, 8>(
+                                        &eight,
+                                        &ordered8,
+                                        ray,
+                                        &options,
+                                        &mut stack,
+                                        &mut counters,
+                                    )
+                                }
                                 (true, _) => traverse_wide_with::<Portable, _, _, _, 4>(
                                     &four,
                                     &ordered4,
