@@ -349,21 +349,27 @@ mod x86 {
     /// The near and far planes of `axis` for this ray: lower and upper, or the reverse when
     /// the ray moves towards −∞ on that axis (chosen once per ray by the sign; Williams et
     /// al. 2005).
+    /// Without a branch: `upper` follows `lower` in the node (`repr(C)`), three rows on.
     #[inline(always)]
     fn planes<const W: usize>(
         node: &WideNode<f32, W>,
         ray: &SlabRay<Vec3>,
         axis: usize,
     ) -> (*const f32, *const f32) {
-        if ray.negative[axis] {
-            (node.upper[axis].as_ptr(), node.lower[axis].as_ptr())
-        } else {
-            (node.lower[axis].as_ptr(), node.upper[axis].as_ptr())
+        let rows = node.lower.as_ptr().cast::<[f32; W]>();
+        let negative = usize::from(ray.negative[axis]);
+        // SAFETY: rows `axis` and `axis + 3` of the six plane rows.
+        unsafe {
+            (
+                rows.add(axis + 3 * negative).cast::<f32>(),
+                rows.add(axis + 3 * (1 - negative)).cast::<f32>(),
+            )
         }
     }
 
     macro_rules! children8 {
         ($name:ident, $features:literal, $mask:expr) => {
+            #[inline]
             #[target_feature(enable = $features)]
             pub(super) fn $name(
                 node: &WideNode<f32, 8>,
@@ -403,6 +409,7 @@ mod x86 {
 
     macro_rules! children4 {
         ($name:ident, $features:literal) => {
+            #[inline]
             #[target_feature(enable = $features)]
             pub(super) fn $name(
                 node: &WideNode<f32, 4>,
@@ -455,6 +462,7 @@ mod x86 {
         ($name:ident, $features:literal) => {
             /// Möller–Trumbore on four triangles in the lanes of SSE registers: the portable
             /// code's products and sums in its order (glam's cross and dot), so the same `t`.
+            #[inline]
             #[target_feature(enable = $features)]
             pub(super) fn $name(
                 block: &TriangleBlock,

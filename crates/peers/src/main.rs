@@ -9,6 +9,11 @@
 //! - `bvh` (svenstaro): its SAH build; its nearest-first iterator yields the candidate
 //!   triangles, each tested with Möller–Trumbore (the library's own test culls back faces).
 //! - `parry3d`: `TriMesh::new` (builds its BVH) and `cast_local_ray_and_get_normal`.
+//! - `embree`: Embree 3 (`libembree3`, loaded at run time, see [`embree`]), built at its
+//!   default quality on one thread, traced with `rtcIntersect1`; `embree-packet`: the same
+//!   scene, camera rays traced as coherent packets of 16 (4×4 pixels, `rtcIntersect16`).
+
+mod embree;
 
 use std::time::{Duration, Instant};
 
@@ -36,7 +41,8 @@ struct Args {
     /// Trace the primary rays of a WIDTHxHEIGHT camera instead (as `accelviz-cli bench --camera`).
     #[arg(long)]
     camera: Option<String>,
-    /// Which peers, comma-separated: obvhs, bvh, parry3d.
+    /// Which peers, comma-separated: obvhs, bvh, parry3d, embree, embree-packet (camera
+    /// rays only).
     #[arg(long, default_value = "obvhs,bvh,parry3d")]
     peers: String,
     /// Build and trace this many times; report the fastest of each.
@@ -242,6 +248,54 @@ fn run_parry(mesh: &Mesh, rays: &[RaySpec]) -> Result<Figures> {
     })
 }
 
+fn run_embree(mesh: &Mesh, rays: &[RaySpec], packets: Option<&[Vec<u32>]>) -> Result<Figures> {
+    let triangles: Vec<[[f32; 3]; 3]> = mesh.triangles.iter().map(|t| t.map(to_f32)).collect();
+    let start = Instant::now();
+    let scene = embree::Embree::build(&triangles)?;
+    let build_ms = start.elapsed().as_secs_f64() * 1e3;
+    let rays: Vec<([f32; 3], [f32; 3], f32)> = rays
+        .iter()
+        .map(|r| {
+            (
+                to_f32(r.origin),
+                to_f32(r.direction),
+                r.t_max.min(f32::MAX as f64) as f32,
+            )
+        })
+        .collect();
+    let start = Instant::now();
+    let hits = match packets {
+        None => rays
+            .iter()
+            .filter(|&&(origin, direction, t_max)| {
+                scene.intersect1(origin, direction, t_max).is_some()
+            })
+            .count(),
+        Some(packets) => {
+            let mut hits = 0;
+            let mut packet_rays = Vec::with_capacity(16);
+            let mut packet_hits = [None; 16];
+            for packet in packets {
+                packet_rays.clear();
+                packet_rays.extend(packet.iter().map(|&index| rays[index as usize]));
+                scene.intersect_packet::<16>(&packet_rays, &mut packet_hits);
+                hits += packet_hits[..packet.len()].iter().flatten().count();
+            }
+            hits
+        }
+    };
+    Ok(Figures {
+        name: if packets.is_some() {
+            "embree:packet16"
+        } else {
+            "embree:intersect1"
+        },
+        build_ms,
+        trace_ms: start.elapsed().as_secs_f64() * 1e3,
+        hits,
+    })
+}
+
 fn main() -> std::process::ExitCode {
     match run(Args::parse()) {
         Ok(text) => {
@@ -267,6 +321,13 @@ fn run(args: Args) -> Result<String> {
     .map_err(anyhow::Error::msg)?;
     let rays = source.rays(&mesh)?;
     let ray_source = source.label();
+    // Camera rays in packets of 4×4 pixels, for the packet tracers.
+    let packets = match &source {
+        RaySource::Camera { width, height } => {
+            Some(accelviz_scene::rays::pixel_tiles(*width, *height, 4, 4))
+        }
+        _ => None,
+    };
     let mut figures = Vec::new();
     for peer in args.peers.split(',') {
         let mut best: Option<Figures> = None;
@@ -275,7 +336,14 @@ fn run(args: Args) -> Result<String> {
                 "obvhs" => run_obvhs(&mesh, &rays),
                 "bvh" => run_bvh(&mesh, &rays),
                 "parry3d" => run_parry(&mesh, &rays)?,
-                other => bail!("unknown peer '{other}'; peers are obvhs, bvh, parry3d"),
+                "embree" => run_embree(&mesh, &rays, None)?,
+                "embree-packet" => match &packets {
+                    Some(packets) => run_embree(&mesh, &rays, Some(packets))?,
+                    None => bail!("embree-packet traces camera rays: give --camera"),
+                },
+                other => bail!(
+                    "unknown peer '{other}'; peers are obvhs, bvh, parry3d, embree, embree-packet"
+                ),
             };
             best = Some(match best {
                 None => run,

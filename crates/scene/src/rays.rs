@@ -247,6 +247,33 @@ pub fn camera_rays(bounds: &Aabb<DVec3>, width: usize, height: usize) -> Vec<Ray
     rays
 }
 
+/// The pixels of a `width × height` image (numbered row by row, as [`camera_rays`] makes
+/// them) in tiles of `tile_width × tile_height`, tiles row by row: the groups a packet tracer
+/// traces together (neighbouring pixels, so rays of nearly one direction). Edge tiles are
+/// cut to the image.
+pub fn pixel_tiles(
+    width: usize,
+    height: usize,
+    tile_width: usize,
+    tile_height: usize,
+) -> Vec<Vec<u32>> {
+    let (tile_width, tile_height) = (tile_width.max(1), tile_height.max(1));
+    let mut tiles = Vec::with_capacity(width.div_ceil(tile_width) * height.div_ceil(tile_height));
+    for top in (0..height).step_by(tile_height) {
+        for left in (0..width).step_by(tile_width) {
+            let rows = top..(top + tile_height).min(height);
+            tiles.push(
+                rows.flat_map(|row| {
+                    (left..(left + tile_width).min(width))
+                        .map(move |column| (row * width + column) as u32)
+                })
+                .collect(),
+            );
+        }
+    }
+    tiles
+}
+
 /// Rays from outside a mesh aimed exactly at each triangle corner, at the midpoint of each edge
 /// and at a random point on each edge: where a ray test that is not watertight lets rays slip between neighbours.
 ///

@@ -236,6 +236,11 @@ impl<S: Real> HitSearch<S> {
                 t_min,
                 self.t_closest.to_f64() as f32,
             );
+            // Most blocks are missed by every lane: then only an observer has work to do.
+            let any_hit = t_hits.iter().any(|t| !t.is_nan());
+            if !any_hit && !O::ACTIVE {
+                continue;
+            }
             for (&primitive, &t) in block_numbers.iter().zip(&t_hits) {
                 let t = S::from_f32(t);
                 let hit = t <= self.t_closest;
@@ -259,6 +264,7 @@ impl<S: Real> HitSearch<S> {
 }
 
 /// Pushes the children hit, farthest (or last) first, and returns the one to visit next.
+/// One and two hits, the common cases, take no loop (as in Embree's single-ray traversal).
 #[inline(always)]
 fn visit_children<S: Real, const W: usize>(
     node: &WideNode<S, W>,
@@ -266,38 +272,62 @@ fn visit_children<S: Real, const W: usize>(
     order: Order,
     entries: &mut Vec<Pending<S>>,
 ) -> Option<Pending<S>> {
-    let mut mask = tests.hit_mask;
     let pending = |slot: usize| Pending {
         child: node.child[slot],
         count: node.count[slot],
         t_enter: tests.t_enter[slot],
     };
-    match mask.count_ones() {
-        0 => None,
-        1 => Some(pending(mask.trailing_zeros() as usize)),
-        _ => {
-            // The hit children in slot order, then (near first) sorted by entry: an insertion
-            // sort, stable, so equal entries keep slot order.
-            let mut hits = [pending(0); W];
-            let mut hit_count = 0;
-            while mask != 0 {
-                let slot = mask.trailing_zeros() as usize;
-                mask &= mask - 1;
-                let entry = pending(slot);
-                let mut at = hit_count;
-                if order == Order::NearFirst {
-                    while at > 0 && hits[at - 1].t_enter > entry.t_enter {
-                        hits[at] = hits[at - 1];
-                        at -= 1;
-                    }
-                }
-                hits[at] = entry;
-                hit_count += 1;
+    let mut mask = tests.hit_mask;
+    if mask == 0 {
+        return None;
+    }
+    let first = mask.trailing_zeros() as usize;
+    mask &= mask - 1;
+    if mask == 0 {
+        return Some(pending(first));
+    }
+    let second = mask.trailing_zeros() as usize;
+    mask &= mask - 1;
+    let near_first = order == Order::NearFirst;
+    if mask == 0 {
+        let (near, far) = if near_first && tests.t_enter[second] < tests.t_enter[first] {
+            (second, first)
+        } else {
+            (first, second)
+        };
+        entries.push(pending(far));
+        return Some(pending(near));
+    }
+    // Three or more: the slots hit, sorted by entry (near first) with an insertion sort that
+    // keeps slot order for equal entries.
+    let mut slots = [0u8; W];
+    slots[0] = first as u8;
+    slots[1] = second as u8;
+    let mut hit_count = 2;
+    while mask != 0 {
+        slots[hit_count] = mask.trailing_zeros() as u8;
+        mask &= mask - 1;
+        hit_count += 1;
+    }
+    if near_first {
+        for index in 1..hit_count {
+            let slot = slots[index];
+            let t_enter = tests.t_enter[slot as usize];
+            let mut at = index;
+            while at > 0 && tests.t_enter[slots[at - 1] as usize] > t_enter {
+                slots[at] = slots[at - 1];
+                at -= 1;
             }
-            entries.extend(hits[1..hit_count].iter().rev());
-            Some(hits[0])
+            slots[at] = slot;
         }
     }
+    entries.extend(
+        slots[1..hit_count]
+            .iter()
+            .rev()
+            .map(|&slot| pending(slot as usize)),
+    );
+    Some(pending(slots[0] as usize))
 }
 
 impl<V: Vector, const W: usize> WideBvh<V, W> {
