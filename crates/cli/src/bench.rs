@@ -9,6 +9,7 @@ use anyhow::{Result, bail};
 use clap::Args;
 
 use crate::json::JsonObject;
+use crate::parallel::Workers;
 use crate::spec::{Accel, AccelSpec};
 use crate::timing::{Samples, interleaved};
 use crate::{BuildArgs, Precision, TraceArgs, convert_rays, load_mesh};
@@ -52,9 +53,10 @@ pub struct BenchArgs {
     /// machine has.
     #[arg(long)]
     isa: Option<String>,
-    /// Threads tracing rays (the build is single-threaded).
-    #[arg(long, default_value_t = 1)]
-    threads: usize,
+    /// Threads tracing rays, in tiles of 256 rays (the build is single-threaded); a
+    /// comma-separated list (`1,2`) measures each in the same rounds.
+    #[arg(long, default_value = "1")]
+    threads: String,
     /// One JSON object per structure, one per line.
     #[arg(long)]
     json: bool,
@@ -80,7 +82,7 @@ impl BenchArgs {
                 mailbox: false,
             },
             build: BuildArgs::default(),
-            threads: 1,
+            threads: "1".into(),
             json: false,
         }
     }
@@ -106,6 +108,7 @@ fn precision_name(precision: Precision) -> &'static str {
 struct Figures {
     accel: String,
     isa: Isa,
+    threads: usize,
     triangles: usize,
     build: Samples,
     nodes: usize,
@@ -118,6 +121,16 @@ struct Figures {
     trace: Samples,
     counters: Counters,
     hits: usize,
+}
+
+/// Parses `--threads`: whole numbers from 1.
+fn parse_threads(list: &str) -> Result<Vec<usize>> {
+    list.split(',')
+        .map(|count| match count.trim().parse::<usize>() {
+            Ok(count) if count > 0 => Ok(count),
+            _ => bail!("--threads must be at least 1 (or a list of such numbers, e.g. 1,2)"),
+        })
+        .collect()
 }
 
 /// Parses `--isa`: the sets named, each one this machine can run.
@@ -156,9 +169,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     let specs = AccelSpec::parse_list(&args.accel)?;
     let isas = parse_isas(args.isa.as_deref())?;
     let params = args.build.params()?;
-    if args.threads == 0 {
-        bail!("--threads must be at least 1");
-    }
+    let threads = parse_threads(&args.threads)?;
     let mesh = load_mesh(&args.mesh)?;
     let source = RaySource::from_options(
         args.rays_file.as_deref(),
@@ -171,31 +182,45 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     let rays = source.rays(&mesh)?;
     let ray_source = source.label();
     let figures = match args.trace.precision {
-        Precision::F32 => {
-            measure::<glam::Vec3>(&specs, &isas, &params, &mesh, &rays, &ray_source, args)?
-        }
-        Precision::F64 => {
-            measure::<glam::DVec3>(&specs, &isas, &params, &mesh, &rays, &ray_source, args)?
-        }
+        Precision::F32 => measure::<glam::Vec3>(
+            &specs,
+            &isas,
+            &threads,
+            &params,
+            &mesh,
+            &rays,
+            &ray_source,
+            args,
+        )?,
+        Precision::F64 => measure::<glam::DVec3>(
+            &specs,
+            &isas,
+            &threads,
+            &params,
+            &mesh,
+            &rays,
+            &ray_source,
+            args,
+        )?,
     };
     let options = args.trace.options();
     let mut output = String::new();
     if !args.json {
         output.push_str(&format!(
-            "mesh {} ({} triangles), {} rays ({ray_source}), {} order, {}, {}, {} thread(s), median of {} interleaved rounds (±: half their range)\n",
+            "mesh {} ({} triangles), {} rays ({ray_source}), {} order, {}, {}, median of {} interleaved rounds (±: half their range)\n",
             mesh.name,
             mesh.triangles.len(),
             rays.len(),
             order_name(options.order),
             precision_name(args.trace.precision),
             if args.trace.robust { "robust" } else { "fast" },
-            args.threads,
             args.repeat.max(1)
         ));
         output.push_str(&format!(
-            "{:<22} {:<8} {:>10} {:>8} {:>8} {:>6} {:>9} {:>10} {:>6} {:>9} {:>11} {:>11} {:>8}\n",
+            "{:<22} {:<8} {:>7} {:>10} {:>8} {:>8} {:>6} {:>9} {:>10} {:>6} {:>9} {:>11} {:>11} {:>8}\n",
             "accel",
             "isa",
+            "threads",
             "build ms",
             "nodes",
             "leaves",
@@ -247,16 +272,17 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .string("precision", precision_name(args.trace.precision))
                 .boolean("robust", args.trace.robust)
                 .boolean("mailbox", args.trace.mailbox)
-                .integer("threads", args.threads as u64)
+                .integer("threads", f.threads as u64)
                 .integer("repeat", args.repeat.max(1) as u64)
                 .finish();
             output.push_str(&object);
             output.push('\n');
         } else {
             output.push_str(&format!(
-                "{:<22} {:<8} {:>10.2} {:>8} {:>8} {:>6} {:>9.2} {:>10.2} {:>6.1} {:>9.3} {:>11.2} {:>11.2} {:>8}\n",
+                "{:<22} {:<8} {:>7} {:>10.2} {:>8} {:>8} {:>6} {:>9.2} {:>10.2} {:>6.1} {:>9.3} {:>11.2} {:>11.2} {:>8}\n",
                 f.accel,
                 f.isa.name(),
+                f.threads,
                 f.build.median(),
                 f.nodes,
                 f.leaves,
@@ -274,9 +300,11 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     Ok(output)
 }
 
+#[allow(clippy::too_many_arguments)]
 fn measure<V: Vector3>(
     specs: &[AccelSpec],
     isas: &[Isa],
+    threads: &[usize],
     params: &BuildParams,
     mesh: &Mesh,
     ray_specs: &[RaySpec],
@@ -287,6 +315,10 @@ fn measure<V: Vector3>(
     let rays = convert_rays::<V>(ray_specs, ray_source)?;
     let options = args.trace.options();
     let rounds = args.repeat.max(1);
+    let workers = threads
+        .iter()
+        .map(|&count| Workers::new(count))
+        .collect::<Result<Vec<_>>>()?;
     // Build every structure once per round; keep the first round's.
     let mut accels: Vec<Option<Accel<V, TriangleSet<V>>>> = specs.iter().map(|_| None).collect();
     let builds = interleaved(rounds, specs.len(), |index| {
@@ -294,30 +326,40 @@ fn measure<V: Vector3>(
         accels[index].get_or_insert(accel);
     });
     let accels: Vec<_> = accels.into_iter().flatten().collect();
-    // Trace with every structure and instruction set once per round.
-    let configurations: Vec<(usize, Isa)> = (0..specs.len())
-        .flat_map(|spec| isas.iter().map(move |&isa| (spec, isa)))
+    // Trace with every structure, instruction set and thread count once per round.
+    let configurations: Vec<(usize, Isa, usize)> = (0..specs.len())
+        .flat_map(|spec| {
+            isas.iter()
+                .flat_map(move |&isa| (0..threads.len()).map(move |workers| (spec, isa, workers)))
+        })
         .collect();
     let mut hits = vec![0; configurations.len()];
     let traces = interleaved(rounds, configurations.len(), |index| {
-        let (spec, isa) = configurations[index];
+        let (spec, isa, workers_index) = configurations[index];
         Isa::set_active(isa).unwrap_or_else(|_| unreachable!("checked by parse_isas"));
-        hits[index] = trace_all(&accels[spec], &rays, &options, args.threads);
+        hits[index] = trace_all(&accels[spec], &rays, &options, &workers[workers_index]);
     });
     Isa::set_active(Isa::detect()).unwrap_or_else(|_| unreachable!("detected"));
+    // Count in a separate, untimed pass (the counts are the same whatever the kernels and
+    // threads).
+    let counted: Vec<Counters> = accels
+        .iter()
+        .map(|accel| {
+            let mut counters = Counters::default();
+            let mut stack = accelviz_core::TraversalStacks::default();
+            for ray in &rays {
+                accel.trace(ray, &options, &mut stack, &mut counters);
+            }
+            counters
+        })
+        .collect();
     let mut all = Vec::with_capacity(configurations.len());
-    for (index, &(spec, isa)) in configurations.iter().enumerate() {
-        let accel = &accels[spec];
-        let stats = accel.stats(triangles.triangles().len(), &params.cost);
-        // Count in a separate, untimed pass (the counts are the same whatever the kernels).
-        let mut counters = Counters::default();
-        let mut stack = accelviz_core::TraversalStacks::default();
-        for ray in &rays {
-            accel.trace(ray, &options, &mut stack, &mut counters);
-        }
+    for (index, &(spec, isa, workers_index)) in configurations.iter().enumerate() {
+        let stats = accels[spec].stats(triangles.triangles().len(), &params.cost);
         all.push(Figures {
             accel: specs[spec].name(),
             isa,
+            threads: threads[workers_index],
             triangles: triangles.triangles().len(),
             build: builds[spec].clone(),
             nodes: stats.node_count,
@@ -328,45 +370,25 @@ fn measure<V: Vector3>(
             sah_cost: stats.sah_cost,
             rays: rays.len(),
             trace: traces[index].clone(),
-            counters,
+            counters: counted[spec],
             hits: hits[index],
         });
     }
     Ok(all)
 }
 
-/// Traces every ray, on `threads` threads; returns the number of hits. (Kept out of line so
-/// profiles can single it out.)
+/// Traces every ray on `workers`; returns the number of hits. (Kept out of line so profiles
+/// can single it out.)
 #[inline(never)]
 fn trace_all<V: Vector3>(
     accel: &Accel<V, TriangleSet<V>>,
     rays: &[Ray<V>],
     options: &TraceOptions,
-    threads: usize,
+    workers: &Workers,
 ) -> usize {
-    let trace_chunk = |chunk: &[Ray<V>]| {
-        let mut stack = accelviz_core::TraversalStacks::default();
-        chunk
-            .iter()
-            .filter(|ray| {
-                accel
-                    .trace(ray, options, &mut stack, &mut NoObserver)
-                    .is_some()
-            })
-            .count()
-    };
-    if threads <= 1 {
-        return trace_chunk(rays);
-    }
-    let chunk_size = rays.len().div_ceil(threads).max(1);
-    std::thread::scope(|scope| {
-        let workers: Vec<_> = rays
-            .chunks(chunk_size)
-            .map(|chunk| scope.spawn(move || trace_chunk(chunk)))
-            .collect();
-        workers
-            .into_iter()
-            .map(|worker| worker.join().unwrap_or(0))
-            .sum()
-    })
+    workers.count(
+        rays,
+        accelviz_core::TraversalStacks::default,
+        |stacks, ray| accel.trace(ray, options, stacks, &mut NoObserver).is_some(),
+    )
 }

@@ -47,6 +47,10 @@ fn query_prints_one_line_per_ray_in_order() {
         "bvh:sah-binned",
         "bvh:sah-binned:4",
         "bvh:sah-sweep",
+        "bvh4:middle",
+        "bvh4:sah-binned:8",
+        "bvh8:median",
+        "bvh8:sah-sweep",
         "kd:middle",
         "kd:median",
         "kd:sah",
@@ -57,6 +61,7 @@ fn query_prints_one_line_per_ray_in_order() {
             &[][..],
             &["--order", "file-order"],
             &["--precision", "f64", "--robust"],
+            &["--threads", "2"],
         ] {
             let mut args = vec!["query", "--mesh", &mesh, "--accel", accel, "--rays", &rays];
             args.extend_from_slice(extra);
@@ -243,6 +248,63 @@ fn assert_fails(args: &[&str], expected: &str) {
     assert!(!message.contains("panicked"), "{args:?}: {message}");
 }
 
+/// A ray file of many blocks (the query reads about two megabytes at a time): every thread
+/// count answers the same lines in the same order, and a bad line far into the file stops the
+/// query before it writes anything.
+#[test]
+fn query_streams_large_files_on_any_number_of_threads() {
+    let mesh = file("big-square.obj", SQUARE);
+    let mut text = String::new();
+    for index in 0..120_000u32 {
+        let x = f64::from(index % 1000) / 999.0 * 1.2 - 0.1;
+        let y = f64::from(index / 1000) / 119.0;
+        text.push_str(&format!("{x:.6} {y:.6} 1 0 0 -1\n"));
+    }
+    let rays = file("many-rays.txt", &text);
+    let answers: Vec<String> = ["1", "2"]
+        .iter()
+        .map(|threads| {
+            let output = cli(&[
+                "query",
+                "--mesh",
+                &mesh,
+                "--accel",
+                "bvh8:sah-binned",
+                "--rays",
+                &rays,
+                "--threads",
+                threads,
+            ]);
+            assert!(output.status.success(), "{}", stderr(&output));
+            stdout(&output)
+        })
+        .collect();
+    assert_eq!(answers[0], answers[1]);
+    let lines: Vec<&str> = answers[0].lines().collect();
+    assert_eq!(lines.len(), 120_000);
+    assert!(lines[0].starts_with("MISS") && lines[500].starts_with("HIT"));
+    text.push_str("0.5 0.5 1 0 0\n");
+    let bad = file("many-rays-bad.txt", &text);
+    let output = cli(&[
+        "query",
+        "--mesh",
+        &mesh,
+        "--accel",
+        "bvh4:median",
+        "--rays",
+        &bad,
+    ]);
+    assert_eq!(output.status.code(), Some(2));
+    assert!(stdout(&output).is_empty(), "no partial output");
+    assert!(
+        stderr(&output).contains(
+            "many-rays-bad.txt:120001: a ray is 'ox oy oz dx dy dz [tmin tmax]', found 5 values"
+        ),
+        "{}",
+        stderr(&output)
+    );
+}
+
 #[test]
 fn bad_input_fails_cleanly() {
     let mesh = file("good.obj", SQUARE);
@@ -321,6 +383,25 @@ fn bad_input_fails_cleanly() {
         query(&mesh, "bvh:sah-binned:1", &rays),
         "the bins must be a whole number from 2 to 4096",
     );
+    run(
+        query(&mesh, "bvh16:middle", &rays),
+        "unknown accelerator 'bvh16:middle'",
+    );
+    run(
+        query(&mesh, "bvh8:sah-binned:1", &rays),
+        "'bvh8:sah-binned:1': the bins must be a whole number from 2 to 4096",
+    );
+    let long = file(
+        "long-line.txt",
+        &format!("0.5 0.5 1 0 0 -1\n{}\n", "1 ".repeat(3000)),
+    );
+    run(
+        query(&mesh, "brute", &long),
+        "long-line.txt:2: the line is longer than 4096 bytes",
+    );
+    let mut args = query(&mesh, "brute", &rays);
+    args.extend(["--threads".to_owned(), "0".to_owned()]);
+    run(args, "--threads must be at least 1");
     assert_fails(
         &["bench", "--accel", "bvh:median,kd:octree", "--rays", "10"],
         "unknown accelerator 'kd:octree'",

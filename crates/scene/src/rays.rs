@@ -61,7 +61,8 @@ impl<V: Vector> Revalidate for Ray<V> {
     }
 }
 
-/// Reads a ray file.
+/// Reads a ray file whole (up to [`MAX_FILE_BYTES`](crate::error::MAX_FILE_BYTES); a
+/// larger one is read a line at a time with [`RayReader`]).
 pub fn load_rays(path: &str) -> Result<Vec<RaySpec>, LoadError> {
     parse_rays(&read_text(path)?, path)
 }
@@ -70,54 +71,199 @@ pub fn load_rays(path: &str) -> Result<Vec<RaySpec>, LoadError> {
 pub fn parse_rays(text: &str, path: &str) -> Result<Vec<RaySpec>, LoadError> {
     let mut rays = Vec::new();
     for (line_index, line) in text.lines().enumerate() {
-        let line_number = line_index + 1;
-        let trimmed = line.trim();
-        if trimmed.is_empty() || trimmed.starts_with('#') {
-            continue;
+        if let Some(ray) = parse_ray_line(line, line_index + 1, path)? {
+            rays.push(ray);
         }
-        let fail = |problem: String| LoadError::at_line(path, line_number, problem);
-        let words: Vec<&str> = trimmed.split_whitespace().collect();
-        if words.len() != 6 && words.len() != 8 {
-            return Err(fail(format!(
-                "a ray is 'ox oy oz dx dy dz [tmin tmax]', found {} values",
-                words.len()
-            )));
-        }
-        let mut numbers = [0.0f64; 8];
-        for (slot, word) in words.iter().enumerate() {
-            numbers[slot] = word
-                .parse()
-                .map_err(|_| fail(format!("'{word}' is not a number")))?;
-        }
-        let (t_min, t_max) = if words.len() == 8 {
-            (numbers[6], numbers[7])
-        } else {
-            (0.0, f64::INFINITY)
-        };
-        if !t_min.is_finite() || t_max.is_nan() || t_max == f64::NEG_INFINITY {
-            return Err(fail(format!(
-                "the interval [{t_min}, {t_max}] must have a finite tmin and a tmax that is a number or inf"
-            )));
-        }
-        let ray = RaySpec {
-            line: line_number,
-            origin: [numbers[0], numbers[1], numbers[2]],
-            direction: [numbers[3], numbers[4], numbers[5]],
-            t_min,
-            t_max,
-        };
-        // Check in both precisions: a direction can be nonzero in f64 and zero in f32.
-        for (precision, result) in [
-            ("", ray.to_ray::<DVec3>().err()),
-            (" in f32 precision", ray.to_ray::<Vec3>().err()),
-        ] {
-            if let Some(error) = result {
-                return Err(fail(format!("bad ray{precision}: {error}")));
-            }
-        }
-        rays.push(ray);
     }
     Ok(rays)
+}
+
+/// The longest line a ray file may have: a ray is eight numbers.
+pub const MAX_RAY_LINE_BYTES: usize = 4096;
+
+/// One line of a ray file: a ray, or `None` for a blank line or a `#` comment.
+pub fn parse_ray_line(
+    line: &str,
+    line_number: usize,
+    path: &str,
+) -> Result<Option<RaySpec>, LoadError> {
+    let trimmed = line.trim();
+    if trimmed.is_empty() || trimmed.starts_with('#') {
+        return Ok(None);
+    }
+    let fail = |problem: String| LoadError::at_line(path, line_number, problem);
+    let mut words = [""; 8];
+    let mut word_count = 0;
+    for word in trimmed.split_ascii_whitespace() {
+        if word_count < words.len() {
+            words[word_count] = word;
+        }
+        word_count += 1;
+    }
+    if word_count != 6 && word_count != 8 {
+        return Err(fail(format!(
+            "a ray is 'ox oy oz dx dy dz [tmin tmax]', found {word_count} values"
+        )));
+    }
+    let mut numbers = [0.0f64; 8];
+    for (slot, word) in words[..word_count].iter().enumerate() {
+        numbers[slot] = word
+            .parse()
+            .map_err(|_| fail(format!("'{word}' is not a number")))?;
+    }
+    let (t_min, t_max) = if word_count == 8 {
+        (numbers[6], numbers[7])
+    } else {
+        (0.0, f64::INFINITY)
+    };
+    if !t_min.is_finite() || t_max.is_nan() || t_max == f64::NEG_INFINITY {
+        return Err(fail(format!(
+            "the interval [{t_min}, {t_max}] must have a finite tmin and a tmax that is a number or inf"
+        )));
+    }
+    let ray = RaySpec {
+        line: line_number,
+        origin: [numbers[0], numbers[1], numbers[2]],
+        direction: [numbers[3], numbers[4], numbers[5]],
+        t_min,
+        t_max,
+    };
+    // Check in both precisions: a direction can be nonzero in f64 and zero in f32.
+    for (precision, result) in [
+        ("", ray.to_ray::<DVec3>().err()),
+        (" in f32 precision", ray.to_ray::<Vec3>().err()),
+    ] {
+        if let Some(error) = result {
+            return Err(fail(format!("bad ray{precision}: {error}")));
+        }
+    }
+    Ok(Some(ray))
+}
+
+/// A ray file read a line at a time, so a file of any size takes a few kilobytes: each item is
+/// a ray, or the first error (which names the file and line; the reader then stops).
+pub struct RayReader {
+    path: String,
+    reader: std::io::BufReader<std::fs::File>,
+    line_number: usize,
+    line: Vec<u8>,
+    failed: bool,
+}
+
+impl RayReader {
+    /// Opens `path`.
+    pub fn open(path: &str) -> Result<Self, LoadError> {
+        let file = std::fs::File::open(path).map_err(|cause| LoadError::Io {
+            path: path.to_owned(),
+            cause,
+        })?;
+        Ok(Self {
+            path: path.to_owned(),
+            reader: std::io::BufReader::with_capacity(1 << 16, file),
+            line_number: 0,
+            line: Vec::with_capacity(128),
+            failed: false,
+        })
+    }
+}
+
+impl RayReader {
+    /// The next lines of the file, whole, about `bytes` long in all, with the number of the
+    /// first: what a caller parses with [`parse_ray_line`] (on several threads, say). `None`
+    /// at the end.
+    pub fn next_block(&mut self, bytes: usize) -> Option<Result<(usize, String), LoadError>> {
+        use std::io::{BufRead, Read};
+        if self.failed {
+            return None;
+        }
+        let first_line = self.line_number + 1;
+        let mut block = Vec::with_capacity(bytes + MAX_RAY_LINE_BYTES);
+        while block.len() < bytes {
+            let start = block.len();
+            let limit = MAX_RAY_LINE_BYTES as u64 + 1;
+            match (&mut self.reader).take(limit).read_until(b'\n', &mut block) {
+                Ok(0) => break,
+                Ok(_) => self.line_number += 1,
+                Err(cause) => {
+                    self.failed = true;
+                    return Some(Err(LoadError::Io {
+                        path: self.path.clone(),
+                        cause,
+                    }));
+                }
+            }
+            if block.len() - start > MAX_RAY_LINE_BYTES && block.last() != Some(&b'\n') {
+                self.failed = true;
+                return Some(Err(LoadError::at_line(
+                    &self.path,
+                    self.line_number,
+                    format!("the line is longer than {MAX_RAY_LINE_BYTES} bytes"),
+                )));
+            }
+        }
+        if block.is_empty() {
+            return None;
+        }
+        Some(String::from_utf8(block).map_err(|error| {
+            self.failed = true;
+            let offset = error.utf8_error().valid_up_to();
+            let line = error.as_bytes()[..offset]
+                .iter()
+                .filter(|&&b| b == b'\n')
+                .count();
+            LoadError::at_line(&self.path, first_line + line, "the line is not UTF-8 text")
+        }))
+        .map(|text| text.map(|text| (first_line, text)))
+    }
+}
+
+impl Iterator for RayReader {
+    type Item = Result<RaySpec, LoadError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        use std::io::{BufRead, Read};
+        while !self.failed {
+            self.line.clear();
+            self.line_number += 1;
+            let limit = MAX_RAY_LINE_BYTES as u64 + 1;
+            let parsed = match (&mut self.reader)
+                .take(limit)
+                .read_until(b'\n', &mut self.line)
+            {
+                Ok(0) => return None,
+                Err(cause) => Err(LoadError::Io {
+                    path: self.path.clone(),
+                    cause,
+                }),
+                Ok(_)
+                    if self.line.len() > MAX_RAY_LINE_BYTES && self.line.last() != Some(&b'\n') =>
+                {
+                    Err(LoadError::at_line(
+                        &self.path,
+                        self.line_number,
+                        format!("the line is longer than {MAX_RAY_LINE_BYTES} bytes"),
+                    ))
+                }
+                Ok(_) => match std::str::from_utf8(&self.line) {
+                    Ok(text) => parse_ray_line(text, self.line_number, &self.path),
+                    Err(_) => Err(LoadError::at_line(
+                        &self.path,
+                        self.line_number,
+                        "the line is not UTF-8 text",
+                    )),
+                },
+            };
+            match parsed {
+                Ok(None) => continue,
+                Ok(Some(ray)) => return Some(Ok(ray)),
+                Err(error) => {
+                    self.failed = true;
+                    return Some(Err(error));
+                }
+            }
+        }
+        None
+    }
 }
 
 /// `count` random rays around `bounds`, the same for the same seed on every machine.
