@@ -1,8 +1,6 @@
 //! `accelviz-cli tradeoff`: every structure and every speed/accuracy switch on the same rays,
 //! against the f64 brute-force answer; a table (Markdown, CSV) and two SVG plots.
 
-use std::time::Instant;
-
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::{
     Counters, HitTest, NoObserver, Order, PrimitiveSet, Query, Ray, Real, Structure, TraceOptions,
@@ -13,8 +11,10 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use glam::{DVec3, Vec3};
 
+use crate::parallel::Workers;
 use crate::plot::{Point, Scatter};
-use crate::spec::AccelSpec;
+use crate::spec::{Accel, AccelSpec};
+use crate::timing::interleaved;
 use crate::{BuildArgs, convert_rays, load_mesh};
 
 #[derive(Args, Debug)]
@@ -38,9 +38,13 @@ pub struct TradeoffArgs {
     /// here (created if missing). Without it, the Markdown table goes to stdout.
     #[arg(long)]
     out: Option<String>,
-    /// Build and trace this many times; the fastest of each is reported.
-    #[arg(long, default_value_t = 3)]
+    /// Rounds: every structure is built, and every row traced, once per round, the rounds
+    /// interleaved; each figure is the median of its rounds, with the range it moved in.
+    #[arg(long, default_value_t = 5)]
     repeat: usize,
+    /// Threads tracing rays, in tiles of 256 (builds are single-threaded).
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
     #[command(flatten)]
     build: BuildArgs,
 }
@@ -65,6 +69,8 @@ struct Row {
     nodes_per_ray: f64,
     primitives_per_ray: f64,
     mrays_per_s: f64,
+    /// Half the range of the trace times, in percent of their median.
+    trace_spread_percent: f64,
     wrong_per_million: f64,
     missed_per_million: f64,
 }
@@ -106,18 +112,66 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     };
     let reference = brute_force_answers(&mesh.triangles, &ray_specs, &source)?;
     let repeat = args.repeat.max(1);
-    let mut rows = Vec::new();
-    let setup = Setup {
-        triangles: &mesh.triangles,
-        ray_specs: &ray_specs,
-        source: &source,
-        params: &params,
-        reference: &reference,
-        repeat,
-    };
-    for spec in &specs {
-        rows.extend(measure::<Vec3>(spec, &setup)?);
-        rows.extend(measure::<DVec3>(spec, &setup)?);
+    let workers = Workers::new(args.threads)?;
+    let single = Prepared::<Vec3>::new(&mesh.triangles, &ray_specs, &source)?;
+    let double = Prepared::<DVec3>::new(&mesh.triangles, &ray_specs, &source)?;
+    // Every structure built in both precisions once per round (a configuration is a structure
+    // and a precision); the first round's trees are kept.
+    let mut trees32: Vec<Option<Accel<Vec3, TriangleSet<Vec3>>>> =
+        specs.iter().map(|_| None).collect();
+    let mut trees64: Vec<Option<Accel<DVec3, TriangleSet<DVec3>>>> =
+        specs.iter().map(|_| None).collect();
+    let builds = interleaved(repeat, specs.len() * 2, |index| {
+        let spec = &specs[index / 2];
+        if index % 2 == 0 {
+            let (tree, _) = spec.build(&single.triangles, &params);
+            trees32[index / 2].get_or_insert(tree);
+        } else {
+            let (tree, _) = spec.build(&double.triangles, &params);
+            trees64[index / 2].get_or_insert(tree);
+        }
+    });
+    let trees32: Vec<_> = trees32.into_iter().flatten().collect();
+    let trees64: Vec<_> = trees64.into_iter().flatten().collect();
+    // Every row (a structure and a switch setting) traced once per round.
+    let keys: Vec<(usize, usize)> = (0..specs.len())
+        .flat_map(|spec| (0..VARIANTS.len()).map(move |variant| (spec, variant)))
+        .collect();
+    let traces = interleaved(repeat, keys.len(), |index| {
+        let (spec, variant) = keys[index];
+        let options = variant_options(VARIANTS[variant]);
+        let hits = if VARIANTS[variant].1 {
+            double.trace(&trees64[spec], &options, &workers)
+        } else {
+            single.trace(&trees32[spec], &options, &workers)
+        };
+        std::hint::black_box(hits);
+    });
+    let mut rows = Vec::with_capacity(keys.len());
+    for (index, &(spec, variant)) in keys.iter().enumerate() {
+        let (order, is_f64, watertight) = VARIANTS[variant];
+        let options = variant_options(VARIANTS[variant]);
+        let (stats, counters, wrong, missed) = if is_f64 {
+            double.evaluate(&trees64[spec], &options, &reference, &params)
+        } else {
+            single.evaluate(&trees32[spec], &options, &reference, &params)
+        };
+        let count = ray_specs.len() as f64;
+        let trace_ms = traces[index].median();
+        rows.push(Row {
+            structure: specs[spec].name(),
+            order,
+            f64: is_f64,
+            watertight,
+            build_ms: builds[2 * spec + usize::from(is_f64)].median(),
+            sah_cost: stats.sah_cost,
+            nodes_per_ray: counters.nodes_visited as f64 / count,
+            primitives_per_ray: counters.primitive_tests as f64 / count,
+            mrays_per_s: count / (trace_ms * 1e3),
+            trace_spread_percent: traces[index].spread_percent(),
+            wrong_per_million: wrong as f64 / count * 1e6,
+            missed_per_million: missed as f64 / count * 1e6,
+        });
     }
     // Table order: by structure, then the variants in their listed order.
     rows.sort_by_key(|row| {
@@ -128,7 +182,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         (structure, variant)
     });
     let heading = format!(
-        "{} ({} triangles), {} {} rays (seed {}), C_trav {}, C_isect {}, kD empty bonus {}, single thread, best of {repeat}",
+        "{} ({} triangles), {} {} rays (seed {}), C_trav {}, C_isect {}, kD empty bonus {}, {} thread(s), median of {repeat} interleaved rounds (±: half their range; rows whose ranges overlap are not shown to differ)",
         args.mesh,
         mesh.triangles.len(),
         ray_specs.len(),
@@ -137,6 +191,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         params.cost.traversal_cost,
         params.cost.intersection_cost,
         params.cost.empty_bonus,
+        args.threads,
     );
     let markdown = markdown(&rows, &heading, &params);
     let Some(out) = &args.out else {
@@ -248,66 +303,62 @@ fn brute_force_answers(
     Ok(answers.into_iter().flatten().collect())
 }
 
-/// Builds `spec` in precision `V` and traces every variant of that precision.
-/// What every measurement shares: the mesh, the rays and their reference answers.
-struct Setup<'a> {
-    triangles: &'a [[[f64; 3]; 3]],
-    ray_specs: &'a [RaySpec],
-    source: &'a str,
-    params: &'a BuildParams,
-    reference: &'a [Answer],
-    repeat: usize,
+/// The options of a switch setting `(order, f64, watertight)` (the precision is the tree's).
+fn variant_options((order, _, watertight): (Order, bool, bool)) -> TraceOptions {
+    let options = TraceOptions {
+        order,
+        query: Query::Closest,
+        ..TraceOptions::default()
+    }
+    .with_robust(watertight);
+    debug_assert_eq!(options.hit_test == HitTest::Watertight, watertight);
+    options
 }
 
-fn measure<V: Vector3>(spec: &AccelSpec, setup: &Setup<'_>) -> Result<Vec<Row>> {
-    let Setup {
-        triangles,
-        ray_specs,
-        source,
-        params,
-        reference,
-        repeat,
-    } = *setup;
-    let is_f64 = size_of::<V::Scalar>() == 8;
-    let triangles = TriangleSet::<V>::from_f64(triangles);
-    let rays: Vec<Ray<V>> = convert_rays::<V>(ray_specs, source)?;
-    let (mut accel, mut build_ms) = spec.build(&triangles, params);
-    for _ in 1..repeat {
-        let (again, again_ms) = spec.build(&triangles, params);
-        if again_ms < build_ms {
-            (accel, build_ms) = (again, again_ms);
-        }
+/// The mesh and the rays in one precision.
+struct Prepared<V: Vector3> {
+    triangles: TriangleSet<V>,
+    rays: Vec<Ray<V>>,
+}
+
+impl<V: Vector3> Prepared<V> {
+    fn new(triangles: &[[[f64; 3]; 3]], ray_specs: &[RaySpec], source: &str) -> Result<Self> {
+        Ok(Self {
+            triangles: TriangleSet::from_f64(triangles),
+            rays: convert_rays::<V>(ray_specs, source)?,
+        })
     }
-    let sah_cost = accel.stats(triangles.len(), &params.cost).sah_cost;
-    let mut rows = Vec::new();
-    for &(order, variant_f64, watertight) in VARIANTS.iter().filter(|v| v.1 == is_f64) {
-        let options = TraceOptions {
-            order,
-            query: Query::Closest,
-            ..TraceOptions::default()
-        }
-        .with_robust(watertight);
-        debug_assert_eq!(options.hit_test == HitTest::Watertight, watertight);
+
+    /// Traces every ray (the timed part); the number of hits.
+    fn trace(
+        &self,
+        accel: &Accel<V, TriangleSet<V>>,
+        options: &TraceOptions,
+        workers: &Workers,
+    ) -> usize {
+        workers.count(
+            &self.rays,
+            accelviz_core::TraversalStacks::default,
+            |stacks, ray| accel.trace(ray, options, stacks, &mut NoObserver).is_some(),
+        )
+    }
+
+    /// Untimed: the tree's statistics, the work counted, and the rays answered wrongly or
+    /// missed against `reference`.
+    fn evaluate(
+        &self,
+        accel: &Accel<V, TriangleSet<V>>,
+        options: &TraceOptions,
+        reference: &[Answer],
+        params: &BuildParams,
+    ) -> (accelviz_core::TreeStats, Counters, usize, usize) {
+        let stats = accel.stats(self.triangles.len(), &params.cost);
         let mut stacks = accelviz_core::TraversalStacks::default();
-        let mut trace_ms = f64::INFINITY;
-        for _ in 0..repeat {
-            let start = Instant::now();
-            let hits = rays
-                .iter()
-                .filter(|ray| {
-                    accel
-                        .trace(ray, &options, &mut stacks, &mut NoObserver)
-                        .is_some()
-                })
-                .count();
-            std::hint::black_box(hits);
-            trace_ms = trace_ms.min(start.elapsed().as_secs_f64() * 1e3);
-        }
         let mut counters = Counters::default();
         let (mut wrong, mut missed) = (0usize, 0usize);
-        for (ray, expected) in rays.iter().zip(reference) {
+        for (ray, expected) in self.rays.iter().zip(reference) {
             let got = accel
-                .trace(ray, &options, &mut stacks, &mut counters)
+                .trace(ray, options, &mut stacks, &mut counters)
                 .map(|hit| (hit.primitive, hit.t.to_f64()));
             match (got, expected) {
                 (None, Some(_)) => missed += 1,
@@ -323,22 +374,8 @@ fn measure<V: Vector3>(spec: &AccelSpec, setup: &Setup<'_>) -> Result<Vec<Row>> 
                 (None, None) => {}
             }
         }
-        let count = rays.len() as f64;
-        rows.push(Row {
-            structure: spec.name(),
-            order,
-            f64: variant_f64,
-            watertight,
-            build_ms,
-            sah_cost,
-            nodes_per_ray: counters.nodes_visited as f64 / count,
-            primitives_per_ray: counters.primitive_tests as f64 / count,
-            mrays_per_s: count / (trace_ms * 1e3),
-            wrong_per_million: wrong as f64 / count * 1e6,
-            missed_per_million: missed as f64 / count * 1e6,
-        });
+        (stats, counters, wrong, missed)
     }
-    Ok(rows)
 }
 
 fn order_name(order: Order) -> &'static str {
@@ -350,7 +387,7 @@ fn order_name(order: Order) -> &'static str {
 
 impl Row {
     /// The table's cells: rounded for reading, or every digit (for CSV).
-    fn cells(&self, params: &BuildParams, rounded: bool) -> [String; 12] {
+    fn cells(&self, params: &BuildParams, rounded: bool) -> [String; 13] {
         let number = |value: f64, digits: usize| {
             if rounded {
                 format!("{value:.digits$}")
@@ -374,6 +411,7 @@ impl Row {
             number(self.nodes_per_ray, 1),
             number(self.primitives_per_ray, 1),
             number(self.mrays_per_s, 2),
+            number(self.trace_spread_percent, 0),
             number(self.wrong_per_million, 0),
             number(self.missed_per_million, 0),
         ]
@@ -383,8 +421,8 @@ impl Row {
 fn markdown(rows: &[Row], heading: &str, params: &BuildParams) -> String {
     let mut out = format!(
         "{heading}. Wrong and missed: against brute force in f64 with the watertight test, per million rays. Measured cost: C_trav·nodes + C_isect·primitives per ray, comparable with the SAH cost.\n\n\
-         | structure | order | precision | triangle test | build ms | SAH cost | measured cost | nodes/ray | prims/ray | Mrays/s | wrong /M | missed /M |\n\
-         |---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+         | structure | order | precision | triangle test | build ms | SAH cost | measured cost | nodes/ray | prims/ray | Mrays/s | ±% | wrong /M | missed /M |\n\
+         |---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
     );
     for row in rows {
         out.push_str(&format!("| {} |\n", row.cells(params, true).join(" | ")));
@@ -394,7 +432,7 @@ fn markdown(rows: &[Row], heading: &str, params: &BuildParams) -> String {
 
 fn csv(rows: &[Row], params: &BuildParams) -> String {
     let mut out = String::from(
-        "structure,order,precision,triangle_test,build_ms,sah_cost,measured_cost,nodes_per_ray,prims_per_ray,mrays_per_s,wrong_per_million,missed_per_million\n",
+        "structure,order,precision,triangle_test,build_ms,sah_cost,measured_cost,nodes_per_ray,prims_per_ray,mrays_per_s,trace_spread_percent,wrong_per_million,missed_per_million\n",
     );
     for row in rows {
         out.push_str(&row.cells(params, false).join(","));
