@@ -4,7 +4,7 @@ use accelviz_core::bvh::BuildParams;
 use accelviz_core::simd::Isa;
 use accelviz_core::{Counters, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
-use accelviz_scene::rays::{RaySource, RaySpec};
+use accelviz_scene::rays::{RaySource, RaySpec, pixel_tiles};
 use anyhow::{Result, bail};
 use clap::Args;
 
@@ -57,6 +57,12 @@ pub struct BenchArgs {
     /// comma-separated list (`1,2`) measures each in the same rounds.
     #[arg(long, default_value = "1")]
     threads: String,
+    /// Trace rays N at a time as packets (a wide BVH traces a packet together; other
+    /// structures ray by ray): consecutive rays, or a camera's pixels in tiles (8x8 for 64,
+    /// 4x4 for 16). A comma-separated list (`1,64`) measures each in the same rounds; 1 is
+    /// one ray at a time, in the rays' own order. At most 64.
+    #[arg(long, default_value = "1")]
+    packet: String,
     /// One JSON object per structure, one per line.
     #[arg(long)]
     json: bool,
@@ -83,6 +89,7 @@ impl BenchArgs {
             },
             build: BuildArgs::default(),
             threads: "1".into(),
+            packet: "1".into(),
             json: false,
         }
     }
@@ -109,6 +116,7 @@ struct Figures {
     accel: String,
     isa: Isa,
     threads: usize,
+    packet: usize,
     triangles: usize,
     build: Samples,
     nodes: usize,
@@ -123,12 +131,15 @@ struct Figures {
     hits: usize,
 }
 
-/// Parses `--threads`: whole numbers from 1.
-fn parse_threads(list: &str) -> Result<Vec<usize>> {
+/// Parses a comma-separated list of whole numbers from `min` to `max` (`--threads 1,2`).
+fn parse_counts(list: &str, flag: &str, min: usize, max: usize) -> Result<Vec<usize>> {
     list.split(',')
         .map(|count| match count.trim().parse::<usize>() {
-            Ok(count) if count > 0 => Ok(count),
-            _ => bail!("--threads must be at least 1 (or a list of such numbers, e.g. 1,2)"),
+            Ok(count) if (min..=max).contains(&count) => Ok(count),
+            _ if max == usize::MAX => {
+                bail!("{flag} must be at least {min} (or a list of such numbers, e.g. 1,2)")
+            }
+            _ => bail!("{flag} must be a whole number from {min} to {max} (or a list of them)"),
         })
         .collect()
 }
@@ -169,7 +180,8 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     let specs = AccelSpec::parse_list(&args.accel)?;
     let isas = parse_isas(args.isa.as_deref())?;
     let params = args.build.params()?;
-    let threads = parse_threads(&args.threads)?;
+    let threads = parse_counts(&args.threads, "--threads", 1, usize::MAX)?;
+    let packets = parse_counts(&args.packet, "--packet", 1, accelviz_core::bvh::MAX_PACKET)?;
     let mesh = load_mesh(&args.mesh)?;
     let source = RaySource::from_options(
         args.rays_file.as_deref(),
@@ -181,27 +193,19 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     .map_err(anyhow::Error::msg)?;
     let rays = source.rays(&mesh)?;
     let ray_source = source.label();
+    let axes = Axes {
+        isas: &isas,
+        threads: &threads,
+        packets: &packets,
+        source: &source,
+    };
     let figures = match args.trace.precision {
-        Precision::F32 => measure::<glam::Vec3>(
-            &specs,
-            &isas,
-            &threads,
-            &params,
-            &mesh,
-            &rays,
-            &ray_source,
-            args,
-        )?,
-        Precision::F64 => measure::<glam::DVec3>(
-            &specs,
-            &isas,
-            &threads,
-            &params,
-            &mesh,
-            &rays,
-            &ray_source,
-            args,
-        )?,
+        Precision::F32 => {
+            measure::<glam::Vec3>(&specs, &axes, &params, &mesh, &rays, &ray_source, args)?
+        }
+        Precision::F64 => {
+            measure::<glam::DVec3>(&specs, &axes, &params, &mesh, &rays, &ray_source, args)?
+        }
     };
     let options = args.trace.options();
     let mut output = String::new();
@@ -217,10 +221,11 @@ pub fn run(args: &BenchArgs) -> Result<String> {
             args.repeat.max(1)
         ));
         output.push_str(&format!(
-            "{:<22} {:<8} {:>7} {:>10} {:>8} {:>8} {:>6} {:>9} {:>10} {:>6} {:>9} {:>11} {:>11} {:>8}\n",
+            "{:<22} {:<8} {:>7} {:>6} {:>10} {:>8} {:>8} {:>6} {:>9} {:>10} {:>6} {:>9} {:>11} {:>11} {:>8}\n",
             "accel",
             "isa",
             "threads",
+            "packet",
             "build ms",
             "nodes",
             "leaves",
@@ -273,16 +278,18 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .boolean("robust", args.trace.robust)
                 .boolean("mailbox", args.trace.mailbox)
                 .integer("threads", f.threads as u64)
+                .integer("packet", f.packet as u64)
                 .integer("repeat", args.repeat.max(1) as u64)
                 .finish();
             output.push_str(&object);
             output.push('\n');
         } else {
             output.push_str(&format!(
-                "{:<22} {:<8} {:>7} {:>10.2} {:>8} {:>8} {:>6} {:>9.2} {:>10.2} {:>6.1} {:>9.3} {:>11.2} {:>11.2} {:>8}\n",
+                "{:<22} {:<8} {:>7} {:>6} {:>10.2} {:>8} {:>8} {:>6} {:>9.2} {:>10.2} {:>6.1} {:>9.3} {:>11.2} {:>11.2} {:>8}\n",
                 f.accel,
                 f.isa.name(),
                 f.threads,
+                f.packet,
                 f.build.median(),
                 f.nodes,
                 f.leaves,
@@ -300,11 +307,17 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     Ok(output)
 }
 
-#[allow(clippy::too_many_arguments)]
+/// What each structure is measured across, every combination in the same rounds.
+struct Axes<'a> {
+    isas: &'a [Isa],
+    threads: &'a [usize],
+    packets: &'a [usize],
+    source: &'a RaySource,
+}
+
 fn measure<V: Vector3>(
     specs: &[AccelSpec],
-    isas: &[Isa],
-    threads: &[usize],
+    axes: &Axes<'_>,
     params: &BuildParams,
     mesh: &Mesh,
     ray_specs: &[RaySpec],
@@ -315,10 +328,35 @@ fn measure<V: Vector3>(
     let rays = convert_rays::<V>(ray_specs, ray_source)?;
     let options = args.trace.options();
     let rounds = args.repeat.max(1);
-    let workers = threads
+    let workers = axes
+        .threads
         .iter()
         .map(|&count| Workers::new(count))
         .collect::<Result<Vec<_>>>()?;
+    // The rays of each packet size: in their order, or a camera's in tiles of pixels.
+    let packets: Vec<Vec<std::ops::Range<usize>>> = axes
+        .packets
+        .iter()
+        .map(|&size| packet_ranges(rays.len(), size))
+        .collect();
+    let tiled: Vec<Option<Vec<Ray<V>>>> = axes
+        .packets
+        .iter()
+        .map(|&size| match axes.source {
+            RaySource::Camera { width, height } if size > 1 => {
+                let tile_width = size.min(8);
+                let tiles = pixel_tiles(*width, *height, tile_width, size / tile_width);
+                Some(
+                    tiles
+                        .iter()
+                        .flatten()
+                        .map(|&pixel| rays[pixel as usize])
+                        .collect(),
+                )
+            }
+            _ => None,
+        })
+        .collect();
     // Build every structure once per round; keep the first round's.
     let mut accels: Vec<Option<Accel<V, TriangleSet<V>>>> = specs.iter().map(|_| None).collect();
     let builds = interleaved(rounds, specs.len(), |index| {
@@ -326,22 +364,37 @@ fn measure<V: Vector3>(
         accels[index].get_or_insert(accel);
     });
     let accels: Vec<_> = accels.into_iter().flatten().collect();
-    // Trace with every structure, instruction set and thread count once per round.
-    let configurations: Vec<(usize, Isa, usize)> = (0..specs.len())
-        .flat_map(|spec| {
-            isas.iter()
-                .flat_map(move |&isa| (0..threads.len()).map(move |workers| (spec, isa, workers)))
-        })
-        .collect();
+    // Trace with every combination once per round.
+    let mut configurations = Vec::new();
+    for spec in 0..specs.len() {
+        for &isa in axes.isas {
+            for threads in 0..axes.threads.len() {
+                for packet in 0..axes.packets.len() {
+                    configurations.push((spec, isa, threads, packet));
+                }
+            }
+        }
+    }
     let mut hits = vec![0; configurations.len()];
     let traces = interleaved(rounds, configurations.len(), |index| {
-        let (spec, isa, workers_index) = configurations[index];
+        let (spec, isa, threads, packet) = configurations[index];
         Isa::set_active(isa).unwrap_or_else(|_| unreachable!("checked by parse_isas"));
-        hits[index] = trace_all(&accels[spec], &rays, &options, &workers[workers_index]);
+        let rays = tiled[packet].as_deref().unwrap_or(&rays);
+        hits[index] = if axes.packets[packet] == 1 {
+            trace_all(&accels[spec], rays, &options, &workers[threads])
+        } else {
+            trace_packets(
+                &accels[spec],
+                rays,
+                &packets[packet],
+                &options,
+                &workers[threads],
+            )
+        };
     });
     Isa::set_active(Isa::detect()).unwrap_or_else(|_| unreachable!("detected"));
-    // Count in a separate, untimed pass (the counts are the same whatever the kernels and
-    // threads).
+    // Count in a separate, untimed pass, one ray at a time (the counts are the same whatever
+    // the kernels and threads).
     let counted: Vec<Counters> = accels
         .iter()
         .map(|accel| {
@@ -354,12 +407,13 @@ fn measure<V: Vector3>(
         })
         .collect();
     let mut all = Vec::with_capacity(configurations.len());
-    for (index, &(spec, isa, workers_index)) in configurations.iter().enumerate() {
+    for (index, &(spec, isa, threads, packet)) in configurations.iter().enumerate() {
         let stats = accels[spec].stats(triangles.triangles().len(), &params.cost);
         all.push(Figures {
             accel: specs[spec].name(),
             isa,
-            threads: threads[workers_index],
+            threads: axes.threads[threads],
+            packet: axes.packets[packet],
             triangles: triangles.triangles().len(),
             build: builds[spec].clone(),
             nodes: stats.node_count,
@@ -375,6 +429,39 @@ fn measure<V: Vector3>(
         });
     }
     Ok(all)
+}
+
+/// Consecutive groups of `size` of `count` rays.
+fn packet_ranges(count: usize, size: usize) -> Vec<std::ops::Range<usize>> {
+    (0..count)
+        .step_by(size.max(1))
+        .map(|start| start..(start + size).min(count))
+        .collect()
+}
+
+/// Traces `rays` in the packets `ranges` on `workers`; returns the number of hits.
+#[inline(never)]
+fn trace_packets<V: Vector3>(
+    accel: &Accel<V, TriangleSet<V>>,
+    rays: &[Ray<V>],
+    ranges: &[std::ops::Range<usize>],
+    options: &TraceOptions,
+    workers: &Workers,
+) -> usize {
+    let counts = workers.map(
+        ranges,
+        || {
+            let hits = vec![None; accelviz_core::bvh::MAX_PACKET];
+            let observers = vec![NoObserver; accelviz_core::bvh::MAX_PACKET];
+            (accelviz_core::TraversalStacks::default(), hits, observers)
+        },
+        |(stacks, hits, observers), range| {
+            let packet = &rays[range.clone()];
+            accel.trace_packet(packet, options, stacks, observers, hits);
+            hits[..packet.len()].iter().flatten().count()
+        },
+    );
+    counts.into_iter().sum()
 }
 
 /// Traces every ray on `workers`; returns the number of hits. (Kept out of line so profiles

@@ -95,6 +95,28 @@ impl<V: Vector, P: PrimitiveSet<V>> Accel<'_, V, P> {
         }
     }
 
+    /// Traces up to 64 rays as a packet (see [`Tree::trace_packet`]; brute force takes them
+    /// one by one), writing each ray's hit to `hits`.
+    pub fn trace_packet<O: Observer<V::Scalar>>(
+        &self,
+        rays: &[Ray<V>],
+        options: &TraceOptions,
+        stacks: &mut TraversalStacks<V::Scalar>,
+        observers: &mut [O],
+        hits: &mut [Option<Hit<V::Scalar>>],
+    ) {
+        match self {
+            Accel::Brute(primitives) => {
+                for ((ray, observer), hit) in rays.iter().zip(observers).zip(hits) {
+                    *hit = brute_force(*primitives, ray, options, observer);
+                }
+            }
+            Accel::Tree(tree, primitives) => {
+                tree.trace_packet(primitives, rays, options, stacks, observers, hits)
+            }
+        }
+    }
+
     /// The tree's statistics with these cost constants (for brute force: one leaf holding
     /// everything).
     pub fn stats(&self, primitive_count: usize, cost: &SahCost) -> TreeStats {

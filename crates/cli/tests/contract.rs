@@ -209,6 +209,56 @@ fn bench_camera_rays_and_their_errors() {
     );
 }
 
+/// Packets, thread counts and instruction sets are axes of one measurement: each combination
+/// is a row, with the same hits.
+#[test]
+fn bench_measures_packets_threads_and_instruction_sets_alike() {
+    for rays in [&["--camera", "24x16"][..], &["--rays", "300"]] {
+        let mut args = vec![
+            "bench",
+            "--mesh",
+            "builtin:icosphere",
+            "--accel",
+            "bvh8:sah-binned,bvh:median",
+            "--packet",
+            "1,16,64",
+            "--threads",
+            "1,2",
+            "--isa",
+            "portable",
+            "--repeat",
+            "2",
+            "--json",
+        ];
+        args.extend_from_slice(rays);
+        let output = cli(&args);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let rows: Vec<serde_json::Value> = stdout(&output)
+            .lines()
+            .map(|line| serde_json::from_str(line).unwrap())
+            .collect();
+        assert_eq!(rows.len(), 2 * 3 * 2);
+        for row in &rows {
+            assert_eq!(row["hits"], rows[0]["hits"], "{row}");
+            assert_eq!(row["isa"], "portable");
+            assert!(row["trace_ms_min"].as_f64().unwrap() <= row["trace_ms"].as_f64().unwrap());
+            assert!(row["trace_ms"].as_f64().unwrap() <= row["trace_ms_max"].as_f64().unwrap());
+        }
+        assert!(
+            rows.iter()
+                .any(|row| row["packet"] == 64 && row["threads"] == 2)
+        );
+    }
+    assert_fails(
+        &["bench", "--accel", "bvh8:median", "--packet", "65"],
+        "--packet must be a whole number from 1 to 64",
+    );
+    assert_fails(
+        &["bench", "--accel", "bvh8:median", "--isa", "neon"],
+        "unknown instruction set 'neon'; valid ones are: portable, simd128, avx2, avx512",
+    );
+}
+
 #[test]
 fn bench_reads_a_ray_file() {
     let mesh = file("square-bench.obj", SQUARE);

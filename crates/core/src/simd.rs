@@ -24,8 +24,8 @@ use std::sync::atomic::{AtomicU8, Ordering};
 
 use glam::Vec3;
 
-use crate::bvh::wide_traverse::traverse_wide_with;
-use crate::bvh::{ChildTests, WideBvh, WideNode, WideStack};
+use crate::bvh::wide_traverse::{traverse_packet_with, traverse_wide_with};
+use crate::bvh::{ChildTests, PacketStack, WideBvh, WideNode, WideStack};
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
 use crate::primitive::{LeafPrimitives, TriangleBlock};
@@ -189,6 +189,49 @@ where
     traverse_wide_with::<Portable, V, P, O, W>(tree, primitives, ray, options, stack, observer)
 }
 
+/// [`traverse_packet`](crate::bvh::traverse_packet) with the kernels of the active
+/// instruction set.
+#[inline]
+pub(crate) fn traverse_packet<V, P, O, const W: usize>(
+    tree: &WideBvh<V, W>,
+    primitives: &P,
+    rays: &[Ray<V>],
+    options: &TraceOptions,
+    stack: &mut PacketStack<V::Scalar>,
+    observers: &mut [O],
+    hits: &mut [Option<Hit<V::Scalar>>],
+) where
+    V: Vector,
+    P: LeafPrimitives<V>,
+    O: Observer<V::Scalar>,
+{
+    #[cfg(target_arch = "x86_64")]
+    match Isa::active() {
+        // SAFETY: `Isa::active` holds only an instruction set this machine has.
+        Isa::Avx512 => {
+            return unsafe {
+                x86::packet_avx512(tree, primitives, rays, options, stack, observers, hits)
+            };
+        }
+        // SAFETY: as above.
+        Isa::Avx2 => {
+            return unsafe {
+                x86::packet_avx2(tree, primitives, rays, options, stack, observers, hits)
+            };
+        }
+        _ => {}
+    }
+    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+    if Isa::active() == Isa::Simd128 {
+        return traverse_packet_with::<wasm::Simd128, V, P, O, W>(
+            tree, primitives, rays, options, stack, observers, hits,
+        );
+    }
+    traverse_packet_with::<Portable, V, P, O, W>(
+        tree, primitives, rays, options, stack, observers, hits,
+    )
+}
+
 /// What a wide traversal needs done in lanes: a node's child boxes, a block of triangles.
 /// Implemented by [`Portable`] for every vector type, and by the SIMD kernels for 3D f32 (other
 /// types fall back to the portable code inside them).
@@ -345,6 +388,34 @@ mod x86 {
 
     traversal!(traverse_avx2, Avx2, "avx2,fma");
     traversal!(traverse_avx512, Avx512, "avx2,fma,avx512f,avx512vl");
+
+    /// The packet traversal compiled for one instruction set (its lanes of rays are plain
+    /// loops, which the compiler turns into that set's vectors).
+    macro_rules! packet_traversal {
+        ($name:ident, $kernel:ty, $features:literal) => {
+            #[target_feature(enable = $features)]
+            pub(super) fn $name<V, P, O, const W: usize>(
+                tree: &WideBvh<V, W>,
+                primitives: &P,
+                rays: &[Ray<V>],
+                options: &TraceOptions,
+                stack: &mut PacketStack<V::Scalar>,
+                observers: &mut [O],
+                hits: &mut [Option<Hit<V::Scalar>>],
+            ) where
+                V: Vector,
+                P: LeafPrimitives<V>,
+                O: Observer<V::Scalar>,
+            {
+                traverse_packet_with::<$kernel, V, P, O, W>(
+                    tree, primitives, rays, options, stack, observers, hits,
+                )
+            }
+        };
+    }
+
+    packet_traversal!(packet_avx2, Avx2, "avx2,fma");
+    packet_traversal!(packet_avx512, Avx512, "avx2,fma,avx512f,avx512vl");
 
     /// The near and far planes of `axis` for this ray: lower and upper, or the reverse when
     /// the ray moves towards −∞ on that axis (chosen once per ray by the sign; Williams et
@@ -685,7 +756,7 @@ mod wasm {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bvh::{BinnedSah, BuildParams, Builder, WideBvh, collapse};
+    use crate::bvh::{BinnedSah, BuildParams, Builder, PacketStack, WideBvh, collapse};
     use crate::observer::{Counters, NoObserver};
     use crate::primitive::{PrimitiveSet, TriangleSet};
     use crate::query::Order;
@@ -850,6 +921,115 @@ mod tests {
                     let got = triangles(&block, ray.origin, ray.direction, 0.0, t_max);
                     prop_assert_eq!(bits(&got), bits(&want), "{:?}", isa);
                 }
+            }
+        }
+    }
+
+    /// Packets on every instruction set: the same hits as the portable packets, and as each
+    /// ray alone where no two triangles tie.
+    #[test]
+    fn every_instruction_set_traces_packets_alike() {
+        let mut state = 11u64;
+        let mut next = move || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let mut point = || Vec3::new(next(), next(), next()) * 10.0;
+        let corners: Vec<[[f64; 3]; 3]> = (0..2000)
+            .map(|_| {
+                let a = point();
+                [a, a + (point() - a) * 0.08, a + (point() - a) * 0.08]
+                    .map(|v| v.as_dvec3().to_array())
+            })
+            .collect();
+        let triangles = TriangleSet::<Vec3>::from_f64(&corners);
+        let binary = BinnedSah { bins: 16 }.build(&triangles.all_bounds(), &BuildParams::default());
+        let eight: WideBvh<Vec3, 8> = collapse(&binary, &BuildParams::default().cost);
+        let ordered = eight.leaf_ordered(&triangles);
+        // A camera-like fan of rays: neighbours in a packet are coherent.
+        let origin = Vec3::new(5.0, 5.0, -20.0);
+        let rays: Vec<Ray<Vec3>> = (0..64 * 40)
+            .filter_map(|index| {
+                let (x, y) = ((index % 64) as f32 / 64.0, (index / 64) as f32 / 40.0);
+                Ray::try_new(origin, Vec3::new(x * 10.0 - 5.0, y * 10.0 - 5.0, 20.0)).ok()
+            })
+            .collect();
+        let options = TraceOptions::default();
+        let mut stack = PacketStack::default();
+        let mut reference: Option<Vec<_>> = None;
+        for isa in Isa::ALL.into_iter().filter(|isa| isa.is_available()) {
+            let mut hits = vec![None; rays.len()];
+            for (packet, packet_hits) in rays.chunks(64).zip(hits.chunks_mut(64)) {
+                let mut observers = vec![Counters::default(); packet.len()];
+                match isa {
+                    #[cfg(target_arch = "x86_64")]
+                    Isa::Avx2 => unsafe {
+                        x86::packet_avx2(
+                            &eight,
+                            &ordered,
+                            packet,
+                            &options,
+                            &mut stack,
+                            &mut observers,
+                            packet_hits,
+                        )
+                    },
+                    #[cfg(target_arch = "x86_64")]
+                    Isa::Avx512 => unsafe {
+                        x86::packet_avx512(
+                            &eight,
+                            &ordered,
+                            packet,
+                            &options,
+                            &mut stack,
+                            &mut observers,
+                            packet_hits,
+                        )
+                    },
+                    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+                    Isa::Simd128 => traverse_packet_with::<wasm::Simd128, _, _, _, 8>(
+                        &eight,
+                        &ordered,
+                        packet,
+                        &options,
+                        &mut stack,
+                        &mut observers,
+                        packet_hits,
+                    ),
+                    _ => traverse_packet_with::<Portable, _, _, _, 8>(
+                        &eight,
+                        &ordered,
+                        packet,
+                        &options,
+                        &mut stack,
+                        &mut observers,
+                        packet_hits,
+                    ),
+                }
+            }
+            match &reference {
+                None => {
+                    let mut single = WideStack::default();
+                    let alone: Vec<_> = rays
+                        .iter()
+                        .map(|ray| {
+                            traverse_wide_with::<Portable, _, _, _, 8>(
+                                &eight,
+                                &ordered,
+                                ray,
+                                &options,
+                                &mut single,
+                                &mut NoObserver,
+                            )
+                        })
+                        .collect();
+                    assert_eq!(hits, alone, "packets against single rays");
+                    assert!(hits.iter().filter(|hit| hit.is_some()).count() > rays.len() / 10);
+                    reference = Some(hits);
+                }
+                Some(expected) => assert_eq!(&hits, expected, "{isa:?}"),
             }
         }
     }

@@ -9,8 +9,8 @@
 use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReasons, NoBuildObserver};
 use crate::bvh::{
-    self, BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, SweepSah, TraversalStack,
-    WideBvh, WideStack,
+    self, BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, PacketStack, SweepSah,
+    TraversalStack, WideBvh, WideStack,
 };
 use crate::facts::{Hierarchy, TreeFacts};
 use crate::kd::{
@@ -527,6 +527,7 @@ pub enum Tree<V: Vector> {
 pub struct TraversalStacks<S: Real> {
     bvh: TraversalStack<S>,
     wide: WideStack<S>,
+    packet: PacketStack<S>,
     kd: KdTraversalStack<S>,
 }
 
@@ -582,6 +583,45 @@ impl<V: Vector> Tree<V> {
             }
             Tree::Kd(tree) => {
                 kd::traverse(tree, primitives, ray, options, &mut stacks.kd, observer)
+            }
+        }
+    }
+
+    /// Traces up to [`bvh::MAX_PACKET`] rays together (a wide BVH's packet traversal,
+    /// [`bvh::traverse_packet`]; other trees trace them one by one), writing each ray's hit
+    /// to `hits`: the answers [`Tree::trace`] gives each ray. `observers[i]` hears ray `i`.
+    pub fn trace_packet<P: LeafPrimitives<V>, O: Observer<V::Scalar>>(
+        &self,
+        primitives: &P,
+        rays: &[Ray<V>],
+        options: &TraceOptions,
+        stacks: &mut TraversalStacks<V::Scalar>,
+        observers: &mut [O],
+        hits: &mut [Option<Hit<V::Scalar>>],
+    ) {
+        match self {
+            Tree::Bvh4(wide) => bvh::traverse_packet(
+                wide,
+                primitives,
+                rays,
+                options,
+                &mut stacks.packet,
+                observers,
+                hits,
+            ),
+            Tree::Bvh8(wide) => bvh::traverse_packet(
+                wide,
+                primitives,
+                rays,
+                options,
+                &mut stacks.packet,
+                observers,
+                hits,
+            ),
+            _ => {
+                for ((ray, observer), hit) in rays.iter().zip(observers).zip(hits) {
+                    *hit = self.trace(primitives, ray, options, stacks, observer);
+                }
             }
         }
     }

@@ -28,7 +28,9 @@ pub use traverse::{TraversalStack, traverse};
 pub use tree::{Bvh, BvhNode};
 pub use validate::{ValidationError, validate, validate_wide};
 pub use wide::{EMPTY_SLOT, LEAF_BLOCK, Slot, WideBvh, WideNode};
-pub use wide_traverse::{ChildTests, WideStack, test_children, traverse_wide};
+pub use wide_traverse::{
+    ChildTests, MAX_PACKET, PacketStack, WideStack, test_children, traverse_packet, traverse_wide,
+};
 
 /// A 2D BVH in f32.
 pub type Bvh2 = Bvh<glam::Vec2>;

@@ -141,75 +141,584 @@ where
     if tree.nodes.is_empty() {
         return None;
     }
-    let slab_ray = SlabRay::new(ray, options.robust_traversal);
-    let primitive_ray = primitives.stored().prepare(ray, options.hit_test);
-    // Blocks of four triangles are 3D f32 (the type test is resolved at compile time), and
-    // hold the fast test's arithmetic.
-    let block_ray = (ray as &dyn Any).downcast_ref::<Ray<Vec3>>();
-    let blocks = match (primitives.triangle_blocks(), block_ray, options.hit_test) {
-        (Some(blocks), Some(block_ray), HitTest::Fast) => Some((blocks, block_ray)),
-        _ => None,
+    let mut state = RayState::new(primitives, ray, options);
+    stack.entries.clear();
+    state.run::<K, O, W>(
+        tree,
+        primitives,
+        Pending::root(ray.t_min),
+        options,
+        &mut stack.entries,
+        observer,
+    );
+    state.search.closest
+}
+
+impl<S: Real> Pending<S> {
+    /// The root node, entered where the ray starts.
+    fn root(t_min: S) -> Self {
+        Self {
+            child: 0,
+            count: 0,
+            t_enter: t_min,
+        }
+    }
+}
+
+/// One ray's traversal under way: the ray prepared for box and primitive tests, and its search.
+struct RayState<'a, V: Vector, P: LeafPrimitives<V>> {
+    ray: &'a Ray<V>,
+    slab_ray: SlabRay<V>,
+    primitive_ray: <P::Set as PrimitiveSet<V>>::RayData,
+    /// The triangle blocks and the ray in 3D f32, when the set has blocks and the test is the
+    /// fast one (the arithmetic the blocks hold).
+    blocks: Option<(&'a [TriangleBlock], &'a Ray<Vec3>)>,
+    search: HitSearch<V::Scalar>,
+}
+
+impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
+    #[inline(always)]
+    fn new(primitives: &'a P, ray: &'a Ray<V>, options: &TraceOptions) -> Self {
+        // Blocks of four triangles are 3D f32 (the type test is resolved at compile time).
+        let block_ray = (ray as &dyn Any).downcast_ref::<Ray<Vec3>>();
+        let blocks = match (primitives.triangle_blocks(), block_ray, options.hit_test) {
+            (Some(blocks), Some(block_ray), HitTest::Fast) => Some((blocks, block_ray)),
+            _ => None,
+        };
+        Self {
+            ray,
+            slab_ray: SlabRay::new(ray, options.robust_traversal),
+            primitive_ray: primitives.stored().prepare(ray, options.hit_test),
+            blocks,
+            search: HitSearch::new(ray.t_max, options.query),
+        }
+    }
+
+    /// Tests a leaf's primitives; true when an any-hit query has its answer.
+    #[inline(always)]
+    fn test_leaf<K: Kernel, O: Observer<V::Scalar>>(
+        &mut self,
+        primitives: &P,
+        first: u32,
+        numbers: &[u32],
+        observer: &mut O,
+    ) -> bool {
+        match self.blocks {
+            Some((blocks, block_ray)) => self
+                .search
+                .test_blocks::<K, O>(blocks, block_ray, first, numbers, observer),
+            None => self.search.test_leaf(
+                primitives,
+                &self.primitive_ray,
+                self.ray.t_min,
+                first as usize,
+                numbers,
+                |_| false,
+                observer,
+            ),
+        }
+    }
+
+    /// The traversal loop from `start` (the root, or where a packet left this ray); `entries`
+    /// must be empty. True when an any-hit query has its answer.
+    #[inline(always)]
+    fn run<K: Kernel, O: Observer<V::Scalar>, const W: usize>(
+        &mut self,
+        tree: &WideBvh<V, W>,
+        primitives: &P,
+        start: Pending<V::Scalar>,
+        options: &TraceOptions,
+        entries: &mut Vec<Pending<V::Scalar>>,
+        observer: &mut O,
+    ) -> bool {
+        let nodes = tree.nodes.as_slice();
+        let mut current = Some(start);
+        while let Some(Pending {
+            child,
+            count,
+            t_enter,
+        }) = current.take().or_else(|| entries.pop())
+        {
+            if t_enter > self.search.t_closest {
+                if O::ACTIVE {
+                    observer.node_culled(tree.source(child, count), t_enter, self.search.t_closest);
+                }
+                continue;
+            }
+            if O::ACTIVE {
+                observer.node_entered(tree.source(child, count));
+            }
+            if count > 0 {
+                let numbers = tree.leaf_primitives(child, count);
+                if self.test_leaf::<K, O>(primitives, child, numbers, observer) {
+                    entries.clear();
+                    return true;
+                }
+                continue;
+            }
+            let node = &nodes[child as usize];
+            let tests = K::test_children(node, &self.slab_ray, self.search.t_closest);
+            if O::ACTIVE {
+                for slot in 0..node.slots_used() {
+                    observer.box_tested(
+                        tree.slot_source(child as usize, slot),
+                        tests.t_enter[slot],
+                        tests.t_exit[slot],
+                        tests.hit_mask & (1 << slot) != 0,
+                    );
+                }
+            }
+            current = visit_children(node, &tests, options.order, entries);
+        }
+        false
+    }
+}
+
+/// The most rays a packet holds (one bit each in a `u64` mask).
+pub const MAX_PACKET: usize = 64;
+
+/// A packet with this many active rays or fewer goes on ray by ray: what a packet saves (one
+/// visit of a node for many rays) is gone, and a ray alone skips what it does not need.
+const SCATTERED: u32 = 2;
+
+/// Rays whose lanes are tested together: a group of eight.
+const LANES: usize = 8;
+
+/// A child waiting to be visited by some rays of a packet.
+#[derive(Clone, Copy, Debug)]
+struct PacketPending<S: Real> {
+    child: u32,
+    count: u32,
+    /// Which rays hit its box.
+    rays: u64,
+    /// The nearest of their entries (the packet skips the child when every one of its rays
+    /// has found a hit before it).
+    t_enter: S,
+}
+
+/// Reusable stacks for [`traverse_packet`]: make one per thread.
+#[derive(Clone, Debug, Default)]
+pub struct PacketStack<S: Real> {
+    entries: Vec<PacketPending<S>>,
+    /// For a ray that leaves its packet.
+    single: Vec<Pending<S>>,
+}
+
+/// A packet's rays lane by lane, for testing one box against many rays at once.
+struct PacketLanes<S: Real> {
+    origin: [[S; MAX_PACKET]; 3],
+    inv_direction: [[S; MAX_PACKET]; 3],
+    negative: [[bool; MAX_PACKET]; 3],
+    t_min: [S; MAX_PACKET],
+    /// Each ray's closest hit so far (its search interval's end).
+    t_closest: [S; MAX_PACKET],
+    far_scale: S,
+}
+
+/// Bounds on a packet's rays, axis by axis, for rejecting a box every ray misses with one test
+/// (interval arithmetic over the packet, Boulos, Wald et al. 2006, "Geometric and arithmetic
+/// culling methods for entire ray packets"). Kept in the frame where the directions are
+/// positive (a negative axis is mirrored, which is exact).
+#[derive(Clone, Copy, Debug)]
+struct AxisBounds<S: Real> {
+    /// The rays move towards −∞ on this axis (all of them).
+    negative: bool,
+    /// Origins, mirrored when negative: smallest and largest.
+    origin_min: S,
+    origin_max: S,
+    /// Reciprocal directions, made positive: smallest and largest.
+    inverse_min: S,
+    inverse_max: S,
+}
+
+/// What every ray of a packet shares, for the one test per box (see [`AxisBounds`]); an axis
+/// whose rays go both ways (or along which one does not move) bounds nothing.
+struct PacketBounds<S: Real> {
+    axes: [Option<AxisBounds<S>>; 3],
+    /// The smallest `t_min` of the rays.
+    t_min: S,
+    far_scale: S,
+}
+
+impl<S: Real> PacketBounds<S> {
+    fn new<V: Vector<Scalar = S>>(lanes: &PacketLanes<S>, count: usize) -> Self {
+        let mut axes = [None; 3];
+        for (axis, bounds) in axes.iter_mut().enumerate().take(V::DIM) {
+            let negative = lanes.negative[axis][0];
+            let mut axis_bounds = AxisBounds {
+                negative,
+                origin_min: S::INFINITY,
+                origin_max: S::NEG_INFINITY,
+                inverse_min: S::INFINITY,
+                inverse_max: S::NEG_INFINITY,
+            };
+            let mut usable = true;
+            for ray in 0..count {
+                let (origin, inverse) = (lanes.origin[axis][ray], lanes.inv_direction[axis][ray]);
+                let (origin, inverse) = if negative {
+                    (-origin, -inverse)
+                } else {
+                    (origin, inverse)
+                };
+                usable &= lanes.negative[axis][ray] == negative && inverse.is_finite();
+                axis_bounds.origin_min = axis_bounds.origin_min.min(origin);
+                axis_bounds.origin_max = axis_bounds.origin_max.max(origin);
+                axis_bounds.inverse_min = axis_bounds.inverse_min.min(inverse);
+                axis_bounds.inverse_max = axis_bounds.inverse_max.max(inverse);
+            }
+            *bounds = usable.then_some(axis_bounds);
+        }
+        let t_min =
+            lanes.t_min[..count].iter().fold(
+                S::INFINITY,
+                |lowest, &t| if t < lowest { t } else { lowest },
+            );
+        Self {
+            axes,
+            t_min,
+            far_scale: lanes.far_scale,
+        }
+    }
+
+    /// True when no ray of the packet can enter slot `slot`'s box before `t_max`: the lowest
+    /// entry any ray can have is past the highest exit any can have. Conservative: each bound
+    /// is computed from the rays' own products, rounded the same way (rounding is monotonic).
+    #[inline(always)]
+    fn misses<V: Vector<Scalar = S>, const W: usize>(
+        &self,
+        node: &WideNode<S, W>,
+        slot: usize,
+        t_max: S,
+    ) -> bool {
+        let mut near = self.t_min;
+        let mut far = S::INFINITY;
+        for (axis, bounds) in self.axes.iter().enumerate().take(V::DIM) {
+            let Some(bounds) = bounds else { continue };
+            let (lower, upper) = (node.lower[axis][slot], node.upper[axis][slot]);
+            let (near_plane, far_plane) = if bounds.negative {
+                (-upper, -lower)
+            } else {
+                (lower, upper)
+            };
+            // The least (near plane − origin) and the greatest (far plane − origin).
+            let to_near = near_plane - bounds.origin_max;
+            let to_far = far_plane - bounds.origin_min;
+            let t_near = if to_near >= S::ZERO {
+                to_near * bounds.inverse_min
+            } else {
+                to_near * bounds.inverse_max
+            };
+            let t_far = if to_far >= S::ZERO {
+                to_far * bounds.inverse_max
+            } else {
+                to_far * bounds.inverse_min
+            };
+            near = if t_near > near { t_near } else { near };
+            far = if t_far < far { t_far } else { far };
+        }
+        let far = far * self.far_scale;
+        near > far || near > t_max
+    }
+}
+
+impl<S: Real> PacketLanes<S> {
+    /// The slab test of one box (slot `slot` of `node`) against the rays of lane group
+    /// `group`: each ray's interval as [`test_children`] computes it for that box, and which
+    /// of them hit.
+    #[inline(always)]
+    fn test_box<V: Vector<Scalar = S>, const W: usize>(
+        &self,
+        node: &WideNode<S, W>,
+        slot: usize,
+        group: usize,
+    ) -> ([S; LANES], [S; LANES], u64) {
+        let lanes = group * LANES..group * LANES + LANES;
+        let mut t_enter: [S; LANES] = self.t_min[lanes.clone()]
+            .try_into()
+            .unwrap_or([S::ZERO; LANES]);
+        let mut t_exit = [S::INFINITY; LANES];
+        for axis in 0..V::DIM {
+            let (lower, upper) = (node.lower[axis][slot], node.upper[axis][slot]);
+            for lane in 0..LANES {
+                let ray = lanes.start + lane;
+                let origin = self.origin[axis][ray];
+                let inverse = self.inv_direction[axis][ray];
+                let t_lower = (lower - origin) * inverse;
+                let t_upper = (upper - origin) * inverse;
+                let negative = self.negative[axis][ray];
+                let t_near = if negative { t_upper } else { t_lower };
+                let t_far = if negative { t_lower } else { t_upper };
+                t_enter[lane] = if t_near > t_enter[lane] {
+                    t_near
+                } else {
+                    t_enter[lane]
+                };
+                t_exit[lane] = if t_far < t_exit[lane] {
+                    t_far
+                } else {
+                    t_exit[lane]
+                };
+            }
+        }
+        let mut hits = 0u64;
+        for lane in 0..LANES {
+            let scaled = t_exit[lane] * self.far_scale;
+            let t_max = self.t_closest[lanes.start + lane];
+            t_exit[lane] = if scaled < t_max { scaled } else { t_max };
+            hits |= u64::from(t_enter[lane] <= t_exit[lane]) << lane;
+        }
+        (t_enter, t_exit, hits << lanes.start)
+    }
+}
+
+/// Traces up to [`MAX_PACKET`] rays through `tree` together, writing each ray's closest (or
+/// any) hit to `hits`: the same answers as [`traverse_wide`] gives each ray.
+///
+/// A packet visits a node once for all its rays that reach it (Wald, Slusallek, Benthin &
+/// Wagner 2001, "Interactive Rendering with Coherent Ray Tracing", there with four rays and a
+/// binary tree): a child's box that the whole packet misses is rejected with one test of
+/// bounds on the packet (interval arithmetic, Boulos et al. 2006); any other is tested
+/// against every active ray, lanes of rays at a time; the children some ray hits are visited
+/// nearest first by the nearest entry among their rays, each with the rays that hit it. Where only a few rays are left (the packet has
+/// scattered), they go on one by one. Each ray's observer hears that ray's steps, as the
+/// single-ray traversal would tell them (a packet may test a ray against boxes and leaves a
+/// lone ray would have skipped, so counts can differ; answers do not).
+pub fn traverse_packet<V, P, O, const W: usize>(
+    tree: &WideBvh<V, W>,
+    primitives: &P,
+    rays: &[Ray<V>],
+    options: &TraceOptions,
+    stack: &mut PacketStack<V::Scalar>,
+    observers: &mut [O],
+    hits: &mut [Option<Hit<V::Scalar>>],
+) where
+    V: Vector,
+    P: LeafPrimitives<V>,
+    O: Observer<V::Scalar>,
+{
+    crate::simd::traverse_packet(tree, primitives, rays, options, stack, observers, hits);
+}
+
+/// [`traverse_packet`] with the kernels of `K`.
+#[inline(always)]
+pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
+    tree: &WideBvh<V, W>,
+    primitives: &P,
+    rays: &[Ray<V>],
+    options: &TraceOptions,
+    stack: &mut PacketStack<V::Scalar>,
+    observers: &mut [O],
+    hits: &mut [Option<Hit<V::Scalar>>],
+) where
+    K: Kernel,
+    V: Vector,
+    P: LeafPrimitives<V>,
+    O: Observer<V::Scalar>,
+{
+    assert!(
+        rays.len() <= MAX_PACKET && observers.len() >= rays.len() && hits.len() >= rays.len(),
+        "a packet holds at most {MAX_PACKET} rays, each with an observer and a hit"
+    );
+    hits.iter_mut().for_each(|hit| *hit = None);
+    if tree.nodes.is_empty() || rays.is_empty() {
+        return;
+    }
+    let mut states: Vec<RayState<'_, V, P>> = rays
+        .iter()
+        .map(|ray| RayState::new(primitives, ray, options))
+        .collect();
+    let mut lanes = PacketLanes {
+        origin: [[V::Scalar::ZERO; MAX_PACKET]; 3],
+        inv_direction: [[V::Scalar::ZERO; MAX_PACKET]; 3],
+        negative: [[false; MAX_PACKET]; 3],
+        t_min: [V::Scalar::ZERO; MAX_PACKET],
+        t_closest: [V::Scalar::NEG_INFINITY; MAX_PACKET],
+        far_scale: states[0].slab_ray.far_scale,
     };
-    let mut search = HitSearch::new(ray.t_max, options.query);
+    for (ray, state) in states.iter().enumerate() {
+        for axis in 0..V::DIM {
+            lanes.origin[axis][ray] = state.slab_ray.origin[axis];
+            lanes.inv_direction[axis][ray] = state.slab_ray.inv_direction[axis];
+            lanes.negative[axis][ray] = state.slab_ray.negative[axis];
+        }
+        lanes.t_min[ray] = state.ray.t_min;
+        lanes.t_closest[ray] = state.search.t_closest;
+    }
+    let bounds = PacketBounds::new::<V>(&lanes, rays.len());
+    // Rays still searching (an any-hit query drops a ray at its first hit).
+    let mut searching = if rays.len() == MAX_PACKET {
+        u64::MAX
+    } else {
+        (1u64 << rays.len()) - 1
+    };
     let nodes = tree.nodes.as_slice();
-    let entries = &mut stack.entries;
+    let PacketStack { entries, single } = stack;
     entries.clear();
-    let mut current = Some(Pending {
+    let t_start = rays
+        .iter()
+        .map(|ray| ray.t_min)
+        .fold(
+            V::Scalar::INFINITY,
+            |nearest, t| if t < nearest { t } else { nearest },
+        );
+    entries.push(PacketPending {
         child: 0,
         count: 0,
-        t_enter: ray.t_min,
+        rays: searching,
+        t_enter: t_start,
     });
-    while let Some(Pending {
+    while let Some(PacketPending {
         child,
         count,
+        rays: entry_rays,
         t_enter,
-    }) = current.take().or_else(|| entries.pop())
+    }) = entries.pop()
     {
-        if t_enter > search.t_closest {
-            if O::ACTIVE {
-                observer.node_culled(tree.source(child, count), t_enter, search.t_closest);
-            }
+        let mut active = entry_rays & searching;
+        // Rays that found a hit before the child's box skip it.
+        let mut culled = 0u64;
+        for (ray, &t_closest) in lanes.t_closest.iter().enumerate() {
+            culled |= u64::from(t_enter > t_closest) << ray;
+        }
+        culled &= active;
+        if O::ACTIVE {
+            for_each_ray(culled, |ray| {
+                observers[ray].node_culled(
+                    tree.source(child, count),
+                    t_enter,
+                    lanes.t_closest[ray],
+                );
+            });
+        }
+        active &= !culled;
+        if active == 0 {
+            continue;
+        }
+        if active.count_ones() <= SCATTERED {
+            // The packet has scattered: its last rays go on alone from here.
+            for_each_ray(active, |ray| {
+                single.clear();
+                let start = Pending {
+                    child,
+                    count,
+                    t_enter,
+                };
+                let state = &mut states[ray];
+                state.run::<K, O, W>(
+                    tree,
+                    primitives,
+                    start,
+                    options,
+                    single,
+                    &mut observers[ray],
+                );
+                lanes.t_closest[ray] = state.search.t_closest;
+            });
             continue;
         }
         if O::ACTIVE {
-            observer.node_entered(tree.source(child, count));
+            for_each_ray(active, |ray| {
+                observers[ray].node_entered(tree.source(child, count))
+            });
         }
         if count > 0 {
             let numbers = tree.leaf_primitives(child, count);
-            let done = match blocks {
-                Some((blocks, block_ray)) => {
-                    search.test_blocks::<K, O>(blocks, block_ray, child, numbers, observer)
+            for_each_ray(active, |ray| {
+                let state = &mut states[ray];
+                if state.test_leaf::<K, O>(primitives, child, numbers, &mut observers[ray]) {
+                    searching &= !(1 << ray);
                 }
-                None => search.test_leaf(
-                    primitives,
-                    &primitive_ray,
-                    ray.t_min,
-                    child as usize,
-                    numbers,
-                    |_| false,
-                    observer,
-                ),
-            };
-            if done {
-                return search.closest;
-            }
+                lanes.t_closest[ray] = state.search.t_closest;
+            });
             continue;
         }
+        // Every child's box against every active ray, a group of lanes at a time.
         let node = &nodes[child as usize];
-        let tests = K::test_children(node, &slab_ray, search.t_closest);
-        if O::ACTIVE {
-            for slot in 0..node.slots_used() {
-                observer.box_tested(
-                    tree.slot_source(child as usize, slot),
-                    tests.t_enter[slot],
-                    tests.t_exit[slot],
-                    tests.hit_mask & (1 << slot) != 0,
-                );
+        let mut children = [PacketPending {
+            child: 0,
+            count: 0,
+            rays: 0,
+            t_enter: V::Scalar::INFINITY,
+        }; W];
+        let mut used = 0;
+        // (Finished and absent rays keep −∞ or their hit, at most what an active ray has.)
+        let t_farthest =
+            lanes.t_closest.iter().fold(
+                V::Scalar::NEG_INFINITY,
+                |far, &t| if t > far { t } else { far },
+            );
+        for slot in 0..node.slots_used() {
+            // One test rejects a box the whole packet misses (no ray's observer hears it).
+            if bounds.misses::<V, W>(node, slot, t_farthest) {
+                continue;
+            }
+            let mut slot_rays = 0u64;
+            let mut nearest = V::Scalar::INFINITY;
+            for group in 0..MAX_PACKET / LANES {
+                let group_rays = (active >> (group * LANES)) & ((1 << LANES) - 1);
+                if group_rays == 0 {
+                    continue;
+                }
+                let (t_enter, t_exit, hit) = lanes.test_box::<V, W>(node, slot, group);
+                let hit = hit & active;
+                slot_rays |= hit;
+                let group_hits = hit >> (group * LANES);
+                for (lane, &t) in t_enter.iter().enumerate() {
+                    let counts = group_hits & (1 << lane) != 0;
+                    if counts && t < nearest {
+                        nearest = t;
+                    }
+                }
+                if O::ACTIVE {
+                    let source = tree.slot_source(child as usize, slot);
+                    for_each_ray(group_rays, |lane| {
+                        let ray = group * LANES + lane;
+                        observers[ray].box_tested(
+                            source,
+                            t_enter[lane],
+                            t_exit[lane],
+                            hit & (1 << ray) != 0,
+                        );
+                    });
+                }
+            }
+            if slot_rays != 0 {
+                children[used] = PacketPending {
+                    child: node.child[slot],
+                    count: node.count[slot],
+                    rays: slot_rays,
+                    t_enter: nearest,
+                };
+                used += 1;
             }
         }
-        current = visit_children(node, &tests, options.order, entries);
+        // Farthest pushed first, so the nearest comes off the stack next (stable: slot order
+        // for equal entries, and for file order).
+        if options.order == Order::NearFirst {
+            for index in 1..used {
+                let entry = children[index];
+                let mut at = index;
+                while at > 0 && children[at - 1].t_enter > entry.t_enter {
+                    children[at] = children[at - 1];
+                    at -= 1;
+                }
+                children[at] = entry;
+            }
+        }
+        entries.extend(children[..used].iter().rev());
     }
-    search.closest
+    for (hit, state) in hits.iter_mut().zip(&states) {
+        *hit = state.search.closest;
+    }
+}
+
+/// Calls `visit` with the number of every set bit of `mask`, lowest first.
+#[inline(always)]
+fn for_each_ray(mut mask: u64, mut visit: impl FnMut(usize)) {
+    while mask != 0 {
+        visit(mask.trailing_zeros() as usize);
+        mask &= mask - 1;
+    }
 }
 
 impl<S: Real> HitSearch<S> {

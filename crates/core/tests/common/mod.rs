@@ -190,6 +190,45 @@ pub fn assert_agrees_with_brute_force<
                 }
                 assert!(counters.primitive_tests <= primitives.len() as u64 * 2 + 1);
             }
+            // Packets (of up to 64 rays; wide trees trace them together) give every ray the
+            // answer it gets alone (up to a tie: two primitives hit at one distance, which
+            // either order of visits may report, as near-first and file order may).
+            if index == 0 {
+                for (name, bvh) in &trees {
+                    for packet_size in [5, 64] {
+                        for packet in rays.chunks(packet_size) {
+                            let mut hits = vec![None; packet.len()];
+                            let mut observers = vec![NoObserver; packet.len()];
+                            bvh.trace_packet(
+                                primitives,
+                                packet,
+                                &options,
+                                &mut stacks,
+                                &mut observers,
+                                &mut hits,
+                            );
+                            for (ray, hit) in packet.iter().zip(&hits) {
+                                let alone = bvh.trace(
+                                    primitives,
+                                    ray,
+                                    &options,
+                                    &mut stacks,
+                                    &mut NoObserver,
+                                );
+                                let context = format!(
+                                    "{name}, {options:?}, packet of {packet_size}, {ray:?}"
+                                );
+                                match options.query {
+                                    Query::Closest => assert_same_hit(*hit, alone, &context),
+                                    Query::Any => {
+                                        assert_eq!(hit.is_some(), alone.is_some(), "{context}")
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
             for ((name, tree), leaf_ordered) in kd_trees.iter().zip(&kd_leaf_ordered) {
                 let context = format!("{name}, {options:?}, ray {index} {ray:?}");
                 let mut counters = Counters::default();
