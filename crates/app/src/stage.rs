@@ -215,7 +215,7 @@ impl SceneTree {
         limits.reached().then(|| {
             format!(
                 "{} {}: {limits}",
-                self.built.structure.entry().label,
+                self.built.structure.label(),
                 self.built.structure.family().label()
             )
         })

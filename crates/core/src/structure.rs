@@ -428,6 +428,15 @@ impl Structure {
         self.entry().family
     }
 
+    /// A short name for people: the entry's label, with the width of a wide BVH ("binned
+    /// SAH, 8 wide").
+    pub fn label(&self) -> String {
+        match self.width() {
+            Width::Binary => self.entry().label.to_owned(),
+            width => format!("{}, {} wide", self.entry().label, width.children()),
+        }
+    }
+
     /// Which of the lecture's rules it follows.
     pub fn rule(&self) -> SplitRule {
         self.entry().rule
@@ -779,11 +788,15 @@ impl<V: Vector> Built<V> {
         self.facts.primitives_below(&self.tree, node)
     }
 
-    /// The statistics of the subtree of `node` (the whole tree at node 0).
+    /// The statistics of the subtree of `node` (the whole tree at node 0; a wide BVH's
+    /// count its wide nodes, below the root its binary tree's).
     pub fn stats(&self, node: u32, cost: &crate::sah::SahCost) -> TreeStats {
         if self.facts.node_count() == 0 {
             return TreeStats::default();
         }
-        TreeStats::of_subtree(&self.facts, node, cost)
+        match &self.tree {
+            Tree::Bvh4(_) | Tree::Bvh8(_) if node == 0 => self.tree.stats(cost),
+            _ => TreeStats::of_subtree(&self.facts, node, cost),
+        }
     }
 }

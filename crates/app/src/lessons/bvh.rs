@@ -340,10 +340,17 @@ impl Lesson for BvhLesson {
         ui.horizontal_wrapped(|ui| {
             ui.label("Build with");
             for entry in CATALOGUE.iter().filter(|entry| entry.family == Family::Bvh) {
-                ui.selectable_value(&mut self.structure, entry.structure, entry.label)
-                    .on_hover_text(entry.about);
+                let chosen = self.structure.entry().name == entry.name;
+                if ui
+                    .selectable_label(chosen, entry.label)
+                    .on_hover_text(entry.about)
+                    .clicked()
+                {
+                    self.structure = entry.structure.with_width(self.structure.width());
+                }
             }
         });
+        ui.horizontal_wrapped(|ui| crate::views::width_ui(ui, &mut self.structure));
         ui.horizontal(|ui| {
             for (name, ray) in self.named_rays() {
                 if ui

@@ -483,7 +483,7 @@ impl Lesson for HeatLesson {
             "{}: {} triangles; {} {}: {} nodes, SAH cost {}",
             tree.mesh.name.trim_start_matches("builtin:"),
             count(tree.mesh.triangles.len()),
-            tree.build.built.structure.entry().label,
+            tree.build.built.structure.label(),
             tree.build.built.structure.family().label(),
             count(tree.build.stats.node_count),
             number(tree.build.stats.sah_cost)

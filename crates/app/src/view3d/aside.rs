@@ -565,10 +565,18 @@ mod tests {
     #[test]
     fn every_structure_comes_back_equal() {
         let mesh = Arc::new(accelviz_scene::builtin::teapot());
-        for entry in accelviz_core::CATALOGUE {
-            let tree = MeshTree::build(mesh.clone(), entry.structure);
+        let wide = [accelviz_core::Width::Four, accelviz_core::Width::Eight]
+            .map(|width| accelviz_core::CATALOGUE[3].structure.with_width(width));
+        let structures = accelviz_core::CATALOGUE.iter().map(|entry| entry.structure);
+        for structure in structures.chain(wide) {
+            let tree = MeshTree::build(mesh.clone(), structure);
             let bytes = pack(&tree.build);
-            assert_eq!(unpack(&bytes).as_ref(), Ok(&tree.build), "{}", entry.label);
+            assert_eq!(
+                unpack(&bytes).as_ref(),
+                Ok(&tree.build),
+                "{}",
+                structure.name()
+            );
             // Cut short or padded: an error, never a panic.
             for cut in [0, 7, 8, 40, bytes.len() / 2, bytes.len() - 1] {
                 assert!(unpack(&bytes[..cut]).is_err(), "cut at {cut}");

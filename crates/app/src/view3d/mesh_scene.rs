@@ -488,14 +488,17 @@ pub fn mesh_and_structure_ui(
         .selected_text(structure.name())
         .show_ui(ui, |ui| {
             for entry in accelviz_core::CATALOGUE {
-                ui.selectable_value(
-                    structure,
-                    entry.structure,
-                    format!("{} {}", entry.label, entry.family.label()),
-                )
-                .on_hover_text(entry.about);
+                let chosen = structure.entry().name == entry.name;
+                if ui
+                    .selectable_label(chosen, format!("{} {}", entry.label, entry.family.label()))
+                    .on_hover_text(entry.about)
+                    .clicked()
+                {
+                    *structure = entry.structure.with_width(structure.width());
+                }
             }
         });
+    crate::views::width_ui(ui, structure);
     replaced
 }
 
