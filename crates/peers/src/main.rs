@@ -45,7 +45,7 @@ struct Args {
     /// rays only).
     #[arg(long, default_value = "obvhs,bvh,parry3d")]
     peers: String,
-    /// Build and trace this many times; report the fastest of each.
+    /// Build and trace this many times; report the median of each.
     #[arg(long, default_value_t = 1)]
     repeat: usize,
     /// One JSON object per peer, one per line.
@@ -330,9 +330,10 @@ fn run(args: Args) -> Result<String> {
     };
     let mut figures = Vec::new();
     for peer in args.peers.split(',') {
-        let mut best: Option<Figures> = None;
+        // Each peer built and traced `repeat` times; its figures are the medians.
+        let mut runs = Vec::new();
         for _ in 0..args.repeat.max(1) {
-            let run = match peer.trim() {
+            runs.push(match peer.trim() {
                 "obvhs" => run_obvhs(&mesh, &rays),
                 "bvh" => run_bvh(&mesh, &rays),
                 "parry3d" => run_parry(&mesh, &rays)?,
@@ -344,17 +345,21 @@ fn run(args: Args) -> Result<String> {
                 other => bail!(
                     "unknown peer '{other}'; peers are obvhs, bvh, parry3d, embree, embree-packet"
                 ),
-            };
-            best = Some(match best {
-                None => run,
-                Some(best) => Figures {
-                    build_ms: best.build_ms.min(run.build_ms),
-                    trace_ms: best.trace_ms.min(run.trace_ms),
-                    ..best
-                },
             });
         }
-        figures.extend(best);
+        let median = |mut values: Vec<f64>| {
+            values.sort_by(f64::total_cmp);
+            values[values.len() / 2]
+        };
+        let build_ms = median(runs.iter().map(|run| run.build_ms).collect());
+        let trace_ms = median(runs.iter().map(|run| run.trace_ms).collect());
+        if let Some(first) = runs.into_iter().next() {
+            figures.push(Figures {
+                build_ms,
+                trace_ms,
+                ..first
+            });
+        }
     }
     let mut out = String::new();
     for f in &figures {
