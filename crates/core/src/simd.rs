@@ -347,6 +347,74 @@ macro_rules! kernel {
     };
 }
 
+/// Four f32 lanes and the operations the block triangle test needs: one Möller–Trumbore,
+/// [`moller_trumbore4`], serves every instruction set's registers. Masks are lanes of all ones
+/// or all zeros.
+trait Lanes4: Copy {
+    fn splat(value: f32) -> Self;
+    fn from_row(row: &[f32; 4]) -> Self;
+    fn to_row(self) -> [f32; 4];
+    fn add(self, other: Self) -> Self;
+    fn sub(self, other: Self) -> Self;
+    fn mul(self, other: Self) -> Self;
+    fn div(self, other: Self) -> Self;
+    fn lt(self, other: Self) -> Self;
+    fn gt(self, other: Self) -> Self;
+    fn le(self, other: Self) -> Self;
+    fn ge(self, other: Self) -> Self;
+    fn ne(self, other: Self) -> Self;
+    fn or(self, other: Self) -> Self;
+    fn and(self, other: Self) -> Self;
+    /// `self & !other`.
+    fn and_not(self, other: Self) -> Self;
+    /// `mask ? self : other`, lane by lane.
+    fn select(self, other: Self, mask: Self) -> Self;
+}
+
+/// Möller–Trumbore on the four triangles of `block` in lanes: the portable code's products
+/// and sums in its order (glam's cross and dot), so the same `t`, and its rejections written
+/// as it writes them (a NaN `u` or `v` is rejected only through `t`). `NaN` where no hit.
+#[inline(always)]
+fn moller_trumbore4<L: Lanes4>(
+    block: &TriangleBlock,
+    origin: Vec3,
+    direction: Vec3,
+    t_min: f32,
+    t_max: f32,
+) -> [f32; 4] {
+    let [v0x, v0y, v0z] = block.v0.each_ref().map(L::from_row);
+    let [e1x, e1y, e1z] = block.edge1.each_ref().map(L::from_row);
+    let [e2x, e2y, e2z] = block.edge2.each_ref().map(L::from_row);
+    let (dx, dy, dz) = (
+        L::splat(direction.x),
+        L::splat(direction.y),
+        L::splat(direction.z),
+    );
+    // p = d × e2
+    let px = dy.mul(e2z).sub(e2y.mul(dz));
+    let py = dz.mul(e2x).sub(e2z.mul(dx));
+    let pz = dx.mul(e2y).sub(e2x.mul(dy));
+    let det = e1x.mul(px).add(e1y.mul(py)).add(e1z.mul(pz));
+    let (zero, one) = (L::splat(0.0), L::splat(1.0));
+    let inv_det = one.div(det);
+    let sx = L::splat(origin.x).sub(v0x);
+    let sy = L::splat(origin.y).sub(v0y);
+    let sz = L::splat(origin.z).sub(v0z);
+    let u = sx.mul(px).add(sy.mul(py)).add(sz.mul(pz)).mul(inv_det);
+    // q = s × e1
+    let qx = sy.mul(e1z).sub(e1y.mul(sz));
+    let qy = sz.mul(e1x).sub(e1z.mul(sx));
+    let qz = sx.mul(e1y).sub(e1x.mul(sy));
+    let v = dx.mul(qx).add(dy.mul(qy)).add(dz.mul(qz)).mul(inv_det);
+    let t = e2x.mul(qx).add(e2y.mul(qy)).add(e2z.mul(qz)).mul(inv_det);
+    let rejected = u.lt(zero).or(u.gt(one)).or(v.lt(zero).or(u.add(v).gt(one)));
+    let accepted = det
+        .ne(zero)
+        .and(t.ge(L::splat(t_min)).and(t.le(L::splat(t_max))));
+    t.select(L::splat(f32::NAN), accepted.and_not(rejected))
+        .to_row()
+}
+
 #[cfg(target_arch = "x86_64")]
 mod x86 {
     use std::arch::x86_64::*;
@@ -529,10 +597,81 @@ mod x86 {
     children4!(children4_avx2, "avx2,fma");
     children4!(children4_avx512, "avx2,fma,avx512f,avx512vl");
 
+    /// SSE's four lanes. SAFETY, for every intrinsic below: SSE and SSE2 are part of every
+    /// x86-64 processor.
+    impl Lanes4 for __m128 {
+        #[inline(always)]
+        fn splat(value: f32) -> Self {
+            unsafe { _mm_set1_ps(value) }
+        }
+        #[inline(always)]
+        fn from_row(row: &[f32; 4]) -> Self {
+            unsafe { _mm_set_ps(row[3], row[2], row[1], row[0]) }
+        }
+        #[inline(always)]
+        fn to_row(self) -> [f32; 4] {
+            let mut row = [0.0; 4];
+            // SAFETY: `row` holds 4 floats.
+            unsafe { _mm_storeu_ps(row.as_mut_ptr(), self) };
+            row
+        }
+        #[inline(always)]
+        fn add(self, other: Self) -> Self {
+            unsafe { _mm_add_ps(self, other) }
+        }
+        #[inline(always)]
+        fn sub(self, other: Self) -> Self {
+            unsafe { _mm_sub_ps(self, other) }
+        }
+        #[inline(always)]
+        fn mul(self, other: Self) -> Self {
+            unsafe { _mm_mul_ps(self, other) }
+        }
+        #[inline(always)]
+        fn div(self, other: Self) -> Self {
+            unsafe { _mm_div_ps(self, other) }
+        }
+        #[inline(always)]
+        fn lt(self, other: Self) -> Self {
+            unsafe { _mm_cmplt_ps(self, other) }
+        }
+        #[inline(always)]
+        fn gt(self, other: Self) -> Self {
+            unsafe { _mm_cmpgt_ps(self, other) }
+        }
+        #[inline(always)]
+        fn le(self, other: Self) -> Self {
+            unsafe { _mm_cmple_ps(self, other) }
+        }
+        #[inline(always)]
+        fn ge(self, other: Self) -> Self {
+            unsafe { _mm_cmpge_ps(self, other) }
+        }
+        #[inline(always)]
+        fn ne(self, other: Self) -> Self {
+            unsafe { _mm_cmpneq_ps(self, other) }
+        }
+        #[inline(always)]
+        fn or(self, other: Self) -> Self {
+            unsafe { _mm_or_ps(self, other) }
+        }
+        #[inline(always)]
+        fn and(self, other: Self) -> Self {
+            unsafe { _mm_and_ps(self, other) }
+        }
+        #[inline(always)]
+        fn and_not(self, other: Self) -> Self {
+            // `_mm_andnot_ps(a, b)` is `!a & b`.
+            unsafe { _mm_andnot_ps(other, self) }
+        }
+        #[inline(always)]
+        fn select(self, other: Self, mask: Self) -> Self {
+            unsafe { _mm_or_ps(_mm_and_ps(mask, self), _mm_andnot_ps(mask, other)) }
+        }
+    }
+
     macro_rules! triangles {
         ($name:ident, $features:literal) => {
-            /// Möller–Trumbore on four triangles in the lanes of SSE registers: the portable
-            /// code's products and sums in its order (glam's cross and dot), so the same `t`.
             #[inline]
             #[target_feature(enable = $features)]
             pub(super) fn $name(
@@ -542,56 +681,7 @@ mod x86 {
                 t_min: f32,
                 t_max: f32,
             ) -> [f32; 4] {
-                // SAFETY: every row of a block is 4 floats, 16-byte aligned.
-                let load = |row: &[f32; 4]| unsafe { _mm_load_ps(row.as_ptr()) };
-                let [v0x, v0y, v0z] = block.v0.each_ref().map(load);
-                let [e1x, e1y, e1z] = block.edge1.each_ref().map(load);
-                let [e2x, e2y, e2z] = block.edge2.each_ref().map(load);
-                let (dx, dy, dz) = (
-                    _mm_set1_ps(direction.x),
-                    _mm_set1_ps(direction.y),
-                    _mm_set1_ps(direction.z),
-                );
-                let mul = |a, b| _mm_mul_ps(a, b);
-                let sub = |a, b| _mm_sub_ps(a, b);
-                let add = |a, b| _mm_add_ps(a, b);
-                // p = d × e2
-                let px = sub(mul(dy, e2z), mul(e2y, dz));
-                let py = sub(mul(dz, e2x), mul(e2z, dx));
-                let pz = sub(mul(dx, e2y), mul(e2x, dy));
-                let det = add(add(mul(e1x, px), mul(e1y, py)), mul(e1z, pz));
-                let zero = _mm_setzero_ps();
-                let one = _mm_set1_ps(1.0);
-                let inv_det = _mm_div_ps(one, det);
-                let sx = sub(_mm_set1_ps(origin.x), v0x);
-                let sy = sub(_mm_set1_ps(origin.y), v0y);
-                let sz = sub(_mm_set1_ps(origin.z), v0z);
-                let u = mul(add(add(mul(sx, px), mul(sy, py)), mul(sz, pz)), inv_det);
-                // q = s × e1
-                let qx = sub(mul(sy, e1z), mul(e1y, sz));
-                let qy = sub(mul(sz, e1x), mul(e1z, sx));
-                let qz = sub(mul(sx, e1y), mul(e1x, sy));
-                let v = mul(add(add(mul(dx, qx), mul(dy, qy)), mul(dz, qz)), inv_det);
-                let t = mul(add(add(mul(e2x, qx), mul(e2y, qy)), mul(e2z, qz)), inv_det);
-                // The portable test's rejections, written as it writes them (a NaN `u` or `v`
-                // is not rejected by them; only by `t`), as a mask of the lanes that pass.
-                let rejected = _mm_or_ps(
-                    _mm_or_ps(_mm_cmplt_ps(u, zero), _mm_cmpgt_ps(u, one)),
-                    _mm_or_ps(_mm_cmplt_ps(v, zero), _mm_cmpgt_ps(add(u, v), one)),
-                );
-                let accepted = _mm_and_ps(
-                    _mm_cmpneq_ps(det, zero),
-                    _mm_and_ps(
-                        _mm_cmpge_ps(t, _mm_set1_ps(t_min)),
-                        _mm_cmple_ps(t, _mm_set1_ps(t_max)),
-                    ),
-                );
-                let valid = _mm_andnot_ps(rejected, accepted);
-                let t = _mm_blendv_ps(_mm_set1_ps(f32::NAN), t, valid);
-                let mut out = [0.0; 4];
-                // SAFETY: `out` holds 4 floats.
-                unsafe { _mm_storeu_ps(out.as_mut_ptr(), t) };
-                out
+                moller_trumbore4::<__m128>(block, origin, direction, t_min, t_max)
             }
         };
     }
@@ -617,12 +707,6 @@ mod wasm {
         children8_simd128,
         triangles_simd128
     );
-
-    /// Four lanes from an array.
-    #[inline(always)]
-    fn load(row: &[f32; 4]) -> v128 {
-        f32x4(row[0], row[1], row[2], row[3])
-    }
 
     /// The slab test of four children: slots `offset..offset + 4` of the planes.
     #[inline(always)]
@@ -701,7 +785,75 @@ mod wasm {
         }
     }
 
-    /// Möller–Trumbore on four triangles, the portable code's operations in its order.
+    /// WebAssembly's four lanes.
+    impl Lanes4 for v128 {
+        #[inline(always)]
+        fn splat(value: f32) -> Self {
+            f32x4_splat(value)
+        }
+        #[inline(always)]
+        fn from_row(row: &[f32; 4]) -> Self {
+            f32x4(row[0], row[1], row[2], row[3])
+        }
+        #[inline(always)]
+        fn to_row(self) -> [f32; 4] {
+            lanes_of(self)
+        }
+        #[inline(always)]
+        fn add(self, other: Self) -> Self {
+            f32x4_add(self, other)
+        }
+        #[inline(always)]
+        fn sub(self, other: Self) -> Self {
+            f32x4_sub(self, other)
+        }
+        #[inline(always)]
+        fn mul(self, other: Self) -> Self {
+            f32x4_mul(self, other)
+        }
+        #[inline(always)]
+        fn div(self, other: Self) -> Self {
+            f32x4_div(self, other)
+        }
+        #[inline(always)]
+        fn lt(self, other: Self) -> Self {
+            f32x4_lt(self, other)
+        }
+        #[inline(always)]
+        fn gt(self, other: Self) -> Self {
+            f32x4_gt(self, other)
+        }
+        #[inline(always)]
+        fn le(self, other: Self) -> Self {
+            f32x4_le(self, other)
+        }
+        #[inline(always)]
+        fn ge(self, other: Self) -> Self {
+            f32x4_ge(self, other)
+        }
+        #[inline(always)]
+        fn ne(self, other: Self) -> Self {
+            f32x4_ne(self, other)
+        }
+        #[inline(always)]
+        fn or(self, other: Self) -> Self {
+            v128_or(self, other)
+        }
+        #[inline(always)]
+        fn and(self, other: Self) -> Self {
+            v128_and(self, other)
+        }
+        #[inline(always)]
+        fn and_not(self, other: Self) -> Self {
+            // `v128_andnot(a, b)` is `a & !b`.
+            v128_andnot(self, other)
+        }
+        #[inline(always)]
+        fn select(self, other: Self, mask: Self) -> Self {
+            v128_bitselect(self, other, mask)
+        }
+    }
+
     pub(super) fn triangles_simd128(
         block: &TriangleBlock,
         origin: Vec3,
@@ -709,47 +861,7 @@ mod wasm {
         t_min: f32,
         t_max: f32,
     ) -> [f32; 4] {
-        let [v0x, v0y, v0z] = block.v0.each_ref().map(load);
-        let [e1x, e1y, e1z] = block.edge1.each_ref().map(load);
-        let [e2x, e2y, e2z] = block.edge2.each_ref().map(load);
-        let (dx, dy, dz) = (
-            f32x4_splat(direction.x),
-            f32x4_splat(direction.y),
-            f32x4_splat(direction.z),
-        );
-        let mul = f32x4_mul;
-        let sub = f32x4_sub;
-        let add = f32x4_add;
-        let px = sub(mul(dy, e2z), mul(e2y, dz));
-        let py = sub(mul(dz, e2x), mul(e2z, dx));
-        let pz = sub(mul(dx, e2y), mul(e2x, dy));
-        let det = add(add(mul(e1x, px), mul(e1y, py)), mul(e1z, pz));
-        let zero = f32x4_splat(0.0);
-        let one = f32x4_splat(1.0);
-        let inv_det = f32x4_div(one, det);
-        let sx = sub(f32x4_splat(origin.x), v0x);
-        let sy = sub(f32x4_splat(origin.y), v0y);
-        let sz = sub(f32x4_splat(origin.z), v0z);
-        let u = mul(add(add(mul(sx, px), mul(sy, py)), mul(sz, pz)), inv_det);
-        let qx = sub(mul(sy, e1z), mul(e1y, sz));
-        let qy = sub(mul(sz, e1x), mul(e1z, sx));
-        let qz = sub(mul(sx, e1y), mul(e1x, sy));
-        let v = mul(add(add(mul(dx, qx), mul(dy, qy)), mul(dz, qz)), inv_det);
-        let t = mul(add(add(mul(e2x, qx), mul(e2y, qy)), mul(e2z, qz)), inv_det);
-        let rejected = v128_or(
-            v128_or(f32x4_lt(u, zero), f32x4_gt(u, one)),
-            v128_or(f32x4_lt(v, zero), f32x4_gt(add(u, v), one)),
-        );
-        let accepted = v128_and(
-            f32x4_ne(det, zero),
-            v128_and(
-                f32x4_ge(t, f32x4_splat(t_min)),
-                f32x4_le(t, f32x4_splat(t_max)),
-            ),
-        );
-        // `v128_andnot(a, b)` is `a & !b`.
-        let valid = v128_andnot(accepted, rejected);
-        lanes_of(v128_bitselect(t, f32x4_splat(f32::NAN), valid))
+        moller_trumbore4::<v128>(block, origin, direction, t_min, t_max)
     }
 }
 
