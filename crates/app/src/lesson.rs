@@ -29,6 +29,10 @@ pub struct LessonFile {
     /// The 2D scene the lesson opens with (2D lessons).
     #[serde(default)]
     pub scene: Option<SceneDocument>,
+    /// The structure a 2D lesson builds first, by its catalogue name (`bvh4:sah-sweep`); a 3D
+    /// lesson names it in `view3d`.
+    #[serde(default)]
+    pub structure: Option<String>,
     /// What a 3D lesson opens with: its mesh and structure (3D lessons).
     #[serde(default)]
     pub view3d: Option<View3dFile>,
@@ -156,12 +160,19 @@ impl LessonText {
         for preset in &file.presets {
             Scene2d::from_document(preset.scene.clone(), path)?;
         }
+        if let Some(structure) = &file.structure {
+            accelviz_core::Structure::parse(structure)
+                .map_err(|problem| LoadError::in_file(path, problem.to_string()))?;
+        }
         Ok(Self { file, scene })
     }
 
-    /// A 3D lesson's structure, as its file names it.
+    /// The lesson's first structure, as its file names it (a 3D lesson in `view3d`).
     pub fn structure(&self) -> Option<accelviz_core::Structure> {
-        let name = self.file.view3d.as_ref()?.structure.as_ref()?;
+        let name = match &self.file.view3d {
+            Some(view) => view.structure.as_ref()?,
+            None => self.file.structure.as_ref()?,
+        };
         accelviz_core::Structure::parse(name).ok()
     }
 

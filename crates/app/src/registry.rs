@@ -30,7 +30,7 @@ macro_rules! lesson {
 }
 
 /// The lessons, in the lecture's order.
-pub const LESSONS: [LessonEntry; 14] = [
+pub const LESSONS: [LessonEntry; 15] = [
     lesson!("01-trivial.ron", |text| Box::new(
         trivial::TrivialLoop::new(text)
     )),
@@ -67,6 +67,10 @@ pub const LESSONS: [LessonEntry; 14] = [
         mesh_tree::MeshTreeLesson::new(text)
     )),
     lesson!("14-heat-maps.ron", |text| Box::new(heat::HeatLesson::new(
+        text
+    ))),
+    // Lesson 4's lesson, on a wide BVH.
+    lesson!("15-four-boxes.ron", |text| Box::new(bvh::BvhLesson::new(
         text
     ))),
 ];

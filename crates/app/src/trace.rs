@@ -1,8 +1,10 @@
 //! A traversal recorded by the core's [`Recorder`] and stepped by the timeline.
 //!
 //! The timeline moves in frames: one step of the core each, except that a primitive test and
-//! the "closest hit so far" it made are one frame (one action: test, and keep the hit). So a
-//! brute-force loop over 16 shapes has 16 frames and "tested k of 16" matches "step k of 16".
+//! the "closest hit so far" it made are one frame (one action: test, and keep the hit), and
+//! that a wide node's child boxes, tested together, are one frame with the order chosen for
+//! them (one SIMD test). So a brute-force loop over 16 shapes has 16 frames and "tested k of
+//! 16" matches "step k of 16".
 //! Whatever a lesson shows part-way through is [`Trace::state`] at that frame: the core's
 //! counters replayed, the closest hit so far, the step being taken.
 
@@ -52,6 +54,13 @@ impl Trace {
                     index.checked_sub(1).map(|previous| steps[previous]),
                     Some(Step::PrimitiveTested { .. })
                 );
+            if let Step::ChildrenOrdered { tested, .. } = *step {
+                // The box tests just before were one test of all the children.
+                let kept = frame_ends.len().saturating_sub(tested as usize);
+                frame_ends.truncate(kept);
+                frame_ends.push(index + 1);
+                continue;
+            }
             match frame_ends.last_mut() {
                 Some(end) if joins_previous => *end = index + 1,
                 _ => frame_ends.push(index + 1),
@@ -153,7 +162,13 @@ impl Trace {
         intro: &str,
         describe: impl Fn(&Step<f64>) -> String,
     ) -> String {
-        let Some(step) = self.frame(frame).first() else {
+        // A frame of boxes tested together is told by its last step, which says what came of it.
+        let steps = self.frame(frame);
+        let told = match steps.last() {
+            Some(last @ Step::ChildrenOrdered { .. }) => Some(last),
+            _ => steps.first(),
+        };
+        let Some(step) = told else {
             return if self.frames() == 0 {
                 "No ray to trace.".to_owned()
             } else {
@@ -246,6 +261,31 @@ pub fn describe_step(step: &Step<f64>, node_name: impl Fn(u32) -> String) -> Str
         Step::PrimitiveSkipped { primitive } => {
             format!("primitive {primitive} skipped: already tested for this ray (mailbox)")
         }
+        Step::ChildrenOrdered {
+            node,
+            tested,
+            order,
+            count,
+        } => {
+            let names: Vec<String> = order[..count as usize]
+                .iter()
+                .map(|&child| node_name(child))
+                .collect();
+            let next = match names.as_slice() {
+                [] => "none is hit: back to the stack".to_owned(),
+                [only] => format!("visit {only}"),
+                [first, rest @ ..] => {
+                    format!(
+                        "visit {first} first, then {} (on the stack)",
+                        rest.join(", then ")
+                    )
+                }
+            };
+            format!(
+                "the {tested} child boxes of {} tested at once: {next}",
+                node_name(node)
+            )
+        }
     }
 }
 
@@ -256,7 +296,8 @@ pub fn step_node(step: &Step<f64>) -> Option<u32> {
         | Step::NodeEntered { node }
         | Step::CellEntered { node, .. }
         | Step::CellMissed { node }
-        | Step::NodeCulled { node, .. } => Some(node),
+        | Step::NodeCulled { node, .. }
+        | Step::ChildrenOrdered { node, .. } => Some(node),
         Step::PrimitiveTested { .. }
         | Step::ClosestHitUpdated { .. }
         | Step::PrimitiveSkipped { .. } => None,
@@ -299,5 +340,57 @@ mod tests {
             last.ends_with("Done: the closest hit is primitive 0 at t = 4.000; 3 primitive tests."),
             "{last}"
         );
+    }
+
+    /// A wide node's box tests are one frame with the order chosen, told by that order.
+    #[test]
+    fn a_wide_nodes_children_are_tested_in_one_frame() {
+        use accelviz_core::bvh::BuildParams;
+        use accelviz_core::{Built, NoBuildObserver, Structure, Width};
+        let disc = |x: f64, y: f64| {
+            Shape::Sphere(Sphere {
+                center: DVec2::new(x, y),
+                radius: 1.0,
+            })
+        };
+        let shapes = ShapeSet {
+            shapes: [0.0, 10.0, 20.0, 30.0]
+                .iter()
+                .flat_map(|&x| [disc(x, 0.0), disc(x + 3.0, 6.0)])
+                .collect(),
+        };
+        let params = BuildParams {
+            max_leaf_size: 1,
+            ..BuildParams::default()
+        };
+        let structure = Structure::BvhMedian { width: Width::Four };
+        let built = Built::new(structure, &shapes, &params, &mut NoBuildObserver);
+        let ray = Ray::try_new(DVec2::new(-5.0, 0.0), DVec2::X).unwrap_or_else(|_| unreachable!());
+        let trace = Trace::of(&built.tree, &shapes, &ray, &options_in(Order::NearFirst));
+        // Frame 1 enters the root; frame 2 is every child box of the root and the order.
+        assert!(matches!(trace.frame(1), [Step::NodeEntered { node: 0 }]));
+        let tested = trace.frame(2);
+        let Some(&Step::ChildrenOrdered { tested: count, .. }) = tested.last() else {
+            panic!("{tested:?}");
+        };
+        assert!(count >= 2);
+        assert_eq!(tested.len(), count as usize + 1);
+        assert!(
+            tested[..count as usize]
+                .iter()
+                .all(|step| matches!(step, Step::BoxTested { .. }))
+        );
+        let said = trace.caption(2, "start", |step| {
+            describe_step(step, |node| node.to_string())
+        });
+        assert!(
+            said.starts_with(&format!(
+                "the {count} child boxes of 0 tested at once: visit "
+            )),
+            "{said}"
+        );
+        // Every step is in some frame, and the counters are the core's.
+        assert_eq!(trace.shown(trace.frames()).len(), trace.steps.len());
+        assert_eq!(trace.state(2).counters.box_tests, u64::from(count));
     }
 }

@@ -42,7 +42,15 @@ pub trait Observer<S: Real> {
     /// `primitive` was not tested again: the mailbox shows it was tested for this ray.
     #[inline(always)]
     fn primitive_skipped(&mut self, _primitive: u32) {}
+    /// A wide traversal tested the boxes of `node`'s `tested` children together (the
+    /// `tested` box tests just told, one SIMD test) and will visit the ones hit in `order`:
+    /// nearest entry first, or in slot order.
+    #[inline(always)]
+    fn children_ordered(&mut self, _node: u32, _tested: u32, _order: &[u32]) {}
 }
+
+/// The most children a recorded [`Step::ChildrenOrdered`] lists.
+pub const MAX_ORDERED: usize = 8;
 
 /// Observes nothing, at no cost: what benchmarks pass.
 #[derive(Clone, Copy, Debug, Default)]
@@ -161,6 +169,17 @@ pub enum Step<S: Real> {
         /// The primitive.
         primitive: u32,
     },
+    /// See [`Observer::children_ordered`].
+    ChildrenOrdered {
+        /// The wide node.
+        node: u32,
+        /// How many of its children's boxes were tested together.
+        tested: u32,
+        /// The children hit, in the order they will be visited (the first `count`).
+        order: [u32; MAX_ORDERED],
+        /// How many were hit.
+        count: u32,
+    },
 }
 
 /// Records every step, in order.
@@ -208,6 +227,17 @@ impl<S: Real> Observer<S> for Recorder<S> {
     fn primitive_skipped(&mut self, primitive: u32) {
         self.steps.push(Step::PrimitiveSkipped { primitive });
     }
+    fn children_ordered(&mut self, node: u32, tested: u32, order: &[u32]) {
+        let mut kept = [0; MAX_ORDERED];
+        let count = order.len().min(MAX_ORDERED);
+        kept[..count].copy_from_slice(&order[..count]);
+        self.steps.push(Step::ChildrenOrdered {
+            node,
+            tested,
+            order: kept,
+            count: count as u32,
+        });
+    }
 }
 
 impl<S: Real> Step<S> {
@@ -237,6 +267,12 @@ impl<S: Real> Step<S> {
             }
             Step::ClosestHitUpdated { primitive, t } => observer.closest_hit_updated(primitive, t),
             Step::PrimitiveSkipped { primitive } => observer.primitive_skipped(primitive),
+            Step::ChildrenOrdered {
+                node,
+                tested,
+                order,
+                count,
+            } => observer.children_ordered(node, tested, &order[..count as usize]),
         }
     }
 }
@@ -293,5 +329,10 @@ impl<S: Real, A: Observer<S>, B: Observer<S>> Observer<S> for (A, B) {
     fn primitive_skipped(&mut self, primitive: u32) {
         self.0.primitive_skipped(primitive);
         self.1.primitive_skipped(primitive);
+    }
+    #[inline(always)]
+    fn children_ordered(&mut self, node: u32, tested: u32, order: &[u32]) {
+        self.0.children_ordered(node, tested, order);
+        self.1.children_ordered(node, tested, order);
     }
 }

@@ -73,9 +73,13 @@ pub struct BvhLesson {
 impl BvhLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
+        let structure = text
+            .structure()
+            .filter(|structure| structure.family() == Family::Bvh)
+            .unwrap_or_else(|| Structure::lecture(Family::Bvh, accelviz_core::SplitRule::Sah));
         Self {
             stage: Stage::new(text, Editing::ALL),
-            structure: Structure::lecture(Family::Bvh, accelviz_core::SplitRule::Sah),
+            structure,
             tree: Derived::default(),
             traces: Cached::default(),
             both_rays: false,

@@ -266,7 +266,8 @@ pub fn step_view(trace: &Trace, frame: usize, tree: &SceneTree, ray: &Ray<DVec2>
             cell: leaf,
             ..blank
         },
-        Step::NodeEntered { node } => KdStepView {
+        // kD traversal never orders wide children; entering is the nearest thing it does.
+        Step::NodeEntered { node } | Step::ChildrenOrdered { node, .. } => KdStepView {
             lines: vec![0],
             text: format!("enter node {node}"),
             cell: Some(node),

@@ -269,6 +269,18 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
                 }
             }
             current = visit_children(node, &tests, options.order, entries);
+            if O::ACTIVE {
+                // The order chosen: the child visited next, then the ones just pushed, the
+                // nearest last on the stack.
+                let pushed = (tests.hit_mask.count_ones() as usize).saturating_sub(1);
+                let order: Vec<u32> = current
+                    .iter()
+                    .chain(entries[entries.len() - pushed..].iter().rev())
+                    .map(|entry| tree.source(entry.child, entry.count))
+                    .collect();
+                let tested = node.slots_used() as u32;
+                observer.children_ordered(tree.source(child, count), tested, &order);
+            }
         }
         false
     }
