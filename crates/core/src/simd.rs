@@ -347,13 +347,19 @@ macro_rules! kernel {
     };
 }
 
-/// Four f32 lanes and the operations the block triangle test needs: one Möller–Trumbore,
-/// [`moller_trumbore4`], serves every instruction set's registers. Masks are lanes of all ones
-/// or all zeros.
-trait Lanes4: Copy {
+/// Lanes of f32 and the operations the kernels need: one slab test of a node's children
+/// ([`children_in_lanes`]) and one Möller–Trumbore ([`moller_trumbore4`]) serve every
+/// instruction set's registers. Masks are lanes of all ones or all zeros. An implementation
+/// executes its instruction set's instructions: its methods run only inside the kernels below,
+/// which run only after [`Isa::active`] named that set.
+trait Lanes: Copy {
+    /// How many lanes.
+    const COUNT: usize;
     fn splat(value: f32) -> Self;
-    fn from_row(row: &[f32; 4]) -> Self;
-    fn to_row(self) -> [f32; 4];
+    /// The first `COUNT` values of `values`.
+    fn from_slice(values: &[f32]) -> Self;
+    /// Writes the lanes to the first `COUNT` places of `out`.
+    fn write_to(self, out: &mut [f32]);
     fn add(self, other: Self) -> Self;
     fn sub(self, other: Self) -> Self;
     fn mul(self, other: Self) -> Self;
@@ -369,22 +375,67 @@ trait Lanes4: Copy {
     fn and_not(self, other: Self) -> Self;
     /// `mask ? self : other`, lane by lane.
     fn select(self, other: Self, mask: Self) -> Self;
+    /// `self > other ? self : other`: a NaN `self` gives `other` (the slab module's rule).
+    fn later(self, other: Self) -> Self;
+    /// `self < other ? self : other`: a NaN `self` gives `other`.
+    fn earlier(self, other: Self) -> Self;
+    /// A mask's lanes as bits, lane 0 lowest.
+    fn bits(self) -> u32;
+}
+
+/// The slab test of every child of `node`, `L::COUNT` children at a time: the arithmetic of
+/// [`test_children`](crate::bvh::test_children) (the same planes, products and NaN-ignoring
+/// reductions), so the same intervals bit for bit.
+#[inline(always)]
+fn children_in_lanes<L: Lanes, const W: usize>(
+    node: &WideNode<f32, W>,
+    ray: &SlabRay<Vec3>,
+    t_max: f32,
+) -> ChildTests<f32, W> {
+    let mut tests = ChildTests {
+        t_enter: [0.0; W],
+        t_exit: [0.0; W],
+        hit_mask: 0,
+    };
+    for first in (0..W).step_by(L::COUNT) {
+        let mut t_enter = L::splat(ray.t_min);
+        let mut t_exit = L::splat(f32::INFINITY);
+        for axis in 0..3 {
+            // The near and far planes for this ray, chosen by the sign of its direction
+            // without a branch (Williams et al. 2005).
+            let rows = [&node.lower[axis], &node.upper[axis]];
+            let negative = usize::from(ray.negative[axis]);
+            let (near, far) = (rows[negative], rows[1 - negative]);
+            let origin = L::splat(ray.origin[axis]);
+            let inverse = L::splat(ray.inv_direction[axis]);
+            let t_near = L::from_slice(&near[first..]).sub(origin).mul(inverse);
+            let t_far = L::from_slice(&far[first..]).sub(origin).mul(inverse);
+            t_enter = t_near.later(t_enter);
+            t_exit = t_far.earlier(t_exit);
+        }
+        let t_exit = t_exit.mul(L::splat(ray.far_scale)).earlier(L::splat(t_max));
+        tests.hit_mask |= t_enter.le(t_exit).bits() << first;
+        t_enter.write_to(&mut tests.t_enter[first..]);
+        t_exit.write_to(&mut tests.t_exit[first..]);
+    }
+    tests
 }
 
 /// Möller–Trumbore on the four triangles of `block` in lanes: the portable code's products
 /// and sums in its order (glam's cross and dot), so the same `t`, and its rejections written
 /// as it writes them (a NaN `u` or `v` is rejected only through `t`). `NaN` where no hit.
 #[inline(always)]
-fn moller_trumbore4<L: Lanes4>(
+fn moller_trumbore4<L: Lanes>(
     block: &TriangleBlock,
     origin: Vec3,
     direction: Vec3,
     t_min: f32,
     t_max: f32,
 ) -> [f32; 4] {
-    let [v0x, v0y, v0z] = block.v0.each_ref().map(L::from_row);
-    let [e1x, e1y, e1z] = block.edge1.each_ref().map(L::from_row);
-    let [e2x, e2y, e2z] = block.edge2.each_ref().map(L::from_row);
+    let row = |values: &[f32; 4]| L::from_slice(values);
+    let [v0x, v0y, v0z] = block.v0.each_ref().map(row);
+    let [e1x, e1y, e1z] = block.edge1.each_ref().map(row);
+    let [e2x, e2y, e2z] = block.edge2.each_ref().map(row);
     let (dx, dy, dz) = (
         L::splat(direction.x),
         L::splat(direction.y),
@@ -411,8 +462,10 @@ fn moller_trumbore4<L: Lanes4>(
     let accepted = det
         .ne(zero)
         .and(t.ge(L::splat(t_min)).and(t.le(L::splat(t_max))));
+    let mut out = [0.0; 4];
     t.select(L::splat(f32::NAN), accepted.and_not(rejected))
-        .to_row()
+        .write_to(&mut out);
+    out
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -485,135 +538,71 @@ mod x86 {
     packet_traversal!(packet_avx2, Avx2, "avx2,fma");
     packet_traversal!(packet_avx512, Avx512, "avx2,fma,avx512f,avx512vl");
 
-    /// The near and far planes of `axis` for this ray: lower and upper, or the reverse when
-    /// the ray moves towards −∞ on that axis (chosen once per ray by the sign; Williams et
-    /// al. 2005).
-    /// Without a branch: `upper` follows `lower` in the node (`repr(C)`), three rows on.
-    #[inline(always)]
-    fn planes<const W: usize>(
-        node: &WideNode<f32, W>,
-        ray: &SlabRay<Vec3>,
-        axis: usize,
-    ) -> (*const f32, *const f32) {
-        let rows = node.lower.as_ptr().cast::<[f32; W]>();
-        let negative = usize::from(ray.negative[axis]);
-        // SAFETY: rows `axis` and `axis + 3` of the six plane rows.
-        unsafe {
-            (
-                rows.add(axis + 3 * negative).cast::<f32>(),
-                rows.add(axis + 3 * (1 - negative)).cast::<f32>(),
-            )
-        }
-    }
-
-    macro_rules! children8 {
-        ($name:ident, $features:literal, $mask:expr) => {
+    /// The kernels of one instruction set, compiled for it: the generic lanes code with its
+    /// registers (`__m128` for four children and a triangle block, `__m256` for eight).
+    macro_rules! kernels {
+        ($children4:ident, $children8:ident, $triangles:ident, $features:literal) => {
             #[inline]
             #[target_feature(enable = $features)]
-            pub(super) fn $name(
-                node: &WideNode<f32, 8>,
-                ray: &SlabRay<Vec3>,
-                t_max: f32,
-            ) -> ChildTests<f32, 8> {
-                let mut t_enter = _mm256_set1_ps(ray.t_min);
-                let mut t_exit = _mm256_set1_ps(f32::INFINITY);
-                for axis in 0..3 {
-                    let (near, far) = planes(node, ray, axis);
-                    let origin = _mm256_set1_ps(ray.origin[axis]);
-                    let inverse = _mm256_set1_ps(ray.inv_direction[axis]);
-                    // SAFETY: `near` and `far` point at 8 floats of a 64-byte aligned node.
-                    let (near, far) = unsafe { (_mm256_load_ps(near), _mm256_load_ps(far)) };
-                    let t_near = _mm256_mul_ps(_mm256_sub_ps(near, origin), inverse);
-                    let t_far = _mm256_mul_ps(_mm256_sub_ps(far, origin), inverse);
-                    t_enter = _mm256_max_ps(t_near, t_enter);
-                    t_exit = _mm256_min_ps(t_far, t_exit);
-                }
-                let scaled = _mm256_mul_ps(t_exit, _mm256_set1_ps(ray.far_scale));
-                let t_exit = _mm256_min_ps(scaled, _mm256_set1_ps(t_max));
-                let hit_mask = $mask(t_enter, t_exit);
-                let mut tests = ChildTests {
-                    t_enter: [0.0; 8],
-                    t_exit: [0.0; 8],
-                    hit_mask,
-                };
-                // SAFETY: each array holds 8 floats.
-                unsafe {
-                    _mm256_storeu_ps(tests.t_enter.as_mut_ptr(), t_enter);
-                    _mm256_storeu_ps(tests.t_exit.as_mut_ptr(), t_exit);
-                }
-                tests
-            }
-        };
-    }
-
-    macro_rules! children4 {
-        ($name:ident, $features:literal) => {
-            #[inline]
-            #[target_feature(enable = $features)]
-            pub(super) fn $name(
+            pub(super) fn $children4(
                 node: &WideNode<f32, 4>,
                 ray: &SlabRay<Vec3>,
                 t_max: f32,
             ) -> ChildTests<f32, 4> {
-                let mut t_enter = _mm_set1_ps(ray.t_min);
-                let mut t_exit = _mm_set1_ps(f32::INFINITY);
-                for axis in 0..3 {
-                    let (near, far) = planes(node, ray, axis);
-                    let origin = _mm_set1_ps(ray.origin[axis]);
-                    let inverse = _mm_set1_ps(ray.inv_direction[axis]);
-                    // SAFETY: `near` and `far` point at 4 floats of a 64-byte aligned node.
-                    let (near, far) = unsafe { (_mm_load_ps(near), _mm_load_ps(far)) };
-                    let t_near = _mm_mul_ps(_mm_sub_ps(near, origin), inverse);
-                    let t_far = _mm_mul_ps(_mm_sub_ps(far, origin), inverse);
-                    t_enter = _mm_max_ps(t_near, t_enter);
-                    t_exit = _mm_min_ps(t_far, t_exit);
-                }
-                let scaled = _mm_mul_ps(t_exit, _mm_set1_ps(ray.far_scale));
-                let t_exit = _mm_min_ps(scaled, _mm_set1_ps(t_max));
-                let hit_mask = _mm_movemask_ps(_mm_cmple_ps(t_enter, t_exit)) as u32;
-                let mut tests = ChildTests {
-                    t_enter: [0.0; 4],
-                    t_exit: [0.0; 4],
-                    hit_mask,
-                };
-                // SAFETY: each array holds 4 floats.
-                unsafe {
-                    _mm_storeu_ps(tests.t_enter.as_mut_ptr(), t_enter);
-                    _mm_storeu_ps(tests.t_exit.as_mut_ptr(), t_exit);
-                }
-                tests
+                children_in_lanes::<__m128, 4>(node, ray, t_max)
+            }
+
+            #[inline]
+            #[target_feature(enable = $features)]
+            pub(super) fn $children8(
+                node: &WideNode<f32, 8>,
+                ray: &SlabRay<Vec3>,
+                t_max: f32,
+            ) -> ChildTests<f32, 8> {
+                children_in_lanes::<__m256, 8>(node, ray, t_max)
+            }
+
+            #[inline]
+            #[target_feature(enable = $features)]
+            pub(super) fn $triangles(
+                block: &TriangleBlock,
+                origin: Vec3,
+                direction: Vec3,
+                t_min: f32,
+                t_max: f32,
+            ) -> [f32; 4] {
+                moller_trumbore4::<__m128>(block, origin, direction, t_min, t_max)
             }
         };
     }
 
-    children8!(children8_avx2, "avx2,fma", |t_enter, t_exit| {
-        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OQ>(t_enter, t_exit)) as u32
-    });
-    children8!(
+    kernels!(children4_avx2, children8_avx2, triangles_avx2, "avx2,fma");
+    kernels!(
+        children4_avx512,
         children8_avx512,
-        "avx2,fma,avx512f,avx512vl",
-        |t_enter, t_exit| { u32::from(_mm256_cmp_ps_mask::<_CMP_LE_OQ>(t_enter, t_exit)) }
+        triangles_avx512,
+        "avx2,fma,avx512f,avx512vl"
     );
-    children4!(children4_avx2, "avx2,fma");
-    children4!(children4_avx512, "avx2,fma,avx512f,avx512vl");
 
-    /// SSE's four lanes. SAFETY, for every intrinsic below: SSE and SSE2 are part of every
-    /// x86-64 processor.
-    impl Lanes4 for __m128 {
+    // SAFETY, for every intrinsic in the two implementations below: SSE is part of every
+    // x86-64 processor, and the AVX lanes are used only by the kernels above, which are
+    // compiled for AVX2 and run only when `Isa::active` names AVX2 or AVX-512. Loads and
+    // stores index their slice first, so they stay inside it.
+
+    /// SSE's four lanes.
+    impl Lanes for __m128 {
+        const COUNT: usize = 4;
         #[inline(always)]
         fn splat(value: f32) -> Self {
             unsafe { _mm_set1_ps(value) }
         }
         #[inline(always)]
-        fn from_row(row: &[f32; 4]) -> Self {
-            unsafe { _mm_set_ps(row[3], row[2], row[1], row[0]) }
+        fn from_slice(values: &[f32]) -> Self {
+            unsafe { _mm_loadu_ps(values[..4].as_ptr()) }
         }
         #[inline(always)]
-        fn to_row(self) -> [f32; 4] {
-            let mut row = [0.0; 4];
-            // SAFETY: `row` holds 4 floats.
-            unsafe { _mm_storeu_ps(row.as_mut_ptr(), self) };
-            row
+        fn write_to(self, out: &mut [f32]) {
+            unsafe { _mm_storeu_ps(out[..4].as_mut_ptr(), self) }
         }
         #[inline(always)]
         fn add(self, other: Self) -> Self {
@@ -668,26 +657,103 @@ mod x86 {
         fn select(self, other: Self, mask: Self) -> Self {
             unsafe { _mm_or_ps(_mm_and_ps(mask, self), _mm_andnot_ps(mask, other)) }
         }
+        #[inline(always)]
+        fn later(self, other: Self) -> Self {
+            // MAXPS is `a > b ? a : b`.
+            unsafe { _mm_max_ps(self, other) }
+        }
+        #[inline(always)]
+        fn earlier(self, other: Self) -> Self {
+            // MINPS is `a < b ? a : b`.
+            unsafe { _mm_min_ps(self, other) }
+        }
+        #[inline(always)]
+        fn bits(self) -> u32 {
+            unsafe { _mm_movemask_ps(self) as u32 }
+        }
     }
 
-    macro_rules! triangles {
-        ($name:ident, $features:literal) => {
-            #[inline]
-            #[target_feature(enable = $features)]
-            pub(super) fn $name(
-                block: &TriangleBlock,
-                origin: Vec3,
-                direction: Vec3,
-                t_min: f32,
-                t_max: f32,
-            ) -> [f32; 4] {
-                moller_trumbore4::<__m128>(block, origin, direction, t_min, t_max)
-            }
-        };
+    /// AVX's eight lanes.
+    impl Lanes for __m256 {
+        const COUNT: usize = 8;
+        #[inline(always)]
+        fn splat(value: f32) -> Self {
+            unsafe { _mm256_set1_ps(value) }
+        }
+        #[inline(always)]
+        fn from_slice(values: &[f32]) -> Self {
+            unsafe { _mm256_loadu_ps(values[..8].as_ptr()) }
+        }
+        #[inline(always)]
+        fn write_to(self, out: &mut [f32]) {
+            unsafe { _mm256_storeu_ps(out[..8].as_mut_ptr(), self) }
+        }
+        #[inline(always)]
+        fn add(self, other: Self) -> Self {
+            unsafe { _mm256_add_ps(self, other) }
+        }
+        #[inline(always)]
+        fn sub(self, other: Self) -> Self {
+            unsafe { _mm256_sub_ps(self, other) }
+        }
+        #[inline(always)]
+        fn mul(self, other: Self) -> Self {
+            unsafe { _mm256_mul_ps(self, other) }
+        }
+        #[inline(always)]
+        fn div(self, other: Self) -> Self {
+            unsafe { _mm256_div_ps(self, other) }
+        }
+        #[inline(always)]
+        fn lt(self, other: Self) -> Self {
+            unsafe { _mm256_cmp_ps::<_CMP_LT_OQ>(self, other) }
+        }
+        #[inline(always)]
+        fn gt(self, other: Self) -> Self {
+            unsafe { _mm256_cmp_ps::<_CMP_GT_OQ>(self, other) }
+        }
+        #[inline(always)]
+        fn le(self, other: Self) -> Self {
+            unsafe { _mm256_cmp_ps::<_CMP_LE_OQ>(self, other) }
+        }
+        #[inline(always)]
+        fn ge(self, other: Self) -> Self {
+            unsafe { _mm256_cmp_ps::<_CMP_GE_OQ>(self, other) }
+        }
+        #[inline(always)]
+        fn ne(self, other: Self) -> Self {
+            // Unordered: a NaN lane is "not equal", as `!=` says.
+            unsafe { _mm256_cmp_ps::<_CMP_NEQ_UQ>(self, other) }
+        }
+        #[inline(always)]
+        fn or(self, other: Self) -> Self {
+            unsafe { _mm256_or_ps(self, other) }
+        }
+        #[inline(always)]
+        fn and(self, other: Self) -> Self {
+            unsafe { _mm256_and_ps(self, other) }
+        }
+        #[inline(always)]
+        fn and_not(self, other: Self) -> Self {
+            unsafe { _mm256_andnot_ps(other, self) }
+        }
+        #[inline(always)]
+        fn select(self, other: Self, mask: Self) -> Self {
+            unsafe { _mm256_blendv_ps(other, self, mask) }
+        }
+        #[inline(always)]
+        fn later(self, other: Self) -> Self {
+            unsafe { _mm256_max_ps(self, other) }
+        }
+        #[inline(always)]
+        fn earlier(self, other: Self) -> Self {
+            unsafe { _mm256_min_ps(self, other) }
+        }
+        #[inline(always)]
+        fn bits(self) -> u32 {
+            unsafe { _mm256_movemask_ps(self) as u32 }
+        }
     }
-
-    triangles!(triangles_avx2, "avx2,fma");
-    triangles!(triangles_avx512, "avx2,fma,avx512f,avx512vl");
 }
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
@@ -696,9 +762,7 @@ mod wasm {
 
     use super::*;
 
-    /// WebAssembly `simd128` kernels: four lanes; eight children are two halves. `pmax(a, b)`
-    /// is `a < b ? b : a` and `pmin(a, b)` is `b < a ? b : a`, the x86 rules with the operands
-    /// swapped, so a NaN plane distance is ignored the same way.
+    /// WebAssembly `simd128` kernels: four lanes; eight children are two groups of four.
     pub(crate) struct Simd128;
 
     kernel!(
@@ -707,43 +771,6 @@ mod wasm {
         children8_simd128,
         triangles_simd128
     );
-
-    /// The slab test of four children: slots `offset..offset + 4` of the planes.
-    #[inline(always)]
-    fn children4_at<const W: usize>(
-        node: &WideNode<f32, W>,
-        ray: &SlabRay<Vec3>,
-        t_max: f32,
-        offset: usize,
-    ) -> (v128, v128, u32) {
-        let mut t_enter = f32x4_splat(ray.t_min);
-        let mut t_exit = f32x4_splat(f32::INFINITY);
-        for axis in 0..3 {
-            let (near, far) = if ray.negative[axis] {
-                (&node.upper[axis], &node.lower[axis])
-            } else {
-                (&node.lower[axis], &node.upper[axis])
-            };
-            let lanes = |row: &[f32; W]| {
-                f32x4(
-                    row[offset],
-                    row[offset + 1],
-                    row[offset + 2],
-                    row[offset + 3],
-                )
-            };
-            let origin = f32x4_splat(ray.origin[axis]);
-            let inverse = f32x4_splat(ray.inv_direction[axis]);
-            let t_near = f32x4_mul(f32x4_sub(lanes(near), origin), inverse);
-            let t_far = f32x4_mul(f32x4_sub(lanes(far), origin), inverse);
-            t_enter = f32x4_pmax(t_enter, t_near);
-            t_exit = f32x4_pmin(t_exit, t_far);
-        }
-        let scaled = f32x4_mul(t_exit, f32x4_splat(ray.far_scale));
-        let t_exit = f32x4_pmin(f32x4_splat(t_max), scaled);
-        let mask = u32::from(i32x4_bitmask(f32x4_le(t_enter, t_exit)));
-        (t_enter, t_exit, mask)
-    }
 
     fn lanes_of(vector: v128) -> [f32; 4] {
         [
@@ -759,12 +786,7 @@ mod wasm {
         ray: &SlabRay<Vec3>,
         t_max: f32,
     ) -> ChildTests<f32, 4> {
-        let (t_enter, t_exit, hit_mask) = children4_at(node, ray, t_max, 0);
-        ChildTests {
-            t_enter: lanes_of(t_enter),
-            t_exit: lanes_of(t_exit),
-            hit_mask,
-        }
+        children_in_lanes::<v128, 4>(node, ray, t_max)
     }
 
     pub(super) fn children8_simd128(
@@ -772,32 +794,33 @@ mod wasm {
         ray: &SlabRay<Vec3>,
         t_max: f32,
     ) -> ChildTests<f32, 8> {
-        let (enter_low, exit_low, mask_low) = children4_at(node, ray, t_max, 0);
-        let (enter_high, exit_high, mask_high) = children4_at(node, ray, t_max, 4);
-        let join = |low: v128, high: v128| {
-            let (low, high) = (lanes_of(low), lanes_of(high));
-            std::array::from_fn(|slot| if slot < 4 { low[slot] } else { high[slot - 4] })
-        };
-        ChildTests {
-            t_enter: join(enter_low, enter_high),
-            t_exit: join(exit_low, exit_high),
-            hit_mask: mask_low | mask_high << 4,
-        }
+        children_in_lanes::<v128, 8>(node, ray, t_max)
+    }
+
+    pub(super) fn triangles_simd128(
+        block: &TriangleBlock,
+        origin: Vec3,
+        direction: Vec3,
+        t_min: f32,
+        t_max: f32,
+    ) -> [f32; 4] {
+        moller_trumbore4::<v128>(block, origin, direction, t_min, t_max)
     }
 
     /// WebAssembly's four lanes.
-    impl Lanes4 for v128 {
+    impl Lanes for v128 {
+        const COUNT: usize = 4;
         #[inline(always)]
         fn splat(value: f32) -> Self {
             f32x4_splat(value)
         }
         #[inline(always)]
-        fn from_row(row: &[f32; 4]) -> Self {
-            f32x4(row[0], row[1], row[2], row[3])
+        fn from_slice(values: &[f32]) -> Self {
+            f32x4(values[0], values[1], values[2], values[3])
         }
         #[inline(always)]
-        fn to_row(self) -> [f32; 4] {
-            lanes_of(self)
+        fn write_to(self, out: &mut [f32]) {
+            out[..4].copy_from_slice(&lanes_of(self));
         }
         #[inline(always)]
         fn add(self, other: Self) -> Self {
@@ -852,16 +875,20 @@ mod wasm {
         fn select(self, other: Self, mask: Self) -> Self {
             v128_bitselect(self, other, mask)
         }
-    }
-
-    pub(super) fn triangles_simd128(
-        block: &TriangleBlock,
-        origin: Vec3,
-        direction: Vec3,
-        t_min: f32,
-        t_max: f32,
-    ) -> [f32; 4] {
-        moller_trumbore4::<v128>(block, origin, direction, t_min, t_max)
+        #[inline(always)]
+        fn later(self, other: Self) -> Self {
+            // `pmax(a, b)` is `a < b ? b : a`: with `a = other`, `self > other ? self : other`.
+            f32x4_pmax(other, self)
+        }
+        #[inline(always)]
+        fn earlier(self, other: Self) -> Self {
+            // `pmin(a, b)` is `b < a ? b : a`.
+            f32x4_pmin(other, self)
+        }
+        #[inline(always)]
+        fn bits(self) -> u32 {
+            u32::from(i32x4_bitmask(self))
+        }
     }
 }
 
