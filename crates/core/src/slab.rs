@@ -112,13 +112,13 @@ pub fn axis_interval<V: Vector>(
 
 /// The later of two entry times; a NaN `t_near` is ignored.
 #[inline(always)]
-fn later<S: Real>(t_enter: S, t_near: S) -> S {
+pub(crate) fn later<S: Real>(t_enter: S, t_near: S) -> S {
     if t_near > t_enter { t_near } else { t_enter }
 }
 
 /// The earlier of two exit times; a NaN `t_far` is ignored.
 #[inline(always)]
-fn earlier<S: Real>(t_exit: S, t_far: S) -> S {
+pub(crate) fn earlier<S: Real>(t_exit: S, t_far: S) -> S {
     if t_far < t_exit { t_far } else { t_exit }
 }
 

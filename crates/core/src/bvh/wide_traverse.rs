@@ -18,7 +18,7 @@ use crate::query::{Hit, Order, Query, TraceOptions};
 use crate::ray::Ray;
 use crate::search::HitSearch;
 use crate::simd::Kernel;
-use crate::slab::SlabRay;
+use crate::slab::{SlabRay, earlier, later};
 
 /// One child waiting to be visited: a wide node or a leaf, and where the ray enters its box.
 #[derive(Clone, Copy, Debug)]
@@ -71,23 +71,13 @@ pub fn test_children<V: Vector, const W: usize>(
         for slot in 0..W {
             let t_near = (near[slot] - origin) * inverse;
             let t_far = (far[slot] - origin) * inverse;
-            // `a > b ? a : b` ignores a NaN `a` (see the slab module).
-            t_enter[slot] = if t_near > t_enter[slot] {
-                t_near
-            } else {
-                t_enter[slot]
-            };
-            t_exit[slot] = if t_far < t_exit[slot] {
-                t_far
-            } else {
-                t_exit[slot]
-            };
+            t_enter[slot] = later(t_enter[slot], t_near);
+            t_exit[slot] = earlier(t_exit[slot], t_far);
         }
     }
     let mut hit_mask = 0;
     for slot in 0..W {
-        let scaled = t_exit[slot] * ray.far_scale;
-        t_exit[slot] = if scaled < t_max { scaled } else { t_max };
+        t_exit[slot] = earlier(t_max, t_exit[slot] * ray.far_scale);
         hit_mask |= u32::from(t_enter[slot] <= t_exit[slot]) << slot;
     }
     ChildTests {
@@ -460,23 +450,14 @@ impl<S: Real> PacketLanes<S> {
                 let negative = self.negative[axis][ray];
                 let t_near = if negative { t_upper } else { t_lower };
                 let t_far = if negative { t_lower } else { t_upper };
-                t_enter[lane] = if t_near > t_enter[lane] {
-                    t_near
-                } else {
-                    t_enter[lane]
-                };
-                t_exit[lane] = if t_far < t_exit[lane] {
-                    t_far
-                } else {
-                    t_exit[lane]
-                };
+                t_enter[lane] = later(t_enter[lane], t_near);
+                t_exit[lane] = earlier(t_exit[lane], t_far);
             }
         }
         let mut hits = 0u64;
         for lane in 0..LANES {
-            let scaled = t_exit[lane] * self.far_scale;
             let t_max = self.t_closest[lanes.start + lane];
-            t_exit[lane] = if scaled < t_max { scaled } else { t_max };
+            t_exit[lane] = earlier(t_max, t_exit[lane] * self.far_scale);
             hits |= u64::from(t_enter[lane] <= t_exit[lane]) << lane;
         }
         (t_enter, t_exit, hits << lanes.start)
