@@ -1,5 +1,6 @@
 //! Criterion benches of the core: the slab test, each BVH and kD builder, traversal of both
-//! kinds of tree in both orders, and a node's SAH cost curve, on the built-in lumpy sphere
+//! kinds of tree in both orders, what observing a wide traversal costs (nothing for
+//! `NoObserver`), and a node's SAH cost curve, on the built-in lumpy sphere
 //! (20,480 triangles) and its seeded random rays; and how the kD SAH build scales (10k, 100k
 //! and 1M triangles, both ways of sorting). `accelviz-cli bench` measures the same on any mesh.
 
@@ -10,8 +11,8 @@ use std::hint::black_box;
 use accelviz_core::bvh::{BinnedSah, BuildParams, Builder, TraversalStack, traverse};
 use accelviz_core::kd::{self, KdBuilder, KdSah, KdSahPresorted};
 use accelviz_core::{
-    Aabb, CATALOGUE, NoObserver, Order, PrimitiveSet, Ray, SahCost, SlabRay, TraceOptions,
-    TriangleSet, curve, slab_clip,
+    Aabb, CATALOGUE, Counters, NoObserver, Observer, Order, PrimitiveSet, Ray, Recorder, SahCost,
+    SlabRay, Structure, TraceOptions, TraversalStacks, TriangleSet, Width, curve, slab_clip,
 };
 use accelviz_scene::builtin::{lumpy_grid_sphere, lumpy_sphere};
 use accelviz_scene::rays::random_rays;
@@ -153,5 +154,72 @@ fn traversal(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, slab, builders, traversal, curves, kd_scaling);
+/// Observing a wide traversal: nothing (`NoObserver`, whose `ACTIVE` is false, so traversal does
+/// not even compute what it would report), an observer that hears every step and ignores it
+/// (what the calls and their arguments cost), counting, and recording every step.
+fn observers(c: &mut Criterion) {
+    /// Hears everything, keeps nothing.
+    struct Silent;
+    impl Observer<f32> for Silent {}
+
+    let mesh = lumpy_sphere();
+    let triangles = TriangleSet::<Vec3>::from_f64(&mesh.triangles);
+    let tree = Structure::BvhSahBinned {
+        bins: 16,
+        width: Width::Eight,
+    }
+    .build(&triangles, &BuildParams::default());
+    let leaf_ordered = tree.leaf_ordered(&triangles);
+    let rays: Vec<Ray<Vec3>> = random_rays(&mesh.bounds(), 10_000, 1)
+        .iter()
+        .map(|spec| spec.to_ray().unwrap())
+        .collect();
+    let options = TraceOptions::default();
+    let mut group = c.benchmark_group("bvh8 10k random rays, observed");
+    group.sample_size(20);
+    let mut stacks = TraversalStacks::default();
+    group.bench_function("NoObserver", |b| {
+        b.iter(|| {
+            rays.iter()
+                .filter(|ray| {
+                    tree.trace(&leaf_ordered, ray, &options, &mut stacks, &mut NoObserver)
+                        .is_some()
+                })
+                .count()
+        })
+    });
+    group.bench_function("an observer that ignores every step", |b| {
+        b.iter(|| {
+            rays.iter()
+                .filter(|ray| {
+                    tree.trace(&leaf_ordered, ray, &options, &mut stacks, &mut Silent)
+                        .is_some()
+                })
+                .count()
+        })
+    });
+    group.bench_function("Counters", |b| {
+        b.iter(|| {
+            let mut counters = Counters::default();
+            for ray in &rays {
+                tree.trace(&leaf_ordered, ray, &options, &mut stacks, &mut counters);
+            }
+            counters
+        })
+    });
+    group.bench_function("Recorder", |b| {
+        let mut recorder = Recorder::default();
+        b.iter(|| {
+            for ray in &rays {
+                recorder.steps.clear();
+                tree.trace(&leaf_ordered, ray, &options, &mut stacks, &mut recorder);
+            }
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(
+    benches, slab, builders, traversal, observers, curves, kd_scaling
+);
 criterion_main!(benches);
