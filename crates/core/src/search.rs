@@ -8,6 +8,7 @@ use crate::primitive::{LeafPrimitives, PrimitiveSet};
 use crate::query::{Hit, Query};
 
 /// A closest- or any-hit search under way.
+#[derive(Clone, Copy)]
 pub(crate) struct HitSearch<S: Real> {
     /// The best hit so far.
     pub(crate) closest: Option<Hit<S>>,

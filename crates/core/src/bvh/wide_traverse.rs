@@ -184,20 +184,22 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
         }
     }
 
-    /// Tests a leaf's primitives; true when an any-hit query has its answer.
+    /// Tests a leaf's primitives into `search` (this ray's, held apart so that the loop can
+    /// keep it in registers); true when an any-hit query has its answer.
     #[inline(always)]
     fn test_leaf<K: Kernel, O: Observer<V::Scalar>>(
-        &mut self,
+        &self,
+        search: &mut HitSearch<V::Scalar>,
         primitives: &P,
         first: u32,
         numbers: &[u32],
         observer: &mut O,
     ) -> bool {
         match self.blocks {
-            Some((blocks, block_ray)) => self
-                .search
-                .test_blocks::<K, O>(blocks, block_ray, first, numbers, observer),
-            None => self.search.test_leaf(
+            Some((blocks, block_ray)) => {
+                search.test_blocks::<K, O>(blocks, block_ray, first, numbers, observer)
+            }
+            None => search.test_leaf(
                 primitives,
                 &self.primitive_ray,
                 self.ray.t_min,
@@ -222,6 +224,7 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
         observer: &mut O,
     ) -> bool {
         let nodes = tree.nodes.as_slice();
+        let mut search = self.search;
         let mut current = Some(start);
         while let Some(Pending {
             child,
@@ -229,9 +232,9 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
             t_enter,
         }) = current.take().or_else(|| entries.pop())
         {
-            if t_enter > self.search.t_closest {
+            if t_enter > search.t_closest {
                 if O::ACTIVE {
-                    observer.node_culled(tree.source(child, count), t_enter, self.search.t_closest);
+                    observer.node_culled(tree.source(child, count), t_enter, search.t_closest);
                 }
                 continue;
             }
@@ -240,14 +243,15 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
             }
             if count > 0 {
                 let numbers = tree.leaf_primitives(child, count);
-                if self.test_leaf::<K, O>(primitives, child, numbers, observer) {
+                if self.test_leaf::<K, O>(&mut search, primitives, child, numbers, observer) {
                     entries.clear();
+                    self.search = search;
                     return true;
                 }
                 continue;
             }
             let node = &nodes[child as usize];
-            let tests = K::test_children(node, &self.slab_ray, self.search.t_closest);
+            let tests = K::test_children(node, &self.slab_ray, search.t_closest);
             if O::ACTIVE {
                 for slot in 0..node.slots_used() {
                     observer.box_tested(
@@ -272,6 +276,7 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
                 observer.children_ordered(tree.source(child, count), tested, &order);
             }
         }
+        self.search = search;
         false
     }
 }
@@ -618,7 +623,16 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
             let numbers = tree.leaf_primitives(child, count);
             for_each_ray(active, |ray| {
                 let state = &mut states[ray];
-                if state.test_leaf::<K, O>(primitives, child, numbers, &mut observers[ray]) {
+                let mut search = state.search;
+                let done = state.test_leaf::<K, O>(
+                    &mut search,
+                    primitives,
+                    child,
+                    numbers,
+                    &mut observers[ray],
+                );
+                state.search = search;
+                if done {
                     searching &= !(1 << ray);
                 }
                 lanes.t_closest[ray] = state.search.t_closest;
