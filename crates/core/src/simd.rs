@@ -7,8 +7,9 @@
 //! `unsafe` is needed for two things only, both here:
 //! - calling a `#[target_feature]` function, which is sound only on a processor that has the
 //!   feature: every such call is behind [`Isa::active`], which only ever holds a detected set;
-//! - loading SIMD registers through pointers into nodes and triangle blocks, which are
-//!   `#[repr(C, align(64))]` arrays of exactly the lanes loaded.
+//! - loading and storing SIMD registers through pointers, each into a slice indexed first (so
+//!   the lanes loaded are inside it); and x86 intrinsics outside `#[target_feature]`
+//!   functions, in the lanes below, which run only inside such functions.
 //!
 //! Every kernel does the arithmetic of the portable code (`Portable`) in the same order, with
 //! the same NaN rules (`max_ps(a, b)` is `a > b ? a : b`, which ignores a NaN `a`, like the
@@ -26,7 +27,7 @@ use glam::Vec3;
 
 use crate::bvh::wide_traverse::{traverse_packet_with, traverse_wide_with};
 use crate::bvh::{ChildTests, PacketStack, WideBvh, WideNode, WideStack};
-use crate::math::{Real, Vector};
+use crate::math::Vector;
 use crate::observer::Observer;
 use crate::primitive::{LeafPrimitives, TriangleBlock};
 use crate::query::{Hit, TraceOptions};
@@ -40,7 +41,8 @@ pub enum Isa {
     Portable,
     /// x86-64 with AVX2 and FMA (Intel since 2013, AMD since 2015): 8 lanes of f32.
     Avx2,
-    /// x86-64 with AVX-512 F and VL: 8 lanes with mask registers and compress.
+    /// x86-64 with AVX-512 F and VL: the AVX2 kernels compiled with AVX-512 enabled (its
+    /// mask registers where the compiler uses them).
     Avx512,
     /// WebAssembly `simd128`: 4 lanes, fixed when the module is compiled.
     Simd128,
@@ -280,11 +282,11 @@ impl Kernel for Portable {
     }
 }
 
-/// The same generic code with the slab test of a 3D f32 node in SIMD lanes: `$test8` for 8
-/// children, `$test4` for 4, `$triangles` for a triangle block. Other vector types take the
-/// portable path (the type test is resolved when the code is compiled).
+/// The same generic code with the slab test of a 3D f32 node in SIMD lanes (`$children`, for
+/// any multiple of four children) and a triangle block (`$triangles`). Other vector types and
+/// widths take the portable path (the type tests are resolved when the code is compiled).
 macro_rules! kernel {
-    ($name:ident, $test4:path, $test8:path, $triangles:path) => {
+    ($name:ident, $children:ident, $triangles:path) => {
         impl Kernel for $name {
             #[inline(always)]
             fn test_children<V: Vector, const W: usize>(
@@ -293,39 +295,23 @@ macro_rules! kernel {
                 t_max: V::Scalar,
             ) -> ChildTests<V::Scalar, W> {
                 use std::any::Any;
-                let (Some(ray3), Some(&t_max3)) = (
-                    (ray as &dyn Any).downcast_ref::<SlabRay<Vec3>>(),
-                    (&t_max as &dyn Any).downcast_ref::<f32>(),
-                ) else {
-                    return Portable::test_children(node, ray, t_max);
-                };
-                let mut tests = ChildTests {
-                    t_enter: [V::Scalar::ZERO; W],
-                    t_exit: [V::Scalar::ZERO; W],
-                    hit_mask: 0,
-                };
-                let any_node = node as &dyn Any;
-                if let (Some(node8), Some(out)) = (
-                    any_node.downcast_ref::<WideNode<f32, 8>>(),
-                    (&mut tests as &mut dyn Any).downcast_mut::<ChildTests<f32, 8>>(),
-                ) {
+                if W % 4 == 0
+                    && let (Some(node), Some(ray), Some(&t_max)) = (
+                        (node as &dyn Any).downcast_ref::<WideNode<f32, W>>(),
+                        (ray as &dyn Any).downcast_ref::<SlabRay<Vec3>>(),
+                        (&t_max as &dyn Any).downcast_ref::<f32>(),
+                    )
+                {
                     // SAFETY: this kernel runs only when `Isa::active` says the machine has
                     // its instruction set (see `traverse_wide`). (WebAssembly's kernels are
                     // safe: the module is compiled for its set.)
                     #[allow(unused_unsafe)]
-                    let tests8 = unsafe { $test8(node8, ray3, t_max3) };
-                    *out = tests8;
-                    return tests;
-                }
-                if let (Some(node4), Some(out)) = (
-                    any_node.downcast_ref::<WideNode<f32, 4>>(),
-                    (&mut tests as &mut dyn Any).downcast_mut::<ChildTests<f32, 4>>(),
-                ) {
-                    // SAFETY: as above.
-                    #[allow(unused_unsafe)]
-                    let tests4 = unsafe { $test4(node4, ray3, t_max3) };
-                    *out = tests4;
-                    return tests;
+                    let tests = unsafe { $children::<W>(node, ray, t_max) };
+                    if let Some(&tests) =
+                        (&tests as &dyn Any).downcast_ref::<ChildTests<V::Scalar, W>>()
+                    {
+                        return tests;
+                    }
                 }
                 Portable::test_children(node, ray, t_max)
             }
@@ -477,11 +463,11 @@ mod x86 {
     /// AVX2 + FMA kernels (FMA is not used: it would round differently from the portable
     /// code; it comes with every AVX2 processor and the compiler may use it elsewhere).
     pub(crate) struct Avx2;
-    /// AVX-512 F + VL kernels.
+    /// AVX-512 F + VL kernels (the AVX2 code, compiled for AVX-512).
     pub(crate) struct Avx512;
 
-    kernel!(Avx2, children4_avx2, children8_avx2, triangles_avx2);
-    kernel!(Avx512, children4_avx512, children8_avx512, triangles_avx512);
+    kernel!(Avx2, children_avx2, triangles_avx2);
+    kernel!(Avx512, children_avx512, triangles_avx512);
 
     /// The whole traversal compiled for one instruction set, so the kernels inline into it.
     macro_rules! traversal {
@@ -539,27 +525,22 @@ mod x86 {
     packet_traversal!(packet_avx512, Avx512, "avx2,fma,avx512f,avx512vl");
 
     /// The kernels of one instruction set, compiled for it: the generic lanes code with its
-    /// registers (`__m128` for four children and a triangle block, `__m256` for eight).
+    /// registers (`__m256` when the children fill eight lanes, `__m128` otherwise and for a
+    /// triangle block).
     macro_rules! kernels {
-        ($children4:ident, $children8:ident, $triangles:ident, $features:literal) => {
+        ($children:ident, $triangles:ident, $features:literal) => {
             #[inline]
             #[target_feature(enable = $features)]
-            pub(super) fn $children4(
-                node: &WideNode<f32, 4>,
+            pub(super) fn $children<const W: usize>(
+                node: &WideNode<f32, W>,
                 ray: &SlabRay<Vec3>,
                 t_max: f32,
-            ) -> ChildTests<f32, 4> {
-                children_in_lanes::<__m128, 4>(node, ray, t_max)
-            }
-
-            #[inline]
-            #[target_feature(enable = $features)]
-            pub(super) fn $children8(
-                node: &WideNode<f32, 8>,
-                ray: &SlabRay<Vec3>,
-                t_max: f32,
-            ) -> ChildTests<f32, 8> {
-                children_in_lanes::<__m256, 8>(node, ray, t_max)
+            ) -> ChildTests<f32, W> {
+                if W % 8 == 0 {
+                    children_in_lanes::<__m256, W>(node, ray, t_max)
+                } else {
+                    children_in_lanes::<__m128, W>(node, ray, t_max)
+                }
             }
 
             #[inline]
@@ -576,10 +557,9 @@ mod x86 {
         };
     }
 
-    kernels!(children4_avx2, children8_avx2, triangles_avx2, "avx2,fma");
+    kernels!(children_avx2, triangles_avx2, "avx2,fma");
     kernels!(
-        children4_avx512,
-        children8_avx512,
+        children_avx512,
         triangles_avx512,
         "avx2,fma,avx512f,avx512vl"
     );
@@ -765,12 +745,7 @@ mod wasm {
     /// WebAssembly `simd128` kernels: four lanes; eight children are two groups of four.
     pub(crate) struct Simd128;
 
-    kernel!(
-        Simd128,
-        children4_simd128,
-        children8_simd128,
-        triangles_simd128
-    );
+    kernel!(Simd128, children_simd128, triangles_simd128);
 
     fn lanes_of(vector: v128) -> [f32; 4] {
         [
@@ -781,20 +756,12 @@ mod wasm {
         ]
     }
 
-    pub(super) fn children4_simd128(
-        node: &WideNode<f32, 4>,
+    pub(super) fn children_simd128<const W: usize>(
+        node: &WideNode<f32, W>,
         ray: &SlabRay<Vec3>,
         t_max: f32,
-    ) -> ChildTests<f32, 4> {
-        children_in_lanes::<v128, 4>(node, ray, t_max)
-    }
-
-    pub(super) fn children8_simd128(
-        node: &WideNode<f32, 8>,
-        ray: &SlabRay<Vec3>,
-        t_max: f32,
-    ) -> ChildTests<f32, 8> {
-        children_in_lanes::<v128, 8>(node, ray, t_max)
+    ) -> ChildTests<f32, W> {
+        children_in_lanes::<v128, W>(node, ray, t_max)
     }
 
     pub(super) fn triangles_simd128(

@@ -267,13 +267,16 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
                 // The order chosen: the child visited next, then the ones just pushed, the
                 // nearest last on the stack.
                 let pushed = (tests.hit_mask.count_ones() as usize).saturating_sub(1);
-                let order: Vec<u32> = current
+                let mut order = [0u32; W];
+                let chosen = current
                     .iter()
-                    .chain(entries[entries.len() - pushed..].iter().rev())
-                    .map(|entry| tree.source(entry.child, entry.count))
-                    .collect();
+                    .chain(entries[entries.len() - pushed..].iter().rev());
+                for (place, entry) in order.iter_mut().zip(chosen) {
+                    *place = tree.source(entry.child, entry.count);
+                }
+                let hit_count = tests.hit_mask.count_ones() as usize;
                 let tested = node.slots_used() as u32;
-                observer.children_ordered(tree.source(child, count), tested, &order);
+                observer.children_ordered(tree.source(child, count), tested, &order[..hit_count]);
             }
         }
         self.search = search;
@@ -420,8 +423,8 @@ impl<S: Real> PacketBounds<S> {
             } else {
                 to_far * bounds.inverse_min
             };
-            near = if t_near > near { t_near } else { near };
-            far = if t_far < far { t_far } else { far };
+            near = later(near, t_near);
+            far = earlier(far, t_far);
         }
         let far = far * self.far_scale;
         near > far || near > t_max
@@ -440,9 +443,7 @@ impl<S: Real> PacketLanes<S> {
         group: usize,
     ) -> ([S; LANES], [S; LANES], u64) {
         let lanes = group * LANES..group * LANES + LANES;
-        let mut t_enter: [S; LANES] = self.t_min[lanes.clone()]
-            .try_into()
-            .unwrap_or([S::ZERO; LANES]);
+        let mut t_enter: [S; LANES] = std::array::from_fn(|lane| self.t_min[lanes.start + lane]);
         let mut t_exit = [S::INFINITY; LANES];
         for axis in 0..V::DIM {
             let (lower, upper) = (node.lower[axis][slot], node.upper[axis][slot]);
@@ -477,8 +478,8 @@ impl<S: Real> PacketLanes<S> {
 /// binary tree): a child's box that the whole packet misses is rejected with one test of
 /// bounds on the packet (interval arithmetic, Boulos et al. 2006); any other is tested
 /// against every active ray, lanes of rays at a time; the children some ray hits are visited
-/// nearest first by the nearest entry among their rays, each with the rays that hit it. Where only a few rays are left (the packet has
-/// scattered), they go on one by one. Each ray's observer hears that ray's steps, as the
+/// nearest first by the nearest entry among their rays, each with the rays that hit it. Where
+/// only a few rays are left (the packet has scattered), they go on one by one. Each ray's observer hears that ray's steps, as the
 /// single-ray traversal would tell them (a packet may test a ray against boxes and leaves a
 /// lone ray would have skipped, so counts can differ; answers do not).
 pub fn traverse_packet<V, P, O, const W: usize>(
@@ -552,18 +553,11 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
     let nodes = tree.nodes.as_slice();
     let PacketStack { entries, single } = stack;
     entries.clear();
-    let t_start = rays
-        .iter()
-        .map(|ray| ray.t_min)
-        .fold(
-            V::Scalar::INFINITY,
-            |nearest, t| if t < nearest { t } else { nearest },
-        );
     entries.push(PacketPending {
         child: 0,
         count: 0,
         rays: searching,
-        t_enter: t_start,
+        t_enter: bounds.t_min,
     });
     while let Some(PacketPending {
         child,
