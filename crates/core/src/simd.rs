@@ -1052,7 +1052,7 @@ mod tests {
             .collect();
         let triangles = TriangleSet::<Vec3>::from_f64(&corners);
         let binary = BinnedSah { bins: 16 }.build(&triangles.all_bounds(), &BuildParams::default());
-        let eight: WideBvh<Vec3, 8> = collapse(&binary, &BuildParams::default().cost);
+        let eight: WideBvh<Vec3, 8> = collapse(binary, &BuildParams::default().cost);
         let ordered = eight.leaf_ordered(&triangles);
         // A camera-like fan of rays: neighbours in a packet are coherent.
         let origin = Vec3::new(5.0, 5.0, -20.0);
@@ -1161,8 +1161,8 @@ mod tests {
         let triangles = TriangleSet::<Vec3>::from_f64(&corners);
         let binary = BinnedSah { bins: 16 }.build(&triangles.all_bounds(), &BuildParams::default());
         let cost = BuildParams::default().cost;
-        let four: WideBvh<Vec3, 4> = collapse(&binary, &cost);
-        let eight: WideBvh<Vec3, 8> = collapse(&binary, &cost);
+        let four: WideBvh<Vec3, 4> = collapse(binary.clone(), &cost);
+        let eight: WideBvh<Vec3, 8> = collapse(binary, &cost);
         let (ordered4, ordered8) = (
             four.leaf_ordered(&triangles),
             eight.leaf_ordered(&triangles),

@@ -545,8 +545,8 @@ impl<V: Vector> Tree<V> {
     pub fn from_binary(binary: Bvh<V>, width: Width, cost: &crate::sah::SahCost) -> Self {
         match width {
             Width::Binary => Tree::Bvh(binary),
-            Width::Four => Tree::Bvh4(bvh::collapse(&binary, cost)),
-            Width::Eight => Tree::Bvh8(bvh::collapse(&binary, cost)),
+            Width::Four => Tree::Bvh4(bvh::collapse(binary, cost)),
+            Width::Eight => Tree::Bvh8(bvh::collapse(binary, cost)),
         }
     }
 

@@ -58,19 +58,20 @@ fn subtree_ranges<V: Vector>(binary: &Bvh<V>) -> Vec<(u32, u32)> {
 }
 
 /// Collapses `binary` into a BVH of `W` children per node (`2 <= W <= 16`), with the
-/// SAH-optimal choice of which binary nodes to keep (see the module docs).
-pub fn collapse<V: Vector, const W: usize>(binary: &Bvh<V>, cost: &SahCost) -> WideBvh<V, W> {
+/// SAH-optimal choice of which binary nodes to keep (see the module docs). The wide tree keeps
+/// the binary one.
+pub fn collapse<V: Vector, const W: usize>(binary: Bvh<V>, cost: &SahCost) -> WideBvh<V, W> {
     assert!(
         (2..=16).contains(&W),
         "a wide BVH has 2 to 16 children per node"
     );
     if binary.nodes.is_empty() {
         return WideBvh {
-            binary: binary.clone(),
+            binary,
             ..WideBvh::default()
         };
     }
-    let ranges = subtree_ranges(binary);
+    let ranges = subtree_ranges(&binary);
     let node_count = binary.nodes.len();
     // costs[n][i - 1] and choices[n][i - 1]: the cheapest way to fill at most i slots.
     let mut costs = vec![[f64::INFINITY; W]; node_count];
@@ -127,7 +128,7 @@ pub fn collapse<V: Vector, const W: usize>(binary: &Bvh<V>, cost: &SahCost) -> W
         primitive_indices: Vec::with_capacity(binary.primitive_indices.len() * 2),
         node_sources: vec![0],
         leaf_sources: Vec::new(),
-        binary: binary.clone(),
+        binary: Bvh::default(),
     };
     // The root is a wide node even when the binary root would rather be a leaf.
     let mut pending = vec![(0usize, 0u32)];
@@ -139,8 +140,8 @@ pub fn collapse<V: Vector, const W: usize>(binary: &Bvh<V>, cost: &SahCost) -> W
         } else {
             let [left, right] = binary.nodes[source as usize].children();
             let k = node_splits[source as usize] as usize;
-            slot_subtrees(binary, &choices, left, k, &mut subtrees);
-            slot_subtrees(binary, &choices, right, W - k, &mut subtrees);
+            slot_subtrees(&binary, &choices, left, k, &mut subtrees);
+            slot_subtrees(&binary, &choices, right, W - k, &mut subtrees);
         }
         // Wide children are allocated side by side, then filled (depth first).
         let mut node = WideNode::<V::Scalar, W>::default();
@@ -182,6 +183,7 @@ pub fn collapse<V: Vector, const W: usize>(binary: &Bvh<V>, cost: &SahCost) -> W
         // Reversed, so the first child's subtree is laid out first.
         pending.extend(children.into_iter().rev());
     }
+    wide.binary = binary;
     wide
 }
 
@@ -306,11 +308,15 @@ mod tests {
                 for (width, wide_cost) in [
                     (
                         4,
-                        collapse::<DVec3, 4>(&binary, &cost).stats(&cost).sah_cost,
+                        collapse::<DVec3, 4>(binary.clone(), &cost)
+                            .stats(&cost)
+                            .sah_cost,
                     ),
                     (
                         8,
-                        collapse::<DVec3, 8>(&binary, &cost).stats(&cost).sah_cost,
+                        collapse::<DVec3, 8>(binary.clone(), &cost)
+                            .stats(&cost)
+                            .sah_cost,
                     ),
                 ] {
                     let best = if binary.nodes[0].is_leaf() {
@@ -334,8 +340,8 @@ mod tests {
         let bounds = boxes(5000, 7);
         let binary = BinnedSah { bins: 16 }.build(&bounds, &BuildParams::default());
         let cost = SahCost::default();
-        let four = collapse::<DVec3, 4>(&binary, &cost);
-        let eight = collapse::<DVec3, 8>(&binary, &cost);
+        let four = collapse::<DVec3, 4>(binary.clone(), &cost);
+        let eight = collapse::<DVec3, 8>(binary.clone(), &cost);
         validate_wide(&four, &bounds).unwrap();
         validate_wide(&eight, &bounds).unwrap();
         let binary_interior = binary.nodes.iter().filter(|node| !node.is_leaf()).count();
