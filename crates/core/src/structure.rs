@@ -558,17 +558,6 @@ impl<V: Vector> Tree<V> {
         }
     }
 
-    /// The binary tree the views draw: a binary BVH itself, the one a wide BVH was collapsed
-    /// from (whose numbering its traversal reports), or `None` for a kD-tree.
-    pub fn binary_bvh(&self) -> Option<&Bvh<V>> {
-        match self {
-            Tree::Bvh(bvh) => Some(bvh),
-            Tree::Bvh4(wide) => Some(&wide.binary),
-            Tree::Bvh8(wide) => Some(&wide.binary),
-            Tree::Kd(_) => None,
-        }
-    }
-
     /// Traces one ray with the traversal of its kind (see [`bvh::traverse`] and
     /// [`kd::traverse`]).
     #[inline]
@@ -664,38 +653,34 @@ impl<V: Vector> Tree<V> {
     }
 }
 
-/// A wide BVH's facts are its binary tree's: the numbering its traversal reports.
+impl<V: Vector> Tree<V> {
+    /// The tree whose nodes facts are about: a kD-tree, or a BVH's binary tree (for a wide
+    /// BVH, the numbering its traversal reports).
+    fn hierarchy(&self) -> &dyn Hierarchy<V> {
+        match self {
+            Tree::Bvh(bvh) => bvh,
+            Tree::Bvh4(wide) => &wide.binary,
+            Tree::Bvh8(wide) => &wide.binary,
+            Tree::Kd(tree) => tree,
+        }
+    }
+}
+
 impl<V: Vector> Hierarchy<V> for Tree<V> {
     fn node_count(&self) -> usize {
-        match (self.binary_bvh(), self) {
-            (Some(bvh), _) => bvh.node_count(),
-            (None, Tree::Kd(tree)) => Hierarchy::node_count(tree),
-            (None, _) => unreachable!("every BVH has a binary tree"),
-        }
+        self.hierarchy().node_count()
     }
 
     fn children(&self, node: u32) -> Option<[u32; 2]> {
-        match (self.binary_bvh(), self) {
-            (Some(bvh), _) => Hierarchy::children(bvh, node),
-            (None, Tree::Kd(tree)) => Hierarchy::children(tree, node),
-            (None, _) => unreachable!("every BVH has a binary tree"),
-        }
+        self.hierarchy().children(node)
     }
 
     fn leaf_primitives(&self, node: u32) -> &[u32] {
-        match (self.binary_bvh(), self) {
-            (Some(bvh), _) => Hierarchy::leaf_primitives(bvh, node),
-            (None, Tree::Kd(tree)) => Hierarchy::leaf_primitives(tree, node),
-            (None, _) => unreachable!("every BVH has a binary tree"),
-        }
+        self.hierarchy().leaf_primitives(node)
     }
 
     fn node_bounds(&self) -> Vec<Aabb<V>> {
-        match (self.binary_bvh(), self) {
-            (Some(bvh), _) => bvh.node_bounds(),
-            (None, Tree::Kd(tree)) => tree.node_bounds(),
-            (None, _) => unreachable!("every BVH has a binary tree"),
-        }
+        self.hierarchy().node_bounds()
     }
 }
 
