@@ -130,27 +130,28 @@ impl<V: Vector, const W: usize> WideBvh<V, W> {
         self.nodes.len()
     }
 
-    /// The number of leaves.
-    pub fn leaf_count(&self) -> usize {
-        self.nodes
-            .iter()
-            .flat_map(|node| node.count)
-            .filter(|&count| count > 0)
-            .count()
-    }
-
     /// The root's box (empty without primitives).
     pub fn bounds(&self) -> Aabb<V> {
         self.binary.bounds()
     }
 
-    /// The binary node a slot's child stands for.
+    /// The binary node a child stands for: wide node `child` when `count` is 0, else the leaf
+    /// of `count` primitives from slot `child`.
+    #[inline(always)]
+    pub fn child_source(&self, child: u32, count: u32) -> u32 {
+        match count {
+            0 => self.node_sources[child as usize],
+            _ => self.leaf_sources[child as usize / LEAF_BLOCK],
+        }
+    }
+
+    /// The binary node slot `slot` of wide node `node` stands for ([`EMPTY_SLOT`] when empty).
     #[inline(always)]
     pub fn slot_source(&self, node: usize, slot: usize) -> u32 {
-        match self.nodes[node].slot(slot) {
-            Slot::Empty => EMPTY_SLOT,
-            Slot::Node(child) => self.node_sources[child as usize],
-            Slot::Leaf { first, .. } => self.leaf_sources[first as usize / LEAF_BLOCK],
+        let node = &self.nodes[node];
+        match node.child[slot] {
+            EMPTY_SLOT => EMPTY_SLOT,
+            child => self.child_source(child, node.count[slot]),
         }
     }
 

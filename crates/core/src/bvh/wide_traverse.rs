@@ -234,12 +234,16 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
         {
             if t_enter > search.t_closest {
                 if O::ACTIVE {
-                    observer.node_culled(tree.source(child, count), t_enter, search.t_closest);
+                    observer.node_culled(
+                        tree.child_source(child, count),
+                        t_enter,
+                        search.t_closest,
+                    );
                 }
                 continue;
             }
             if O::ACTIVE {
-                observer.node_entered(tree.source(child, count));
+                observer.node_entered(tree.child_source(child, count));
             }
             if count > 0 {
                 let numbers = tree.leaf_primitives(child, count);
@@ -272,11 +276,15 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
                     .iter()
                     .chain(entries[entries.len() - pushed..].iter().rev());
                 for (place, entry) in order.iter_mut().zip(chosen) {
-                    *place = tree.source(entry.child, entry.count);
+                    *place = tree.child_source(entry.child, entry.count);
                 }
                 let hit_count = tests.hit_mask.count_ones() as usize;
                 let tested = node.slots_used() as u32;
-                observer.children_ordered(tree.source(child, count), tested, &order[..hit_count]);
+                observer.children_ordered(
+                    tree.child_source(child, count),
+                    tested,
+                    &order[..hit_count],
+                );
             }
         }
         self.search = search;
@@ -576,7 +584,7 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
         if O::ACTIVE {
             for_each_ray(culled, |ray| {
                 observers[ray].node_culled(
-                    tree.source(child, count),
+                    tree.child_source(child, count),
                     t_enter,
                     lanes.t_closest[ray],
                 );
@@ -610,7 +618,7 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
         }
         if O::ACTIVE {
             for_each_ray(active, |ray| {
-                observers[ray].node_entered(tree.source(child, count))
+                observers[ray].node_entered(tree.child_source(child, count))
             });
         }
         if count > 0 {
@@ -838,15 +846,4 @@ fn visit_children<S: Real, const W: usize>(
             .map(|&slot| pending(slot as usize)),
     );
     Some(pending(slots[0] as usize))
-}
-
-impl<V: Vector, const W: usize> WideBvh<V, W> {
-    /// The binary node a pending child stands for.
-    #[inline(always)]
-    fn source(&self, child: u32, count: u32) -> u32 {
-        match count {
-            0 => self.node_sources[child as usize],
-            _ => self.leaf_sources[child as usize / LEAF_BLOCK],
-        }
-    }
 }
