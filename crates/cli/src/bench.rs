@@ -381,7 +381,7 @@ fn measure<V: Vector3>(
         Isa::set_active(isa).unwrap_or_else(|_| unreachable!("checked by parse_isas"));
         let rays = tiled[packet].as_deref().unwrap_or(&rays);
         hits[index] = if axes.packets[packet] == 1 {
-            trace_all(&accels[spec], rays, &options, &workers[threads])
+            accels[spec].count_hits(rays, &options, &workers[threads])
         } else {
             trace_packets(
                 &accels[spec],
@@ -462,20 +462,4 @@ fn trace_packets<V: Vector3>(
         },
     );
     counts.into_iter().sum()
-}
-
-/// Traces every ray on `workers`; returns the number of hits. (Kept out of line so profiles
-/// can single it out.)
-#[inline(never)]
-fn trace_all<V: Vector3>(
-    accel: &Accel<V, TriangleSet<V>>,
-    rays: &[Ray<V>],
-    options: &TraceOptions,
-    workers: &Workers,
-) -> usize {
-    workers.count(
-        rays,
-        accelviz_core::TraversalStacks::default,
-        |stacks, ray| accel.trace(ray, options, stacks, &mut NoObserver).is_some(),
-    )
 }

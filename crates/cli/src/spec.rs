@@ -6,10 +6,12 @@ use std::time::Instant;
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::structure::valid_names;
 use accelviz_core::{
-    Hit, LeafOrdered, Observer, PrimitiveSet, Ray, SahCost, Structure, TraceOptions,
+    Hit, LeafOrdered, NoObserver, Observer, PrimitiveSet, Ray, SahCost, Structure, TraceOptions,
     TraversalStacks, Tree, TreeStats, Vector, brute_force,
 };
 use anyhow::{Result, bail};
+
+use crate::parallel::Workers;
 
 /// A parsed spec: brute force, or a structure of the catalogue.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -131,5 +133,16 @@ impl<V: Vector, P: PrimitiveSet<V>> Accel<'_, V, P> {
             },
             Accel::Tree(tree, _) => tree.stats(cost),
         }
+    }
+}
+
+impl<V: Vector, P: PrimitiveSet<V> + Sync> Accel<'_, V, P> {
+    /// Traces every ray on `workers` with the observer that does nothing (what benchmarks
+    /// time); returns the number of hits. (Kept out of line so profiles can single it out.)
+    #[inline(never)]
+    pub fn count_hits(&self, rays: &[Ray<V>], options: &TraceOptions, workers: &Workers) -> usize {
+        workers.count(rays, TraversalStacks::default, |stacks, ray| {
+            self.trace(ray, options, stacks, &mut NoObserver).is_some()
+        })
     }
 }

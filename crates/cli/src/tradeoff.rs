@@ -141,9 +141,9 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         let (spec, variant) = keys[index];
         let options = variant_options(VARIANTS[variant]);
         let hits = if VARIANTS[variant].1 {
-            double.trace(&trees64[spec], &options, &workers)
+            trees64[spec].count_hits(&double.rays, &options, &workers)
         } else {
-            single.trace(&trees32[spec], &options, &workers)
+            trees32[spec].count_hits(&single.rays, &options, &workers)
         };
         std::hint::black_box(hits);
     });
@@ -327,20 +327,6 @@ impl<V: Vector3> Prepared<V> {
             triangles: TriangleSet::from_f64(triangles),
             rays: convert_rays::<V>(ray_specs, source)?,
         })
-    }
-
-    /// Traces every ray (the timed part); the number of hits.
-    fn trace(
-        &self,
-        accel: &Accel<V, TriangleSet<V>>,
-        options: &TraceOptions,
-        workers: &Workers,
-    ) -> usize {
-        workers.count(
-            &self.rays,
-            accelviz_core::TraversalStacks::default,
-            |stacks, ray| accel.trace(ray, options, stacks, &mut NoObserver).is_some(),
-        )
     }
 
     /// Untimed: the tree's statistics, the work counted, and the rays answered wrongly or
