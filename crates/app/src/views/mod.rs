@@ -10,33 +10,28 @@ pub mod tree_view;
 
 /// The choice of a BVH's width (children a node: 2 as built, or collapsed to 4 or 8), for a
 /// BVH structure; nothing for a kD-tree. Adds its widgets to `ui`'s own layout (call it in a
-/// wrapping row). Returns true when it changed.
-pub fn width_ui(ui: &mut egui::Ui, structure: &mut accelviz_core::Structure) -> bool {
+/// wrapping row).
+pub fn width_ui(ui: &mut egui::Ui, structure: &mut accelviz_core::Structure) {
     use accelviz_core::{Family, Width};
     if structure.family() != Family::Bvh {
-        return false;
+        return;
     }
-    let mut changed = false;
-    {
-        ui.label("Children a node");
-        for width in Width::ALL {
-            let hover = match width {
-                Width::Binary => "The binary tree, as the builder made it".to_owned(),
-                _ => format!(
-                    "The binary tree collapsed to {} children a node (Ylitie et al. 2017): \
-                     a node's children are tested together",
-                    width.children()
-                ),
-            };
-            if ui
-                .selectable_label(structure.width() == width, width.children().to_string())
-                .on_hover_text(hover)
-                .clicked()
-            {
-                changed |= structure.width() != width;
-                *structure = structure.with_width(width);
-            }
+    ui.label("Children a node");
+    for width in Width::ALL {
+        let hover = match width {
+            Width::Binary => "The binary tree, as the builder made it".to_owned(),
+            _ => format!(
+                "The binary tree collapsed to {} children a node (Ylitie et al. 2017): a node's \
+                 children are tested together",
+                width.children()
+            ),
+        };
+        if ui
+            .selectable_label(structure.width() == width, width.children().to_string())
+            .on_hover_text(hover)
+            .clicked()
+        {
+            *structure = structure.with_width(width);
         }
     }
-    changed
 }
