@@ -24,5 +24,6 @@ pub mod timeline;
 pub mod trace;
 pub mod view3d;
 pub mod views;
+pub mod web_bench;
 
 pub use app::AccelvizApp;

@@ -172,3 +172,42 @@ pub fn read_obj_aside(
 pub fn build_tree_aside(triangles: &[f64], structure: &str) -> Result<Vec<u8>, String> {
     accelviz_app::view3d::aside::work::build(triangles, structure)
 }
+
+/// For `web/bench.mjs`: a structure built over triangles, tracing rays as the app does
+/// (see `accelviz_app::web_bench`).
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen]
+pub struct BenchTracer(accelviz_app::web_bench::Tracer);
+
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen]
+impl BenchTracer {
+    /// Builds `structure` (e.g. `bvh8:sah-binned`) over `triangles`, nine numbers each.
+    #[wasm_bindgen::prelude::wasm_bindgen(constructor)]
+    pub fn new(triangles: &[f64], structure: &str) -> Result<BenchTracer, String> {
+        accelviz_app::web_bench::Tracer::new(triangles, structure).map(BenchTracer)
+    }
+
+    /// The build's milliseconds.
+    pub fn build_millis(&self) -> f64 {
+        self.0.build_millis()
+    }
+
+    /// Traces `rays` (six numbers each), writing hit distances (+inf for a miss); the hits.
+    pub fn trace(&mut self, rays: &[f32], distances: &mut [f32]) -> Result<u32, String> {
+        self.0.trace(rays, distances)
+    }
+}
+
+/// For `web/bench.mjs`: the rays `accelviz-cli bench` traces for these triangles, six
+/// numbers each: `count` random rays from `seed`, or one per pixel of `camera` (`WxH`).
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen]
+pub fn bench_rays(
+    triangles: &[f64],
+    camera: Option<String>,
+    count: usize,
+    seed: u64,
+) -> Result<Vec<f32>, String> {
+    accelviz_app::web_bench::bench_rays(triangles, camera.as_deref(), count, seed)
+}
