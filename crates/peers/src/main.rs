@@ -12,8 +12,10 @@
 //! - `embree`: Embree 3 (`libembree3`, loaded at run time, see [`embree`]), built at its
 //!   default quality on one thread, traced with `rtcIntersect1`; `embree-packet`: the same
 //!   scene, camera rays traced as coherent packets of 16 (4×4 pixels, `rtcIntersect16`).
+//! - `tinybvh`: tinybvh's 8-wide `BVH8_CPU`, see [`tinybvh`] (needs an AVX2 build).
 
 mod embree;
+mod tinybvh;
 
 use std::time::{Duration, Instant};
 
@@ -42,7 +44,7 @@ struct Args {
     #[arg(long)]
     camera: Option<String>,
     /// Which peers, comma-separated: obvhs, bvh, parry3d, embree, embree-packet (camera
-    /// rays only).
+    /// rays only), tinybvh (its 8-wide BVH8_CPU; needs an AVX2 build).
     #[arg(long, default_value = "obvhs,bvh,parry3d")]
     peers: String,
     /// Build and trace this many times; report the median of each.
@@ -338,12 +340,13 @@ fn run(args: Args) -> Result<String> {
                 "bvh" => run_bvh(&mesh, &rays),
                 "parry3d" => run_parry(&mesh, &rays)?,
                 "embree" => run_embree(&mesh, &rays, None)?,
+                "tinybvh" => tinybvh::run(&mesh, &rays)?,
                 "embree-packet" => match &packets {
                     Some(packets) => run_embree(&mesh, &rays, Some(packets))?,
                     None => bail!("embree-packet traces camera rays: give --camera"),
                 },
                 other => bail!(
-                    "unknown peer '{other}'; peers are obvhs, bvh, parry3d, embree, embree-packet"
+                    "unknown peer '{other}'; peers are obvhs, bvh, parry3d, embree, embree-packet, tinybvh"
                 ),
             });
         }
