@@ -108,25 +108,28 @@ fn view3d_costs(c: &mut Criterion) {
     let mesh = accelviz_scene::obj::parse_obj(&text, "bunny.obj").expect("parses");
     let tree = Arc::new(MeshTree::build(Arc::new(mesh), structure()));
     let threads = std::thread::available_parallelism().map_or(1, usize::from);
-    let key = HeatKey {
-        tree: 1,
-        camera: accelviz_app::view3d::Orbit::default()
-            .camera(tree.build.sphere.0, tree.build.sphere.1),
-        width: 512,
-        height: 512,
-    };
-    c.bench_function(
-        &format!("3D: bunny heat maps 512x512, both orders, {threads} threads"),
-        |b| {
-            b.iter(|| {
-                let job = HeatJob::start(key, tree.clone(), threads);
-                while !job.done() {
-                    std::thread::yield_now();
-                }
-                job.bands_done()
-            })
-        },
-    );
+    for tile in [1, accelviz_app::view3d::heat::PACKET_TILE] {
+        let key = HeatKey {
+            tree: 1,
+            camera: accelviz_app::view3d::Orbit::default()
+                .camera(tree.build.sphere.0, tree.build.sphere.1),
+            width: 512,
+            height: 512,
+            tile,
+        };
+        c.bench_function(
+            &format!("3D: bunny heat maps 512x512, both orders, {threads} threads, tiles of {tile}x{tile}"),
+            |b| {
+                b.iter(|| {
+                    let job = HeatJob::start(key, tree.clone(), threads);
+                    while !job.done() {
+                        std::thread::yield_now();
+                    }
+                    job.bands_done()
+                })
+            },
+        );
+    }
 
     // One frame of lesson 12 on the bunny with its whole BVH drawn, on the software adapter.
     let render_state = egui_kittest::wgpu::create_render_state(

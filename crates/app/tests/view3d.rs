@@ -122,6 +122,22 @@ fn heat_maps_near_first_file_order_and_their_difference() {
 }
 
 #[test]
+fn heat_maps_of_packets_on_an_eight_wide_tree() {
+    let mut harness = lesson_harness_3d(heat_lesson());
+    let structure = harness
+        .state()
+        .structure
+        .with_width(accelviz_core::Width::Eight);
+    harness.state_mut().structure = structure;
+    harness.state_mut().packets = true;
+    harness.state_mut().counter = Counter::Boxes;
+    finish_heat_maps(&mut harness);
+    let key = *harness.state().job().expect("job").key();
+    assert_eq!(key.tile, 8);
+    harness.snapshot("heat_3d_packets_bvh8");
+}
+
+#[test]
 fn heat_map_totals_are_the_counters_of_the_same_rays() {
     let mut harness = lesson_harness_3d(heat_lesson());
     finish_heat_maps(&mut harness);

@@ -344,7 +344,13 @@ fn measure<V: Vector3>(
         .iter()
         .map(|&size| match axes.source {
             RaySource::Camera { width, height } if size > 1 => {
-                let tile_width = size.min(8);
+                // Square tiles where the size is a square (4x4 for 16), else rows of 8.
+                let side = size.isqrt();
+                let tile_width = if side * side == size {
+                    side
+                } else {
+                    size.min(8)
+                };
                 let tiles = pixel_tiles(*width, *height, tile_width, size / tile_width);
                 Some(
                     tiles

@@ -54,6 +54,11 @@ pub struct HeatmapArgs {
     /// Threads tracing rows of pixels.
     #[arg(long, default_value_t = 1)]
     threads: usize,
+    /// Trace the camera's rays in packets of N: square tiles of pixels (4: 2x2, 16: 4x4,
+    /// 64: 8x8) traced together, as `bench --camera --packet N` does; each pixel shows what
+    /// the packet traversal did for its ray. 1: one ray at a time.
+    #[arg(long, default_value_t = 1)]
+    packet: usize,
     /// The PNG to write (0 darkest, the image's maximum lightest).
     #[arg(long)]
     out: String,
@@ -75,14 +80,25 @@ pub fn run(args: &HeatmapArgs) -> Result<String> {
     if args.threads == 0 {
         bail!("--threads must be at least 1");
     }
+    let tile = match args.packet {
+        1 => 1,
+        4 => 2,
+        16 => 4,
+        64 => 8,
+        other => bail!("--packet {other}: packets are square tiles of 1, 4, 16 or 64 pixels"),
+    };
     let (width, height) =
         accelviz_scene::rays::parse_resolution(&args.camera).map_err(anyhow::Error::msg)?;
     let mesh = load_mesh(&args.mesh)?;
     let camera = Camera::framing(&mesh.bounds());
     let started = Instant::now();
     let map = match args.trace.precision {
-        Precision::F32 => trace::<glam::Vec3>(&spec, &params, &mesh, &camera, width, height, args),
-        Precision::F64 => trace::<glam::DVec3>(&spec, &params, &mesh, &camera, width, height, args),
+        Precision::F32 => {
+            trace::<glam::Vec3>(&spec, &params, &mesh, &camera, (width, height, tile), args)
+        }
+        Precision::F64 => {
+            trace::<glam::DVec3>(&spec, &params, &mesh, &camera, (width, height, tile), args)
+        }
     };
     let ms = started.elapsed().as_secs_f64() * 1e3;
     let counter = args.counter.counter();
@@ -108,6 +124,7 @@ pub fn run(args: &HeatmapArgs) -> Result<String> {
             .integer("height", height as u64)
             .string("counter", counter.name())
             .string("order", order)
+            .integer("packet", args.packet as u64)
             .integer("total", summary.total)
             .integer("max", u64::from(summary.max))
             .number("mean", summary.mean)
@@ -120,8 +137,13 @@ pub fn run(args: &HeatmapArgs) -> Result<String> {
             .as_ref()
             .map(|path| format!(" and {path}"))
             .unwrap_or_default();
+        let packets = if tile > 1 {
+            format!(" in {tile}x{tile} packets")
+        } else {
+            String::new()
+        };
         format!(
-            "{} on {} ({} triangles), {width}x{height} camera, {order}: {} per pixel: \
+            "{} on {} ({} triangles), {width}x{height} camera{packets}, {order}: {} per pixel: \
              total {}, max {}, mean {:.2} ({ms:.1} ms); wrote {}{also}\n",
             spec.name(),
             mesh.name,
@@ -135,26 +157,39 @@ pub fn run(args: &HeatmapArgs) -> Result<String> {
     })
 }
 
-/// Builds the structure and traces every pixel with the benchmark's traversal.
+/// Builds the structure and traces every pixel of a `width × height` image with the
+/// benchmark's traversal, in packets of `tile × tile` pixels unless `tile` is 1.
 fn trace<V: Vector3>(
     spec: &AccelSpec,
     params: &accelviz_core::bvh::BuildParams,
     mesh: &accelviz_scene::Mesh,
     camera: &Camera,
-    width: usize,
-    height: usize,
+    (width, height, tile): (usize, usize, usize),
     args: &HeatmapArgs,
 ) -> HeatMap {
     let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
     let (accel, _) = spec.build(&triangles, params);
     let options = args.trace.options();
-    HeatMap::compute(
+    if tile == 1 {
+        return HeatMap::compute(
+            camera,
+            width,
+            height,
+            args.threads,
+            &|ray, stacks: &mut TraversalStacks<V::Scalar>, counters| {
+                accel.trace(ray, &options, stacks, counters);
+            },
+        );
+    }
+    HeatMap::compute_in_packets(
         camera,
         width,
         height,
         args.threads,
-        &|ray, stacks: &mut TraversalStacks<V::Scalar>, counters| {
-            accel.trace(ray, &options, stacks, counters);
+        tile,
+        &|rays, stacks: &mut TraversalStacks<V::Scalar>, counters| {
+            let mut hits = [None; accelviz_core::bvh::MAX_PACKET];
+            accel.trace_packet(rays, &options, stacks, counters, &mut hits[..rays.len()]);
         },
     )
 }

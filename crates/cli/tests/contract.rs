@@ -808,6 +808,40 @@ fn heatmap_totals_are_the_benchmarks_counts() {
 }
 
 #[test]
+fn heatmap_packets_show_what_a_packet_did_for_each_ray() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("contract-heatmap-packets");
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("map.png").to_string_lossy().into_owned();
+    let total = |accel: &str, packet: &str| {
+        let output = cli(&[
+            "heatmap",
+            "--accel",
+            accel,
+            "--camera",
+            "40x24",
+            "--counter",
+            "boxes",
+            "--packet",
+            packet,
+            "--out",
+            &png,
+            "--json",
+        ]);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let value: serde_json::Value = serde_json::from_str(stdout(&output).trim()).unwrap();
+        assert_eq!(value["packet"].as_u64(), packet.parse().ok());
+        value["total"].as_u64().unwrap()
+    };
+    // A wide BVH tests each box a packet reaches against all its active rays; a binary BVH
+    // traces packets ray by ray, so its map does not change.
+    assert_ne!(
+        total("bvh8:sah-binned", "64"),
+        total("bvh8:sah-binned", "1")
+    );
+    assert_eq!(total("bvh:sah-binned", "16"), total("bvh:sah-binned", "1"));
+}
+
+#[test]
 fn heatmap_bad_input_leaves_no_file() {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("contract-heatmap-bad");
     let _ = std::fs::remove_dir_all(&dir);
@@ -824,7 +858,11 @@ fn heatmap_bad_input_leaves_no_file() {
         .into_owned();
     let small = ["--camera", "8x8"];
     let median = ["--accel", "bvh:median"];
-    let cases: [(Vec<&str>, &str); 5] = [
+    let cases: [(Vec<&str>, &str); 6] = [
+        (
+            [&median[..], &small, &["--packet", "8"]].concat(),
+            "--packet 8: packets are square tiles of 1, 4, 16 or 64 pixels",
+        ),
         (
             [&median[..], &small, &["--mesh", &bad_mesh]].concat(),
             "truncated-normal.obj:4: a normal needs 3 numbers",

@@ -2,7 +2,9 @@
 //!
 //! Each pixel's ray ([`Camera::pixel_ray`], the rays `bench --camera` traces) is traced by a
 //! structure's own traversal with the [`Counters`] observer, and the counts are kept per
-//! pixel: nodes visited, box tests, primitive tests. Nothing here is a second traversal:
+//! pixel: nodes visited, box tests, primitive tests. Rays go one at a time, or in packets of
+//! square tiles of pixels (what a renderer does with camera rays; each ray's counters hear
+//! what the packet traversal did for that ray). Nothing here is a second traversal:
 //! the caller passes the one it measures, so a heat map's totals are the benchmark's counts.
 //! RRA (AMD's Radeon Raytracing Analyzer) shows the same counters per pixel; the palettes
 //! here are sequential (viridis-like: dark to light, colour-blind safe) and diverging (blue,
@@ -128,11 +130,37 @@ impl HeatMap {
         threads: usize,
         trace: &(impl Fn(&Ray<V>, &mut S, &mut Counters) + Sync),
     ) -> Self {
+        Self::compute_in_packets(
+            camera,
+            width,
+            height,
+            threads,
+            1,
+            &|rays: &[Ray<V>], scratch: &mut S, counters: &mut [Counters]| {
+                trace(&rays[0], scratch, &mut counters[0]);
+            },
+        )
+    }
+
+    /// [`HeatMap::compute`] with the rays of each `tile × tile` block of pixels traced
+    /// together by `trace` (a packet traversal, given the rays row by row and one set of
+    /// counters each); `tile` 1 gives one ray at a time.
+    pub fn compute_in_packets<V: Vector3, S: Default>(
+        camera: &Camera,
+        width: usize,
+        height: usize,
+        threads: usize,
+        tile: usize,
+        trace: &(impl Fn(&[Ray<V>], &mut S, &mut [Counters]) + Sync),
+    ) -> Self {
         let mut map = Self::new(width, height);
         if width == 0 || height == 0 {
             return map;
         }
-        let pieces = Mutex::new(map.pixels.chunks_mut(width * ROWS_PER_PIECE).enumerate());
+        // Pieces of whole tiles.
+        let tile = tile.max(1);
+        let rows_per_piece = tile * ROWS_PER_PIECE.div_ceil(tile);
+        let pieces = Mutex::new(map.pixels.chunks_mut(width * rows_per_piece).enumerate());
         let work = || {
             let mut scratch = S::default();
             loop {
@@ -141,13 +169,14 @@ impl HeatMap {
                     Err(_) => None,
                 };
                 let Some((piece, out)) = next else { break };
-                trace_rows(
+                trace_rows_in_packets(
                     camera,
                     width,
                     height,
-                    piece * ROWS_PER_PIECE,
+                    piece * rows_per_piece,
                     out,
-                    |ray, counters| trace(ray, &mut scratch, counters),
+                    tile,
+                    |rays, counters| trace(rays, &mut scratch, counters),
                 );
             }
         };
@@ -238,17 +267,60 @@ pub fn trace_rows<V: Vector3>(
     out: &mut [PixelCost],
     mut trace: impl FnMut(&Ray<V>, &mut Counters),
 ) {
-    for (index, cost) in out.iter_mut().enumerate() {
-        let (row, column) = (first_row + index / width, index % width);
-        // A camera gives a valid ray for every pixel unless it is itself broken (a zero view
-        // direction); such a pixel costs nothing.
-        let Ok(ray) = camera.pixel_ray::<V>(column, row, width, height) else {
-            *cost = PixelCost::default();
-            continue;
-        };
-        let mut counters = Counters::default();
-        trace(&ray, &mut counters);
-        *cost = PixelCost::of(&counters);
+    trace_rows_in_packets(
+        camera,
+        width,
+        height,
+        first_row,
+        out,
+        1,
+        |rays, counters| trace(&rays[0], &mut counters[0]),
+    );
+}
+
+/// [`trace_rows`] with the rays of each `tile × tile` block of pixels given to `trace`
+/// together (row by row, one set of counters each); blocks are cut at the image's right
+/// edge and at the end of `out`, so give whole tiles of rows where it matters.
+pub fn trace_rows_in_packets<V: Vector3>(
+    camera: &Camera,
+    width: usize,
+    height: usize,
+    first_row: usize,
+    out: &mut [PixelCost],
+    tile: usize,
+    mut trace: impl FnMut(&[Ray<V>], &mut [Counters]),
+) {
+    let tile = tile.max(1);
+    let rows = out.len().checked_div(width).unwrap_or(0);
+    let mut rays = Vec::with_capacity(tile * tile);
+    let mut pixels = Vec::with_capacity(tile * tile);
+    let mut counters = Vec::with_capacity(tile * tile);
+    for tile_row in (0..rows).step_by(tile) {
+        for tile_column in (0..width).step_by(tile) {
+            rays.clear();
+            pixels.clear();
+            for row in tile_row..(tile_row + tile).min(rows) {
+                for column in tile_column..(tile_column + tile).min(width) {
+                    let index = row * width + column;
+                    // A camera gives a valid ray for every pixel unless it is itself broken
+                    // (a zero view direction); such a pixel costs nothing.
+                    out[index] = PixelCost::default();
+                    if let Ok(ray) = camera.pixel_ray::<V>(column, first_row + row, width, height) {
+                        rays.push(ray);
+                        pixels.push(index);
+                    }
+                }
+            }
+            if rays.is_empty() {
+                continue;
+            }
+            counters.clear();
+            counters.resize(rays.len(), Counters::default());
+            trace(&rays, &mut counters);
+            for (&index, counters) in pixels.iter().zip(&counters) {
+                out[index] = PixelCost::of(counters);
+            }
+        }
     }
 }
 

@@ -107,3 +107,71 @@ fn every_pixel_ray_finds_brute_forces_hit_and_rows_can_be_traced_piece_by_piece(
     }
     assert!(hits > 20 && hits < width * height, "{hits} hits");
 }
+
+#[test]
+fn packet_maps_are_the_packet_benchmarks_counts_pixel_by_pixel() {
+    let mesh = lumpy_grid_sphere(2_000);
+    let triangles = TriangleSet::<Vec3>::from_f64(&mesh.triangles);
+    let (width, height) = (37, 21);
+    let camera = Camera::framing(&mesh.bounds());
+    let specs = camera_rays(&mesh.bounds(), width, height);
+    let options = TraceOptions::default();
+    for name in ["bvh8:sah-binned", "bvh4:middle", "bvh:sah-binned"] {
+        let tree = Structure::parse(name)
+            .unwrap()
+            .build(&triangles, &BuildParams::default());
+        let ordered = tree.leaf_ordered(&triangles);
+        let packets = |rays: &[accelviz_core::Ray<Vec3>],
+                       stacks: &mut TraversalStacks<f32>,
+                       counters: &mut [Counters]| {
+            let mut hits = vec![None; rays.len()];
+            tree.trace_packet(&ordered, rays, &options, stacks, counters, &mut hits);
+        };
+        let map = HeatMap::compute_in_packets(&camera, width, height, 2, 8, &packets);
+
+        // The benchmark's path (`bench --camera --packet 64`): the same 8×8 tiles.
+        let mut stacks = TraversalStacks::default();
+        for tile in accelviz_scene::rays::pixel_tiles(width, height, 8, 8) {
+            let rays: Vec<_> = tile
+                .iter()
+                .map(|&pixel| specs[pixel as usize].to_ray::<Vec3>().unwrap())
+                .collect();
+            let mut counters = vec![Counters::default(); rays.len()];
+            let mut hits = vec![None; rays.len()];
+            tree.trace_packet(
+                &ordered,
+                &rays,
+                &options,
+                &mut stacks,
+                &mut counters,
+                &mut hits,
+            );
+            for (&pixel, counters) in tile.iter().zip(&counters) {
+                let cost = map.pixels[pixel as usize];
+                assert_eq!(
+                    (cost.nodes, cost.boxes, cost.prims),
+                    (
+                        counters.nodes_visited as u32,
+                        counters.box_tests as u32,
+                        counters.primitive_tests as u32
+                    ),
+                    "{name}: pixel {pixel}"
+                );
+            }
+        }
+
+        // One ray at a time, for comparison: a wide tree's packets test other boxes (the
+        // whole packet's), a binary tree traces its packets ray by ray.
+        let single = HeatMap::compute(&camera, width, height, 1, &|ray, stacks, counters| {
+            tree.trace(&ordered, ray, &options, stacks, counters);
+        });
+        if name.starts_with("bvh:") {
+            assert_eq!(map, single, "{name}");
+        } else {
+            assert_ne!(map, single, "{name}");
+        }
+        // Tiles of one pixel are single rays.
+        let ones = HeatMap::compute_in_packets(&camera, width, height, 1, 1, &packets);
+        assert_eq!(ones, single, "{name}");
+    }
+}

@@ -17,7 +17,7 @@ use crate::background::{Cached, Derived, worker_threads};
 use crate::lesson::{Lesson, LessonText};
 use crate::stage::Stage;
 use crate::trace::{Trace, options_in};
-use crate::view3d::heat::{HeatJob, HeatKey, HeatMaps, ORDERS};
+use crate::view3d::heat::{HeatJob, HeatKey, HeatMaps, ORDERS, PACKET_TILE};
 use crate::view3d::mesh_scene::{MeshScene, MeshTree, loading_ui, mesh_and_structure_ui};
 use crate::view3d::{Content, HiddenEdges, View3d, revision_of, trace_overlay};
 
@@ -49,6 +49,8 @@ pub struct HeatLesson {
     tree: Derived<(u64, Structure), MeshTree>,
     /// Which count the maps show.
     pub counter: Counter,
+    /// Whether the camera's rays are traced in packets of 8×8 pixels.
+    pub packets: bool,
     job: Option<HeatJob>,
     /// Counts the jobs started, so textures know which job they show.
     job_serial: u64,
@@ -77,6 +79,7 @@ impl HeatLesson {
             structure,
             tree: Derived::default(),
             counter: Counter::Nodes,
+            packets: false,
             job: None,
             job_serial: 0,
             maps_bands: 0,
@@ -210,6 +213,13 @@ impl HeatLesson {
             for counter in Counter::ALL {
                 ui.selectable_value(&mut self.counter, counter, counter.label());
             }
+            ui.separator();
+            ui.checkbox(&mut self.packets, "8×8 packets").on_hover_text(
+                "Trace the camera's rays in packets of 8×8 pixels, as renderers do: a wide BVH \
+                 visits a node once for all the packet's rays that reach it, and each pixel \
+                 shows what that cost its ray. Binary BVHs and kD-trees trace a packet ray by \
+                 ray.",
+            );
             ui.separator();
             ui.checkbox(&mut self.view.orbit.orthographic, "orthographic");
             if ui.button("reset view").clicked() {
@@ -403,12 +413,14 @@ impl Lesson for HeatLesson {
                 camera: self.camera(&tree),
                 width,
                 height,
+                tile: if self.packets { PACKET_TILE } else { 1 },
             };
             // A layout that moves by a few pixels (a panel fitting new numbers) keeps the
             // maps: only a new tree, a new camera or a real resize starts them again.
             let close_enough = self.job.as_ref().is_some_and(|job| {
                 let made = job.key();
                 made.tree == key.tree
+                    && made.tile == key.tile
                     && made.camera == key.camera
                     && made.width.abs_diff(key.width) <= 32
                     && made.height.abs_diff(key.height) <= 32
@@ -514,10 +526,15 @@ impl Lesson for HeatLesson {
                     }
                 });
             });
-        let state = if maps.progress < 1.0 {
-            format!("{:.0} % traced", maps.progress * 100.0)
+        let how = if self.packets {
+            format!(", in {PACKET_TILE}×{PACKET_TILE} packets")
         } else {
-            "every pixel traced".to_owned()
+            ", one ray at a time".to_owned()
+        };
+        let state = if maps.progress < 1.0 {
+            format!("{:.0} % traced{how}", maps.progress * 100.0)
+        } else {
+            format!("every pixel traced{how}")
         };
         let timing = maps
             .millis

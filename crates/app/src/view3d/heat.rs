@@ -1,5 +1,6 @@
 //! Heat maps in the app: every pixel of the view's camera traced by the core's traversal with
-//! its counting observer, near first and in file order, a band of rows at a time. On the
+//! its counting observer, near first and in file order, a band of rows at a time, one ray at
+//! a time or in packets of 8×8 pixels (the core's packet traversal). On the
 //! desktop the bands are shared by worker threads (both cores); in the browser, which has
 //! none, a few bands are traced each frame. Either way the maps fill in band by band, the
 //! view shows them as they grow, and the UI never waits.
@@ -8,14 +9,20 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 use accelviz_core::camera::Camera;
-use accelviz_core::heatmap::{HeatMap, PixelCost, trace_rows};
+use accelviz_core::heatmap::{HeatMap, PixelCost, trace_rows_in_packets};
 use accelviz_core::{Order, TraceOptions, TraversalStacks};
 use web_time::Instant;
 
 use super::mesh_scene::MeshTree;
 
-/// Rows traced as one piece of work.
+/// Rows traced as one piece of work (whole packets of rows).
 const BAND_ROWS: usize = 8;
+/// The side of a packet's square of pixels: 64 rays, the most a packet holds.
+pub const PACKET_TILE: usize = 8;
+const _: () = assert!(
+    BAND_ROWS.is_multiple_of(PACKET_TILE),
+    "bands hold whole packets"
+);
 /// How long the browser traces in one frame at least, and at most: a slice as long as the
 /// rest of the frame took, within these, so tracing gets about half the page's time whether
 /// the page draws in 5 ms (a GPU) or in 300 ms (a software renderer, where 25 ms slices made
@@ -46,6 +53,8 @@ pub struct HeatKey {
     pub width: usize,
     /// Pixels down.
     pub height: usize,
+    /// Rays are traced in packets of `tile × tile` pixels (1: one at a time).
+    pub tile: usize,
 }
 
 /// Heat maps being made or made, for one key.
@@ -201,17 +210,22 @@ fn trace_next_band(shared: &Shared, tree: &MeshTree, key: &HeatKey) -> bool {
             ..TraceOptions::default()
         };
         let mut out = vec![PixelCost::default(); rows.len() * key.width];
-        trace_rows(
+        let tree = &tree.build.built.tree;
+        trace_rows_in_packets(
             &key.camera,
             key.width,
             key.height,
             rows.start,
             &mut out,
-            |ray, counters| {
-                tree.build
-                    .built
-                    .tree
-                    .trace(ordered, ray, &options, &mut stacks, counters);
+            key.tile,
+            |rays, counters| {
+                if let ([ray], [counters]) = (rays, &mut *counters) {
+                    tree.trace(ordered, ray, &options, &mut stacks, counters);
+                } else {
+                    let mut hits = [None; accelviz_core::bvh::MAX_PACKET];
+                    let hits = &mut hits[..rays.len()];
+                    tree.trace_packet(ordered, rays, &options, &mut stacks, counters, hits);
+                }
             },
         );
         out
