@@ -40,6 +40,8 @@ fn every_lesson_changed_opens_the_same_from_its_link() {
             let _ = lesson.restore("structure", "bvh:median");
             let _ = lesson.restore("camera", "47.5,-12.25,3.5,0.1,0,-0.2,o");
             let _ = lesson.restore("mesh", "builtin:icosphere");
+            let _ = lesson.restore("counter", "boxes");
+            let _ = lesson.restore("packets", "8x8");
         }
         harness.run_steps(3);
         if let Some(lesson) = harness.state_mut().lesson_mut() {
@@ -69,6 +71,7 @@ fn a_garbage_link_opens_the_first_lesson_with_a_reason() {
         "#v=1&lesson=99",
         "#v=1&lesson=4&structure=bvh:nonsense",
         "#v=1&lesson=12&camera=1,2,3",
+        "#v=1&lesson=14&packets=3x3",
         "#v=1&lesson=4&scene=KGJyb2tlbg",
         "#v=9&lesson=4",
     ] {

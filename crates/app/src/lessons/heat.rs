@@ -394,12 +394,49 @@ impl Lesson for HeatLesson {
     crate::staged!(tree);
 
     fn share(&self) -> Vec<(String, String)> {
-        crate::share::mesh_view_values(&self.stage.scene, &self.structure, &self.view.orbit)
+        let mut values =
+            crate::share::mesh_view_values(&self.stage.scene, &self.structure, &self.view.orbit);
+        values.push(("counter".to_owned(), self.counter.name().to_owned()));
+        let packets = if self.packets {
+            format!("{PACKET_TILE}x{PACKET_TILE}")
+        } else {
+            "none".to_owned()
+        };
+        values.push(("packets".to_owned(), packets));
+        values
     }
 
     fn restore(&mut self, key: &str, value: &str) -> Result<(), String> {
-        let (scene, structure) = (&mut self.stage.scene, &mut self.structure);
-        crate::share::restore_mesh_view(scene, structure, &mut self.view.orbit, key, value)
+        match key {
+            "counter" => {
+                self.counter = Counter::ALL
+                    .into_iter()
+                    .find(|counter| counter.name() == value)
+                    .ok_or_else(|| format!("no counter '{value}' (nodes, boxes or prims)"))?;
+            }
+            "packets" => {
+                self.packets = match value {
+                    "none" => false,
+                    _ if value == format!("{PACKET_TILE}x{PACKET_TILE}") => true,
+                    _ => {
+                        return Err(format!(
+                            "packets are 'none' or '{PACKET_TILE}x{PACKET_TILE}', not '{value}'"
+                        ));
+                    }
+                };
+            }
+            _ => {
+                let (scene, structure) = (&mut self.stage.scene, &mut self.structure);
+                crate::share::restore_mesh_view(
+                    scene,
+                    structure,
+                    &mut self.view.orbit,
+                    key,
+                    value,
+                )?;
+            }
+        }
+        Ok(())
     }
 
     fn update(&mut self) {
