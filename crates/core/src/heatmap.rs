@@ -144,7 +144,8 @@ impl HeatMap {
 
     /// [`HeatMap::compute`] with the rays of each `tile × tile` block of pixels traced
     /// together by `trace` (a packet traversal, given the rays row by row and one set of
-    /// counters each); `tile` 1 gives one ray at a time.
+    /// counters each); `tile` 1 gives one ray at a time. (A packet traversal takes at most
+    /// [`MAX_PACKET`](crate::bvh::MAX_PACKET) rays: tiles of 8 × 8.)
     pub fn compute_in_packets<V: Vector3, S: Default>(
         camera: &Camera,
         width: usize,
