@@ -441,15 +441,16 @@ impl<S: Real> PacketBounds<S> {
 
 impl<S: Real> PacketLanes<S> {
     /// The slab test of one box (slot `slot` of `node`) against the rays of lane group
-    /// `group`: each ray's interval as [`test_children`] computes it for that box, and which
-    /// of them hit.
+    /// `group`: each ray's interval as [`test_children`] computes it for that box, which of
+    /// the rays in `active` (the packet's bits) hit, and the nearest entry among those.
     #[inline(always)]
     fn test_box<V: Vector<Scalar = S>, const W: usize>(
         &self,
         node: &WideNode<S, W>,
         slot: usize,
         group: usize,
-    ) -> ([S; LANES], [S; LANES], u64) {
+        active: u64,
+    ) -> ([S; LANES], [S; LANES], u64, S) {
         let lanes = group * LANES..group * LANES + LANES;
         let mut t_enter: [S; LANES] = std::array::from_fn(|lane| self.t_min[lanes.start + lane]);
         let mut t_exit = [S::INFINITY; LANES];
@@ -468,13 +469,27 @@ impl<S: Real> PacketLanes<S> {
                 t_exit[lane] = earlier(t_exit[lane], t_far);
             }
         }
+        let group_active = active >> lanes.start;
         let mut hits = 0u64;
+        // Without branches: which lanes hit, and their entries (+inf elsewhere), whose least
+        // is taken pairwise (entries are never NaN: they start at `t_min`, and `later`
+        // ignores NaN).
+        let mut entries = [S::INFINITY; LANES];
         for lane in 0..LANES {
             let t_max = self.t_closest[lanes.start + lane];
             t_exit[lane] = earlier(t_max, t_exit[lane] * self.far_scale);
-            hits |= u64::from(t_enter[lane] <= t_exit[lane]) << lane;
+            let hit = (t_enter[lane] <= t_exit[lane]) & ((group_active >> lane) & 1 != 0);
+            hits |= u64::from(hit) << lane;
+            entries[lane] = if hit { t_enter[lane] } else { S::INFINITY };
         }
-        (t_enter, t_exit, hits << lanes.start)
+        let mut width = LANES / 2;
+        while width > 0 {
+            for lane in 0..width {
+                entries[lane] = earlier(entries[lane], entries[lane + width]);
+            }
+            width /= 2;
+        }
+        (t_enter, t_exit, hits << lanes.start, entries[0])
     }
 }
 
@@ -668,16 +683,10 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
                 if group_rays == 0 {
                     continue;
                 }
-                let (t_enter, t_exit, hit) = lanes.test_box::<V, W>(node, slot, group);
-                let hit = hit & active;
+                let (t_enter, t_exit, hit, group_nearest) =
+                    lanes.test_box::<V, W>(node, slot, group, active);
                 slot_rays |= hit;
-                let group_hits = hit >> (group * LANES);
-                for (lane, &t) in t_enter.iter().enumerate() {
-                    let counts = group_hits & (1 << lane) != 0;
-                    if counts && t < nearest {
-                        nearest = t;
-                    }
-                }
+                nearest = earlier(nearest, group_nearest);
                 if O::ACTIVE {
                     let source = tree.slot_source(child as usize, slot);
                     for_each_ray(group_rays, |lane| {
