@@ -170,17 +170,6 @@ fn trace<V: Vector3>(
     let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
     let (accel, _) = spec.build(&triangles, params);
     let options = args.trace.options();
-    if tile == 1 {
-        return HeatMap::compute(
-            camera,
-            width,
-            height,
-            args.threads,
-            &|ray, stacks: &mut TraversalStacks<V::Scalar>, counters| {
-                accel.trace(ray, &options, stacks, counters);
-            },
-        );
-    }
     HeatMap::compute_in_packets(
         camera,
         width,

@@ -11,8 +11,9 @@ use std::hint::black_box;
 use accelviz_core::bvh::{BinnedSah, BuildParams, Builder, TraversalStack, traverse};
 use accelviz_core::kd::{self, KdBuilder, KdSah, KdSahPresorted};
 use accelviz_core::{
-    Aabb, CATALOGUE, Counters, NoObserver, Observer, Order, PrimitiveSet, Ray, Recorder, SahCost,
-    SlabRay, Structure, TraceOptions, TraversalStacks, TriangleSet, Width, curve, slab_clip,
+    Aabb, CATALOGUE, Counters, LeafOrdered, NoObserver, Observer, Order, PrimitiveSet, Ray,
+    Recorder, SahCost, SlabRay, Structure, TraceOptions, TraversalStacks, Tree, TriangleSet, Width,
+    curve, slab_clip,
 };
 use accelviz_scene::builtin::{lumpy_grid_sphere, lumpy_sphere};
 use accelviz_scene::rays::random_rays;
@@ -178,32 +179,32 @@ fn observers(c: &mut Criterion) {
     let mut group = c.benchmark_group("bvh8 10k random rays, observed");
     group.sample_size(20);
     let mut stacks = TraversalStacks::default();
+    // Traces every ray with `observer`; the number of hits.
+    fn hits<O: Observer<f32>>(
+        tree: &Tree<Vec3>,
+        primitives: &LeafOrdered<TriangleSet<Vec3>>,
+        rays: &[Ray<Vec3>],
+        stacks: &mut TraversalStacks<f32>,
+        observer: &mut O,
+    ) -> usize {
+        let options = TraceOptions::default();
+        rays.iter()
+            .filter(|ray| {
+                tree.trace(primitives, ray, &options, stacks, observer)
+                    .is_some()
+            })
+            .count()
+    }
     group.bench_function("NoObserver", |b| {
-        b.iter(|| {
-            rays.iter()
-                .filter(|ray| {
-                    tree.trace(&leaf_ordered, ray, &options, &mut stacks, &mut NoObserver)
-                        .is_some()
-                })
-                .count()
-        })
+        b.iter(|| hits(&tree, &leaf_ordered, &rays, &mut stacks, &mut NoObserver))
     });
     group.bench_function("an observer that ignores every step", |b| {
-        b.iter(|| {
-            rays.iter()
-                .filter(|ray| {
-                    tree.trace(&leaf_ordered, ray, &options, &mut stacks, &mut Silent)
-                        .is_some()
-                })
-                .count()
-        })
+        b.iter(|| hits(&tree, &leaf_ordered, &rays, &mut stacks, &mut Silent))
     });
     group.bench_function("Counters", |b| {
         b.iter(|| {
             let mut counters = Counters::default();
-            for ray in &rays {
-                tree.trace(&leaf_ordered, ray, &options, &mut stacks, &mut counters);
-            }
+            hits(&tree, &leaf_ordered, &rays, &mut stacks, &mut counters);
             counters
         })
     });

@@ -586,7 +586,8 @@ impl<V: Vector> Tree<V> {
     }
 
     /// Traces up to [`bvh::MAX_PACKET`] rays together (a wide BVH's packet traversal,
-    /// [`bvh::traverse_packet`]; other trees trace them one by one), writing each ray's hit
+    /// [`bvh::traverse_packet`]; other trees, and a packet of one, trace rays one by one),
+    /// writing each ray's hit
     /// to `hits`: the answers [`Tree::trace`] gives each ray. `observers[i]` hears ray `i`.
     pub fn trace_packet<P: LeafPrimitives<V>, O: Observer<V::Scalar>>(
         &self,
@@ -598,7 +599,8 @@ impl<V: Vector> Tree<V> {
         hits: &mut [Option<Hit<V::Scalar>>],
     ) {
         match self {
-            Tree::Bvh4(wide) => bvh::traverse_packet(
+            // A packet of one is a single ray (the same steps, without a packet's set-up).
+            Tree::Bvh4(wide) if rays.len() > 1 => bvh::traverse_packet(
                 wide,
                 primitives,
                 rays,
@@ -607,7 +609,7 @@ impl<V: Vector> Tree<V> {
                 observers,
                 hits,
             ),
-            Tree::Bvh8(wide) => bvh::traverse_packet(
+            Tree::Bvh8(wide) if rays.len() > 1 => bvh::traverse_packet(
                 wide,
                 primitives,
                 rays,

@@ -219,13 +219,9 @@ fn trace_next_band(shared: &Shared, tree: &MeshTree, key: &HeatKey) -> bool {
             &mut out,
             key.tile,
             |rays, counters| {
-                if let ([ray], [counters]) = (rays, &mut *counters) {
-                    tree.trace(ordered, ray, &options, &mut stacks, counters);
-                } else {
-                    let mut hits = [None; accelviz_core::bvh::MAX_PACKET];
-                    let hits = &mut hits[..rays.len()];
-                    tree.trace_packet(ordered, rays, &options, &mut stacks, counters, hits);
-                }
+                let mut hits = [None; accelviz_core::bvh::MAX_PACKET];
+                let hits = &mut hits[..rays.len()];
+                tree.trace_packet(ordered, rays, &options, &mut stacks, counters, hits);
             },
         );
         out
