@@ -43,6 +43,11 @@ pub trait Real:
     const UNIT_ROUNDOFF: Self;
     /// The largest finite value.
     const MAX: Self;
+    /// Not a number.
+    const NAN: Self;
+    /// The 3D vector over this scalar (`Vec3` or `DVec3`): what a triangle block's lanes
+    /// are tested with, one lane at a time, by the portable code.
+    type Vec3: Vector3<Scalar = Self>;
     /// Converts from f64, rounding to nearest.
     fn from_f64(value: f64) -> Self;
     /// Widens to f64 (exact).
@@ -85,8 +90,9 @@ pub trait Real:
 }
 
 macro_rules! impl_real {
-    ($t:ty) => {
+    ($t:ty, $vec3:ty) => {
         impl Real for $t {
+            type Vec3 = $vec3;
             const ZERO: Self = 0.0;
             const ONE: Self = 1.0;
             const TWO: Self = 2.0;
@@ -94,6 +100,7 @@ macro_rules! impl_real {
             const NEG_INFINITY: Self = <$t>::NEG_INFINITY;
             const UNIT_ROUNDOFF: Self = <$t>::EPSILON * 0.5;
             const MAX: Self = <$t>::MAX;
+            const NAN: Self = <$t>::NAN;
             const KEY_BYTES: usize = std::mem::size_of::<$t>();
             #[inline(always)]
             fn order_key(self) -> u64 {
@@ -152,8 +159,8 @@ macro_rules! impl_real {
         }
     };
 }
-impl_real!(f32);
-impl_real!(f64);
+impl_real!(f32, Vec3);
+impl_real!(f64, DVec3);
 
 /// A point or vector of dimension [`Vector::DIM`] over [`Vector::Scalar`].
 ///
@@ -265,6 +272,8 @@ impl_vector!(DVec3, f64, 3);
 pub trait Vector3: Vector {
     /// Cross product.
     fn cross(self, other: Self) -> Self;
+    /// The vector `(x, y, z)`.
+    fn new(x: Self::Scalar, y: Self::Scalar, z: Self::Scalar) -> Self;
 }
 
 impl Vector3 for Vec3 {
@@ -272,11 +281,19 @@ impl Vector3 for Vec3 {
     fn cross(self, other: Self) -> Self {
         Vec3::cross(self, other)
     }
+    #[inline(always)]
+    fn new(x: f32, y: f32, z: f32) -> Self {
+        Vec3::new(x, y, z)
+    }
 }
 
 impl Vector3 for DVec3 {
     #[inline(always)]
     fn cross(self, other: Self) -> Self {
         DVec3::cross(self, other)
+    }
+    #[inline(always)]
+    fn new(x: f64, y: f64, z: f64) -> Self {
+        DVec3::new(x, y, z)
     }
 }

@@ -23,13 +23,13 @@
 
 use std::sync::atomic::{AtomicU8, Ordering};
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 
 use crate::bvh::wide_traverse::{traverse_packet_with, traverse_wide_with};
 use crate::bvh::{ChildTests, PacketStack, WideBvh, WideNode, WideStack};
-use crate::math::Vector;
+use crate::math::{Real, Vector};
 use crate::observer::Observer;
-use crate::primitive::{LeafPrimitives, TriangleBlock};
+use crate::primitive::{HitTest, LeafPrimitives, TriangleBlock, TriangleRay};
 use crate::query::{Hit, TraceOptions};
 use crate::ray::Ray;
 use crate::slab::SlabRay;
@@ -248,13 +248,22 @@ pub(crate) trait Kernel {
 
     /// Möller–Trumbore on the four triangles of `block`: each lane's `t` where it is hit
     /// within `[t_min, t_max]`, `NaN` where not, as [`TriangleBlock::intersect`] computes it.
-    fn test_triangles(
-        block: &TriangleBlock,
-        origin: Vec3,
-        direction: Vec3,
-        t_min: f32,
-        t_max: f32,
-    ) -> [f32; 4];
+    fn moller_trumbore<S: Real>(
+        block: &TriangleBlock<S>,
+        origin: S::Vec3,
+        direction: S::Vec3,
+        t_min: S,
+        t_max: S,
+    ) -> [S; 4];
+
+    /// The watertight test on the four triangles of `block`, as
+    /// [`TriangleBlock::intersect`] computes it.
+    fn watertight<S: Real>(
+        block: &TriangleBlock<S>,
+        ray: &TriangleRay<S::Vec3>,
+        t_min: S,
+        t_max: S,
+    ) -> [S; 4];
 }
 
 /// The reference kernels: plain Rust.
@@ -271,22 +280,53 @@ impl Kernel for Portable {
     }
 
     #[inline(always)]
-    fn test_triangles(
-        block: &TriangleBlock,
-        origin: Vec3,
-        direction: Vec3,
-        t_min: f32,
-        t_max: f32,
-    ) -> [f32; 4] {
-        block.intersect(origin, direction, t_min, t_max)
+    fn moller_trumbore<S: Real>(
+        block: &TriangleBlock<S>,
+        origin: S::Vec3,
+        direction: S::Vec3,
+        t_min: S,
+        t_max: S,
+    ) -> [S; 4] {
+        block.intersect(
+            &TriangleRay::new(
+                &Ray {
+                    origin,
+                    direction,
+                    t_min,
+                    t_max,
+                },
+                HitTest::Fast,
+            ),
+            t_min,
+            t_max,
+        )
+    }
+
+    #[inline(always)]
+    fn watertight<S: Real>(
+        block: &TriangleBlock<S>,
+        ray: &TriangleRay<S::Vec3>,
+        t_min: S,
+        t_max: S,
+    ) -> [S; 4] {
+        block.intersect(ray, t_min, t_max)
     }
 }
 
-/// The same generic code with the slab test of a 3D f32 node in SIMD lanes (`$children`, for
-/// any multiple of four children) and a triangle block (`$triangles`). Other vector types and
-/// widths take the portable path (the type tests are resolved when the code is compiled).
+/// The same generic code with the slab test of a 3D node in SIMD lanes (`$children` for f32,
+/// `$children64` for f64, any multiple of four children) and a triangle block's tests
+/// (`$triangles`, `$triangles64`). Other vector types and widths take the portable path (the
+/// type tests are resolved when the code is compiled).
 macro_rules! kernel {
-    ($name:ident, $children:ident, $triangles:path) => {
+    (
+        $name:ident,
+        $children:ident,
+        $children64:ident,
+        $moller_trumbore:ident,
+        $moller_trumbore64:ident,
+        $watertight:ident,
+        $watertight64:ident
+    ) => {
         impl Kernel for $name {
             #[inline(always)]
             fn test_children<V: Vector, const W: usize>(
@@ -295,6 +335,10 @@ macro_rules! kernel {
                 t_max: V::Scalar,
             ) -> ChildTests<V::Scalar, W> {
                 use std::any::Any;
+                // SAFETY (both blocks): this kernel runs only when `Isa::active` says the
+                // machine has its instruction set (see `traverse_wide`). (WebAssembly's kernels
+                // are safe: the module is compiled for its set.)
+                #[allow(unused_unsafe)]
                 if W % 4 == 0
                     && let (Some(node), Some(ray), Some(&t_max)) = (
                         (node as &dyn Any).downcast_ref::<WideNode<f32, W>>(),
@@ -302,11 +346,22 @@ macro_rules! kernel {
                         (&t_max as &dyn Any).downcast_ref::<f32>(),
                     )
                 {
-                    // SAFETY: this kernel runs only when `Isa::active` says the machine has
-                    // its instruction set (see `traverse_wide`). (WebAssembly's kernels are
-                    // safe: the module is compiled for its set.)
-                    #[allow(unused_unsafe)]
                     let tests = unsafe { $children::<W>(node, ray, t_max) };
+                    if let Some(&tests) =
+                        (&tests as &dyn Any).downcast_ref::<ChildTests<V::Scalar, W>>()
+                    {
+                        return tests;
+                    }
+                }
+                #[allow(unused_unsafe)]
+                if W % 4 == 0
+                    && let (Some(node), Some(ray), Some(&t_max)) = (
+                        (node as &dyn Any).downcast_ref::<WideNode<f64, W>>(),
+                        (ray as &dyn Any).downcast_ref::<SlabRay<DVec3>>(),
+                        (&t_max as &dyn Any).downcast_ref::<f64>(),
+                    )
+                {
+                    let tests = unsafe { $children64::<W>(node, ray, t_max) };
                     if let Some(&tests) =
                         (&tests as &dyn Any).downcast_ref::<ChildTests<V::Scalar, W>>()
                     {
@@ -317,35 +372,97 @@ macro_rules! kernel {
             }
 
             #[inline(always)]
-            fn test_triangles(
-                block: &TriangleBlock,
-                origin: Vec3,
-                direction: Vec3,
-                t_min: f32,
-                t_max: f32,
-            ) -> [f32; 4] {
-                // SAFETY: as above.
+            fn moller_trumbore<S: Real>(
+                block: &TriangleBlock<S>,
+                origin: S::Vec3,
+                direction: S::Vec3,
+                t_min: S,
+                t_max: S,
+            ) -> [S; 4] {
+                // SAFETY (both calls): as above.
                 #[allow(unused_unsafe)]
-                let t_hits = unsafe { $triangles(block, origin, direction, t_min, t_max) };
-                t_hits
+                if let Some((block, [origin, direction], [t_min, t_max])) =
+                    in_scalar(block, [origin, direction], [t_min, t_max])
+                {
+                    let t_hits =
+                        unsafe { $moller_trumbore(block, origin, direction, t_min, t_max) };
+                    return same_type(t_hits).unwrap_or_else(|| unreachable!());
+                }
+                #[allow(unused_unsafe)]
+                if let Some((block, [origin, direction], [t_min, t_max])) =
+                    in_scalar(block, [origin, direction], [t_min, t_max])
+                {
+                    let t_hits =
+                        unsafe { $moller_trumbore64(block, origin, direction, t_min, t_max) };
+                    return same_type(t_hits).unwrap_or_else(|| unreachable!());
+                }
+                Portable::moller_trumbore(block, origin, direction, t_min, t_max)
+            }
+
+            #[inline(always)]
+            fn watertight<S: Real>(
+                block: &TriangleBlock<S>,
+                ray: &TriangleRay<S::Vec3>,
+                t_min: S,
+                t_max: S,
+            ) -> [S; 4] {
+                // SAFETY (both calls): as above.
+                #[allow(unused_unsafe)]
+                if let Some((block, [ray], [t_min, t_max])) =
+                    in_scalar(block, [*ray], [t_min, t_max])
+                {
+                    let t_hits = unsafe { $watertight(block, &ray, t_min, t_max) };
+                    return same_type(t_hits).unwrap_or_else(|| unreachable!());
+                }
+                #[allow(unused_unsafe)]
+                if let Some((block, [ray], [t_min, t_max])) =
+                    in_scalar(block, [*ray], [t_min, t_max])
+                {
+                    let t_hits = unsafe { $watertight64(block, &ray, t_min, t_max) };
+                    return same_type(t_hits).unwrap_or_else(|| unreachable!());
+                }
+                Portable::watertight(block, ray, t_min, t_max)
             }
         }
     };
 }
 
-/// Lanes of f32 and the operations the kernels need: one slab test of a node's children
-/// ([`children_in_lanes`]) and one Möller–Trumbore ([`moller_trumbore4`]) serve every
-/// instruction set's registers. Masks are lanes of all ones or all zeros. An implementation
+/// A triangle block, ray data and scalars of scalar `S` seen as the types of scalar `T`, when
+/// `S` is `T` (the type tests are resolved when the code is compiled); `None` otherwise.
+#[inline(always)]
+fn in_scalar<S: Real, T: Real, R: 'static, U: 'static + Copy, const N: usize>(
+    block: &TriangleBlock<S>,
+    rays: [R; N],
+    scalars: [S; 2],
+) -> Option<(&TriangleBlock<T>, [U; N], [T; 2])> {
+    use std::any::Any;
+    let block = (block as &dyn Any).downcast_ref::<TriangleBlock<T>>()?;
+    let rays = *(&rays as &dyn Any).downcast_ref::<[U; N]>()?;
+    let scalars = *(&scalars as &dyn Any).downcast_ref::<[T; 2]>()?;
+    Some((block, rays, scalars))
+}
+
+/// `value` as type `U`, when it is one (resolved when the code is compiled).
+#[inline(always)]
+fn same_type<T: 'static, U: 'static + Copy>(value: T) -> Option<U> {
+    (&value as &dyn std::any::Any).downcast_ref::<U>().copied()
+}
+
+/// Lanes of f32 or f64 and the operations the kernels need: one slab test of a node's
+/// children ([`children_in_lanes`]), one Möller–Trumbore ([`moller_trumbore4`]) and one
+/// watertight test ([`watertight4`]) serve every instruction set's registers. Masks are lanes of all ones or all zeros. An implementation
 /// executes its instruction set's instructions: its methods run only inside the kernels below,
 /// which run only after [`Isa::active`] named that set.
 trait Lanes: Copy {
+    /// What a lane holds.
+    type Scalar: Real;
     /// How many lanes.
     const COUNT: usize;
-    fn splat(value: f32) -> Self;
+    fn splat(value: Self::Scalar) -> Self;
     /// The first `COUNT` values of `values`.
-    fn from_slice(values: &[f32]) -> Self;
+    fn from_slice(values: &[Self::Scalar]) -> Self;
     /// Writes the lanes to the first `COUNT` places of `out`.
-    fn write_to(self, out: &mut [f32]);
+    fn write_to(self, out: &mut [Self::Scalar]);
     fn add(self, other: Self) -> Self;
     fn sub(self, other: Self) -> Self;
     fn mul(self, other: Self) -> Self;
@@ -374,18 +491,18 @@ trait Lanes: Copy {
 /// reductions), so the same intervals bit for bit.
 #[inline(always)]
 fn children_in_lanes<L: Lanes, const W: usize>(
-    node: &WideNode<f32, W>,
-    ray: &SlabRay<Vec3>,
-    t_max: f32,
-) -> ChildTests<f32, W> {
+    node: &WideNode<L::Scalar, W>,
+    ray: &SlabRay<<L::Scalar as Real>::Vec3>,
+    t_max: L::Scalar,
+) -> ChildTests<L::Scalar, W> {
     let mut tests = ChildTests {
-        t_enter: [0.0; W],
-        t_exit: [0.0; W],
+        t_enter: [L::Scalar::ZERO; W],
+        t_exit: [L::Scalar::ZERO; W],
         hit_mask: 0,
     };
     for first in (0..W).step_by(L::COUNT) {
         let mut t_enter = L::splat(ray.t_min);
-        let mut t_exit = L::splat(f32::INFINITY);
+        let mut t_exit = L::splat(L::Scalar::INFINITY);
         for axis in 0..3 {
             // The near and far planes for this ray, chosen by the sign of its direction
             // without a branch (Williams et al. 2005).
@@ -408,35 +525,45 @@ fn children_in_lanes<L: Lanes, const W: usize>(
 }
 
 /// Möller–Trumbore on the four triangles of `block` in lanes: the portable code's products
-/// and sums in its order (glam's cross and dot), so the same `t`, and its rejections written
-/// as it writes them (a NaN `u` or `v` is rejected only through `t`). `NaN` where no hit.
+/// and sums in its order (glam's cross and dot, the edges taken from the corners as it takes
+/// them), so the same `t`, and its rejections written as it writes them (a NaN `u` or `v` is
+/// rejected only through `t`). `NaN` where no hit. `L` has four lanes.
 #[inline(always)]
 fn moller_trumbore4<L: Lanes>(
-    block: &TriangleBlock,
-    origin: Vec3,
-    direction: Vec3,
-    t_min: f32,
-    t_max: f32,
-) -> [f32; 4] {
-    let row = |values: &[f32; 4]| L::from_slice(values);
-    let [v0x, v0y, v0z] = block.v0.each_ref().map(row);
-    let [e1x, e1y, e1z] = block.edge1.each_ref().map(row);
-    let [e2x, e2y, e2z] = block.edge2.each_ref().map(row);
+    block: &TriangleBlock<L::Scalar>,
+    origin: <L::Scalar as Real>::Vec3,
+    direction: <L::Scalar as Real>::Vec3,
+    t_min: L::Scalar,
+    t_max: L::Scalar,
+) -> [L::Scalar; 4] {
+    // (Plain loads: `array::map` here is not always inlined.)
+    let [v0, v1, v2] = &block.corners;
+    let (v0x, v0y, v0z) = (
+        L::from_slice(&v0[0]),
+        L::from_slice(&v0[1]),
+        L::from_slice(&v0[2]),
+    );
+    let e1x = L::from_slice(&v1[0]).sub(v0x);
+    let e1y = L::from_slice(&v1[1]).sub(v0y);
+    let e1z = L::from_slice(&v1[2]).sub(v0z);
+    let e2x = L::from_slice(&v2[0]).sub(v0x);
+    let e2y = L::from_slice(&v2[1]).sub(v0y);
+    let e2z = L::from_slice(&v2[2]).sub(v0z);
     let (dx, dy, dz) = (
-        L::splat(direction.x),
-        L::splat(direction.y),
-        L::splat(direction.z),
+        L::splat(direction[0]),
+        L::splat(direction[1]),
+        L::splat(direction[2]),
     );
     // p = d × e2
     let px = dy.mul(e2z).sub(e2y.mul(dz));
     let py = dz.mul(e2x).sub(e2z.mul(dx));
     let pz = dx.mul(e2y).sub(e2x.mul(dy));
     let det = e1x.mul(px).add(e1y.mul(py)).add(e1z.mul(pz));
-    let (zero, one) = (L::splat(0.0), L::splat(1.0));
+    let (zero, one) = (L::splat(L::Scalar::ZERO), L::splat(L::Scalar::ONE));
     let inv_det = one.div(det);
-    let sx = L::splat(origin.x).sub(v0x);
-    let sy = L::splat(origin.y).sub(v0y);
-    let sz = L::splat(origin.z).sub(v0z);
+    let sx = L::splat(origin[0]).sub(v0x);
+    let sy = L::splat(origin[1]).sub(v0y);
+    let sz = L::splat(origin[2]).sub(v0z);
     let u = sx.mul(px).add(sy.mul(py)).add(sz.mul(pz)).mul(inv_det);
     // q = s × e1
     let qx = sy.mul(e1z).sub(e1y.mul(sz));
@@ -448,10 +575,85 @@ fn moller_trumbore4<L: Lanes>(
     let accepted = det
         .ne(zero)
         .and(t.ge(L::splat(t_min)).and(t.le(L::splat(t_max))));
-    let mut out = [0.0; 4];
-    t.select(L::splat(f32::NAN), accepted.and_not(rejected))
+    let mut out = [L::Scalar::NAN; 4];
+    t.select(L::splat(L::Scalar::NAN), accepted.and_not(rejected))
         .write_to(&mut out);
     out
+}
+
+/// Woop, Benthin & Wald's watertight test (see the one-triangle `watertight` in
+/// `primitive::triangle`) on the four triangles of `block` in lanes, with the portable code's
+/// operations in its order, so the same `t`. Where an edge function is exactly zero in some
+/// lane the portable code redoes it in f64; that is rare (a ray through an edge or a corner),
+/// so the whole block then goes to the portable code. `NaN` where no hit. `L` has four lanes.
+#[inline(always)]
+fn watertight4<L: Lanes>(
+    block: &TriangleBlock<L::Scalar>,
+    ray: &TriangleRay<<L::Scalar as Real>::Vec3>,
+    t_min: L::Scalar,
+    t_max: L::Scalar,
+) -> [L::Scalar; 4] {
+    let (kx, ky, kz) = (ray.axis_x, ray.axis_y, ray.axis_z);
+    let [sx, sy, sz] = ray.shear;
+    let (sx, sy, sz) = (L::splat(sx), L::splat(sy), L::splat(sz));
+    let origin = ray.ray.origin;
+    let origin = [
+        L::splat(origin[kx]),
+        L::splat(origin[ky]),
+        L::splat(origin[kz]),
+    ];
+    let axes = [kx, ky, kz];
+    let (a, b, c) = (
+        relative(&block.corners[0], axes, origin),
+        relative(&block.corners[1], axes, origin),
+        relative(&block.corners[2], axes, origin),
+    );
+    // Shear and scale the corners into ray space.
+    let (ax, ay) = (a.0.sub(sx.mul(a.2)), a.1.sub(sy.mul(a.2)));
+    let (bx, by) = (b.0.sub(sx.mul(b.2)), b.1.sub(sy.mul(b.2)));
+    let (cx, cy) = (c.0.sub(sx.mul(c.2)), c.1.sub(sy.mul(c.2)));
+    let u = cx.mul(by).sub(cy.mul(bx));
+    let v = ax.mul(cy).sub(ay.mul(cx));
+    let w = bx.mul(ay).sub(by.mul(ax));
+    let zero = L::splat(L::Scalar::ZERO);
+    if u.ne(zero).and(v.ne(zero)).and(w.ne(zero)).bits() != (1 << L::COUNT) - 1 {
+        return block.intersect(ray, t_min, t_max);
+    }
+    let mixed = u
+        .lt(zero)
+        .or(v.lt(zero))
+        .or(w.lt(zero))
+        .and(u.gt(zero).or(v.gt(zero)).or(w.gt(zero)));
+    let det = u.add(v).add(w);
+    let (az, bz, cz) = (sz.mul(a.2), sz.mul(b.2), sz.mul(c.2));
+    let t_scaled = u.mul(az).add(v.mul(bz)).add(w.mul(cz));
+    // Compare t against the interval before dividing, with the sign of det folded in.
+    let (low, high) = (L::splat(t_min).mul(det), L::splat(t_max).mul(det));
+    let outside_if_negative = t_scaled.gt(low).or(t_scaled.lt(high));
+    let outside_if_positive = t_scaled.lt(low).or(t_scaled.gt(high));
+    let outside = outside_if_negative.select(outside_if_positive, det.lt(zero));
+    let accepted = det.ne(zero).and_not(mixed.or(outside));
+    let mut out = [L::Scalar::NAN; 4];
+    t_scaled
+        .div(det)
+        .select(L::splat(L::Scalar::NAN), accepted)
+        .write_to(&mut out);
+    out
+}
+
+/// A block's corner relative to the ray's origin, its axes permuted to the ray's (a function,
+/// not a closure: the compiler does not always inline closures here).
+#[inline(always)]
+fn relative<L: Lanes>(
+    corner: &[[L::Scalar; 4]; 3],
+    [kx, ky, kz]: [usize; 3],
+    [ox, oy, oz]: [L; 3],
+) -> (L, L, L) {
+    (
+        L::from_slice(&corner[kx]).sub(ox),
+        L::from_slice(&corner[ky]).sub(oy),
+        L::from_slice(&corner[kz]).sub(oz),
+    )
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -466,8 +668,24 @@ mod x86 {
     /// AVX-512 F + VL kernels (the AVX2 code, compiled for AVX-512).
     pub(crate) struct Avx512;
 
-    kernel!(Avx2, children_avx2, triangles_avx2);
-    kernel!(Avx512, children_avx512, triangles_avx512);
+    kernel!(
+        Avx2,
+        children_avx2,
+        children64_avx2,
+        moller_trumbore_avx2,
+        moller_trumbore64_avx2,
+        watertight_avx2,
+        watertight64_avx2
+    );
+    kernel!(
+        Avx512,
+        children_avx512,
+        children64_avx512,
+        moller_trumbore_avx512,
+        moller_trumbore64_avx512,
+        watertight_avx512,
+        watertight64_avx512
+    );
 
     /// The whole traversal compiled for one instruction set, so the kernels inline into it.
     macro_rules! traversal {
@@ -525,10 +743,18 @@ mod x86 {
     packet_traversal!(packet_avx512, Avx512, "avx2,fma,avx512f,avx512vl");
 
     /// The kernels of one instruction set, compiled for it: the generic lanes code with its
-    /// registers (`__m256` when the children fill eight lanes, `__m128` otherwise and for a
-    /// triangle block).
+    /// registers (f32: `__m256` when the children fill eight lanes, `__m128` otherwise and for
+    /// a triangle block; f64: `__m256d`).
     macro_rules! kernels {
-        ($children:ident, $triangles:ident, $features:literal) => {
+        (
+            $children:ident,
+            $children64:ident,
+            $moller_trumbore:ident,
+            $moller_trumbore64:ident,
+            $watertight:ident,
+            $watertight64:ident,
+            $features:literal
+        ) => {
             #[inline]
             #[target_feature(enable = $features)]
             pub(super) fn $children<const W: usize>(
@@ -545,8 +771,18 @@ mod x86 {
 
             #[inline]
             #[target_feature(enable = $features)]
-            pub(super) fn $triangles(
-                block: &TriangleBlock,
+            pub(super) fn $children64<const W: usize>(
+                node: &WideNode<f64, W>,
+                ray: &SlabRay<DVec3>,
+                t_max: f64,
+            ) -> ChildTests<f64, W> {
+                children_in_lanes::<__m256d, W>(node, ray, t_max)
+            }
+
+            #[inline]
+            #[target_feature(enable = $features)]
+            pub(super) fn $moller_trumbore(
+                block: &TriangleBlock<f32>,
                 origin: Vec3,
                 direction: Vec3,
                 t_min: f32,
@@ -554,23 +790,70 @@ mod x86 {
             ) -> [f32; 4] {
                 moller_trumbore4::<__m128>(block, origin, direction, t_min, t_max)
             }
+
+            #[inline]
+            #[target_feature(enable = $features)]
+            pub(super) fn $moller_trumbore64(
+                block: &TriangleBlock<f64>,
+                origin: DVec3,
+                direction: DVec3,
+                t_min: f64,
+                t_max: f64,
+            ) -> [f64; 4] {
+                moller_trumbore4::<__m256d>(block, origin, direction, t_min, t_max)
+            }
+
+            #[inline]
+            #[target_feature(enable = $features)]
+            pub(super) fn $watertight(
+                block: &TriangleBlock<f32>,
+                ray: &TriangleRay<Vec3>,
+                t_min: f32,
+                t_max: f32,
+            ) -> [f32; 4] {
+                watertight4::<__m128>(block, ray, t_min, t_max)
+            }
+
+            #[inline]
+            #[target_feature(enable = $features)]
+            pub(super) fn $watertight64(
+                block: &TriangleBlock<f64>,
+                ray: &TriangleRay<DVec3>,
+                t_min: f64,
+                t_max: f64,
+            ) -> [f64; 4] {
+                watertight4::<__m256d>(block, ray, t_min, t_max)
+            }
         };
     }
 
-    kernels!(children_avx2, triangles_avx2, "avx2,fma");
+    kernels!(
+        children_avx2,
+        children64_avx2,
+        moller_trumbore_avx2,
+        moller_trumbore64_avx2,
+        watertight_avx2,
+        watertight64_avx2,
+        "avx2,fma"
+    );
     kernels!(
         children_avx512,
-        triangles_avx512,
+        children64_avx512,
+        moller_trumbore_avx512,
+        moller_trumbore64_avx512,
+        watertight_avx512,
+        watertight64_avx512,
         "avx2,fma,avx512f,avx512vl"
     );
 
-    // SAFETY, for every intrinsic in the two implementations below: SSE is part of every
+    // SAFETY, for every intrinsic in the three implementations below: SSE is part of every
     // x86-64 processor, and the AVX lanes are used only by the kernels above, which are
     // compiled for AVX2 and run only when `Isa::active` names AVX2 or AVX-512. Loads and
     // stores index their slice first, so they stay inside it.
 
     /// SSE's four lanes.
     impl Lanes for __m128 {
+        type Scalar = f32;
         const COUNT: usize = 4;
         #[inline(always)]
         fn splat(value: f32) -> Self {
@@ -655,6 +938,7 @@ mod x86 {
 
     /// AVX's eight lanes.
     impl Lanes for __m256 {
+        type Scalar = f32;
         const COUNT: usize = 8;
         #[inline(always)]
         fn splat(value: f32) -> Self {
@@ -734,6 +1018,88 @@ mod x86 {
             unsafe { _mm256_movemask_ps(self) as u32 }
         }
     }
+
+    /// AVX's four lanes of f64.
+    impl Lanes for __m256d {
+        type Scalar = f64;
+        const COUNT: usize = 4;
+        #[inline(always)]
+        fn splat(value: f64) -> Self {
+            unsafe { _mm256_set1_pd(value) }
+        }
+        #[inline(always)]
+        fn from_slice(values: &[f64]) -> Self {
+            unsafe { _mm256_loadu_pd(values[..4].as_ptr()) }
+        }
+        #[inline(always)]
+        fn write_to(self, out: &mut [f64]) {
+            unsafe { _mm256_storeu_pd(out[..4].as_mut_ptr(), self) }
+        }
+        #[inline(always)]
+        fn add(self, other: Self) -> Self {
+            unsafe { _mm256_add_pd(self, other) }
+        }
+        #[inline(always)]
+        fn sub(self, other: Self) -> Self {
+            unsafe { _mm256_sub_pd(self, other) }
+        }
+        #[inline(always)]
+        fn mul(self, other: Self) -> Self {
+            unsafe { _mm256_mul_pd(self, other) }
+        }
+        #[inline(always)]
+        fn div(self, other: Self) -> Self {
+            unsafe { _mm256_div_pd(self, other) }
+        }
+        #[inline(always)]
+        fn lt(self, other: Self) -> Self {
+            unsafe { _mm256_cmp_pd::<_CMP_LT_OQ>(self, other) }
+        }
+        #[inline(always)]
+        fn gt(self, other: Self) -> Self {
+            unsafe { _mm256_cmp_pd::<_CMP_GT_OQ>(self, other) }
+        }
+        #[inline(always)]
+        fn le(self, other: Self) -> Self {
+            unsafe { _mm256_cmp_pd::<_CMP_LE_OQ>(self, other) }
+        }
+        #[inline(always)]
+        fn ge(self, other: Self) -> Self {
+            unsafe { _mm256_cmp_pd::<_CMP_GE_OQ>(self, other) }
+        }
+        #[inline(always)]
+        fn ne(self, other: Self) -> Self {
+            unsafe { _mm256_cmp_pd::<_CMP_NEQ_UQ>(self, other) }
+        }
+        #[inline(always)]
+        fn or(self, other: Self) -> Self {
+            unsafe { _mm256_or_pd(self, other) }
+        }
+        #[inline(always)]
+        fn and(self, other: Self) -> Self {
+            unsafe { _mm256_and_pd(self, other) }
+        }
+        #[inline(always)]
+        fn and_not(self, other: Self) -> Self {
+            unsafe { _mm256_andnot_pd(other, self) }
+        }
+        #[inline(always)]
+        fn select(self, other: Self, mask: Self) -> Self {
+            unsafe { _mm256_blendv_pd(other, self, mask) }
+        }
+        #[inline(always)]
+        fn later(self, other: Self) -> Self {
+            unsafe { _mm256_max_pd(self, other) }
+        }
+        #[inline(always)]
+        fn earlier(self, other: Self) -> Self {
+            unsafe { _mm256_min_pd(self, other) }
+        }
+        #[inline(always)]
+        fn bits(self) -> u32 {
+            unsafe { _mm256_movemask_pd(self) as u32 }
+        }
+    }
 }
 
 #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
@@ -745,7 +1111,15 @@ mod wasm {
     /// WebAssembly `simd128` kernels: four lanes; eight children are two groups of four.
     pub(crate) struct Simd128;
 
-    kernel!(Simd128, children_simd128, triangles_simd128);
+    kernel!(
+        Simd128,
+        children_simd128,
+        children64_simd128,
+        moller_trumbore_simd128,
+        moller_trumbore64_simd128,
+        watertight_simd128,
+        watertight64_simd128
+    );
 
     pub(super) fn children_simd128<const W: usize>(
         node: &WideNode<f32, W>,
@@ -755,8 +1129,8 @@ mod wasm {
         children_in_lanes::<v128, W>(node, ray, t_max)
     }
 
-    pub(super) fn triangles_simd128(
-        block: &TriangleBlock,
+    pub(super) fn moller_trumbore_simd128(
+        block: &TriangleBlock<f32>,
         origin: Vec3,
         direction: Vec3,
         t_min: f32,
@@ -765,8 +1139,47 @@ mod wasm {
         moller_trumbore4::<v128>(block, origin, direction, t_min, t_max)
     }
 
+    pub(super) fn watertight_simd128(
+        block: &TriangleBlock<f32>,
+        ray: &TriangleRay<Vec3>,
+        t_min: f32,
+        t_max: f32,
+    ) -> [f32; 4] {
+        watertight4::<v128>(block, ray, t_min, t_max)
+    }
+
+    // f64 has no lanes of its own here (two per `simd128` register): the portable code.
+
+    pub(super) fn children64_simd128<const W: usize>(
+        node: &WideNode<f64, W>,
+        ray: &SlabRay<DVec3>,
+        t_max: f64,
+    ) -> ChildTests<f64, W> {
+        Portable::test_children(node, ray, t_max)
+    }
+
+    pub(super) fn moller_trumbore64_simd128(
+        block: &TriangleBlock<f64>,
+        origin: DVec3,
+        direction: DVec3,
+        t_min: f64,
+        t_max: f64,
+    ) -> [f64; 4] {
+        Portable::moller_trumbore(block, origin, direction, t_min, t_max)
+    }
+
+    pub(super) fn watertight64_simd128(
+        block: &TriangleBlock<f64>,
+        ray: &TriangleRay<DVec3>,
+        t_min: f64,
+        t_max: f64,
+    ) -> [f64; 4] {
+        Portable::watertight(block, ray, t_min, t_max)
+    }
+
     /// WebAssembly's four lanes.
     impl Lanes for v128 {
+        type Scalar = f32;
         const COUNT: usize = 4;
         #[inline(always)]
         fn splat(value: f32) -> Self {
@@ -861,45 +1274,48 @@ mod tests {
     use crate::query::Order;
     use proptest::prelude::*;
 
-    type Children4 = fn(&WideNode<f32, 4>, &SlabRay<Vec3>, f32) -> ChildTests<f32, 4>;
-    type Children8 = fn(&WideNode<f32, 8>, &SlabRay<Vec3>, f32) -> ChildTests<f32, 8>;
-    type Triangles = fn(&TriangleBlock, Vec3, Vec3, f32, f32) -> [f32; 4];
+    type Children<S, const W: usize> =
+        fn(&WideNode<S, W>, &SlabRay<<S as Real>::Vec3>, S) -> ChildTests<S, W>;
+    type Triangles<S> = fn(&TriangleBlock<S>, &TriangleRay<<S as Real>::Vec3>, S, S) -> [S; 4];
 
-    /// Every kernel this machine can run, by instruction set.
-    fn kernels() -> Vec<(Isa, Children4, Children8, Triangles)> {
-        let mut kernels: Vec<(Isa, Children4, Children8, Triangles)> = vec![(
-            Isa::Portable,
-            <Portable as Kernel>::test_children::<Vec3, 4>,
-            <Portable as Kernel>::test_children::<Vec3, 8>,
-            <Portable as Kernel>::test_triangles,
-        )];
+    /// The kernels of one instruction set for one precision.
+    struct Kernels<S: Real> {
+        isa: Isa,
+        children4: Children<S, 4>,
+        children8: Children<S, 8>,
+        triangles: Triangles<S>,
+        watertight: Triangles<S>,
+    }
+
+    impl<S: Real> Kernels<S> {
+        fn of<K: Kernel>(isa: Isa) -> Self {
+            Self {
+                isa,
+                children4: K::test_children::<S::Vec3, 4>,
+                children8: K::test_children::<S::Vec3, 8>,
+                triangles: |block, ray, t_min, t_max| {
+                    K::moller_trumbore(block, ray.ray.origin, ray.ray.direction, t_min, t_max)
+                },
+                watertight: K::watertight::<S>,
+            }
+        }
+    }
+
+    /// Every kernel this machine can run, by instruction set, the portable ones first.
+    fn kernels<S: Real>() -> Vec<Kernels<S>> {
+        let mut kernels = vec![Kernels::of::<Portable>(Isa::Portable)];
         #[cfg(target_arch = "x86_64")]
         {
             use x86::{Avx2, Avx512};
             if Isa::Avx2.is_available() {
-                kernels.push((
-                    Isa::Avx2,
-                    <Avx2 as Kernel>::test_children::<Vec3, 4>,
-                    <Avx2 as Kernel>::test_children::<Vec3, 8>,
-                    <Avx2 as Kernel>::test_triangles,
-                ));
+                kernels.push(Kernels::of::<Avx2>(Isa::Avx2));
             }
             if Isa::Avx512.is_available() {
-                kernels.push((
-                    Isa::Avx512,
-                    <Avx512 as Kernel>::test_children::<Vec3, 4>,
-                    <Avx512 as Kernel>::test_children::<Vec3, 8>,
-                    <Avx512 as Kernel>::test_triangles,
-                ));
+                kernels.push(Kernels::of::<Avx512>(Isa::Avx512));
             }
         }
         #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-        kernels.push((
-            Isa::Simd128,
-            <wasm::Simd128 as Kernel>::test_children::<Vec3, 4>,
-            <wasm::Simd128 as Kernel>::test_children::<Vec3, 8>,
-            <wasm::Simd128 as Kernel>::test_triangles,
-        ));
+        kernels.push(Kernels::of::<wasm::Simd128>(Isa::Simd128));
         kernels
     }
 
@@ -947,8 +1363,12 @@ mod tests {
     }
 
     /// Bit-for-bit equality, NaN included.
-    fn bits(values: &[f32]) -> Vec<u32> {
-        values.iter().map(|value| value.to_bits()).collect()
+    fn bits<S: Real>(values: &[S]) -> Vec<u64> {
+        // Widening to f64 is exact, and keeps a NaN's sign and payload apart.
+        values
+            .iter()
+            .map(|value| value.to_f64().to_bits())
+            .collect()
     }
 
     proptest! {
@@ -964,19 +1384,11 @@ mod tests {
             node8 in node::<8>(),
             (ray, robust, t_max) in ray(),
         ) {
-            let slab_ray = SlabRay::new(&ray, robust);
-            let kernels = kernels();
-            let (_, portable4, portable8, _) = kernels[0];
-            let (want4, want8) = (portable4(&node4, &slab_ray, t_max), portable8(&node8, &slab_ray, t_max));
-            for (isa, children4, children8, _) in kernels {
-                let (got4, got8) = (children4(&node4, &slab_ray, t_max), children8(&node8, &slab_ray, t_max));
-                prop_assert_eq!(got4.hit_mask, want4.hit_mask, "{:?}", isa);
-                prop_assert_eq!(bits(&got4.t_enter), bits(&want4.t_enter), "{:?}", isa);
-                prop_assert_eq!(bits(&got4.t_exit), bits(&want4.t_exit), "{:?}", isa);
-                prop_assert_eq!(got8.hit_mask, want8.hit_mask, "{:?}", isa);
-                prop_assert_eq!(bits(&got8.t_enter), bits(&want8.t_enter), "{:?}", isa);
-                prop_assert_eq!(bits(&got8.t_exit), bits(&want8.t_exit), "{:?}", isa);
-            }
+            same_intervals(&node4, &node8, &ray, robust, t_max)?;
+            // The same boxes and ray in f64.
+            let (node4, node8) = (widened(&node4), widened(&node8));
+            let ray = Ray { origin: ray.origin.as_dvec3(), direction: ray.direction.as_dvec3(), t_min: 0.0, t_max: f64::INFINITY };
+            same_intervals(&node4, &node8, &ray, robust, f64::from(t_max))?;
         }
 
         #[test]
@@ -985,7 +1397,6 @@ mod tests {
             aim in (0usize..4, 0.0..1.0f32, 0.0..1.0f32, 0usize..3),
             (ray, _, t_max) in ray(),
         ) {
-            let block = TriangleBlock::pack(&corners)[0];
             // Half the rays aim at a corner, an edge or inside one of the triangles.
             let (lane, a, b, kind) = aim;
             let [v0, v1, v2] = corners[lane];
@@ -995,33 +1406,103 @@ mod tests {
                 _ => v0 + (v1 - v0) * (a * 0.5) + (v2 - v0) * (b * 0.5),
             };
             let aimed = Ray::try_new(ray.origin, target - ray.origin).unwrap_or(ray);
+            let wide_corners: Vec<[DVec3; 3]> =
+                corners.iter().map(|corner| corner.map(Vec3::as_dvec3)).collect();
             for ray in [ray, aimed] {
-                let kernels = kernels();
-                let want = (kernels[0].3)(&block, ray.origin, ray.direction, 0.0, t_max);
-                // The portable block test is the one-triangle test, lane by lane.
-                let triangles = TriangleSet::<Vec3>::from_f64(
-                    &corners
-                        .iter()
-                        .map(|corner| corner.map(|v| v.as_dvec3().to_array()))
-                        .collect::<Vec<_>>(),
-                );
-                for (lane, &t) in want.iter().enumerate() {
-                    let prepared = triangles.prepare(&ray, crate::primitive::HitTest::Fast);
-                    // A degenerate triangle is stored collapsed, so never hit; skip it.
-                    if triangles.triangles()[lane][0] != corners[lane][0]
-                        || triangles.triangles()[lane] != corners[lane]
-                    {
-                        continue;
-                    }
-                    let single = triangles.intersect(&prepared, lane, 0.0, t_max);
-                    prop_assert_eq!(single.map(f32::to_bits), (!t.is_nan()).then(|| t.to_bits()));
-                }
-                for (isa, _, _, triangles) in &kernels {
-                    let got = triangles(&block, ray.origin, ray.direction, 0.0, t_max);
-                    prop_assert_eq!(bits(&got), bits(&want), "{:?}", isa);
+                let wide_ray = Ray {
+                    origin: ray.origin.as_dvec3(),
+                    direction: ray.direction.as_dvec3(),
+                    t_min: 0.0,
+                    t_max: f64::INFINITY,
+                };
+                for test in [HitTest::Fast, HitTest::Watertight] {
+                    same_hits(&corners, &ray, test, t_max)?;
+                    same_hits(&wide_corners, &wide_ray, test, f64::from(t_max))?;
                 }
             }
         }
+    }
+
+    /// `node` in f64 (the same boxes: f32 widens exactly).
+    fn widened<const W: usize>(node: &WideNode<f32, W>) -> WideNode<f64, W> {
+        WideNode {
+            lower: node.lower.map(|row| row.map(f64::from)),
+            upper: node.upper.map(|row| row.map(f64::from)),
+            child: node.child,
+            count: node.count,
+        }
+    }
+
+    /// Every child kernel gives the portable intervals, bit for bit, for nodes of 4 and 8.
+    fn same_intervals<S: Real>(
+        node4: &WideNode<S, 4>,
+        node8: &WideNode<S, 8>,
+        ray: &Ray<S::Vec3>,
+        robust: bool,
+        t_max: S,
+    ) -> Result<(), TestCaseError> {
+        let slab_ray = SlabRay::new(ray, robust);
+        let kernels = kernels::<S>();
+        let want4 = (kernels[0].children4)(node4, &slab_ray, t_max);
+        let want8 = (kernels[0].children8)(node8, &slab_ray, t_max);
+        for kernel in &kernels {
+            let got4 = (kernel.children4)(node4, &slab_ray, t_max);
+            let got8 = (kernel.children8)(node8, &slab_ray, t_max);
+            let isa = kernel.isa;
+            prop_assert_eq!(got4.hit_mask, want4.hit_mask, "{:?}", isa);
+            prop_assert_eq!(bits(&got4.t_enter), bits(&want4.t_enter), "{:?}", isa);
+            prop_assert_eq!(bits(&got4.t_exit), bits(&want4.t_exit), "{:?}", isa);
+            prop_assert_eq!(got8.hit_mask, want8.hit_mask, "{:?}", isa);
+            prop_assert_eq!(bits(&got8.t_enter), bits(&want8.t_enter), "{:?}", isa);
+            prop_assert_eq!(bits(&got8.t_exit), bits(&want8.t_exit), "{:?}", isa);
+        }
+        Ok(())
+    }
+
+    /// The portable block test is the one-triangle test lane by lane, and every kernel gives
+    /// its `t`, bit for bit, and its misses.
+    fn same_hits<V: crate::math::Vector3>(
+        corners: &[[V; 3]],
+        ray: &Ray<V>,
+        test: HitTest,
+        t_max: V::Scalar,
+    ) -> Result<(), TestCaseError>
+    where
+        V::Scalar: Real<Vec3 = V>,
+    {
+        let block = TriangleBlock::pack(corners)[0];
+        let prepared = TriangleRay::new(ray, test);
+        let zero = V::Scalar::ZERO;
+        let kernels = kernels::<V::Scalar>();
+        let test_of = |kernel: &Kernels<V::Scalar>| match test {
+            HitTest::Fast => kernel.triangles,
+            HitTest::Watertight => kernel.watertight,
+        };
+        let want = test_of(&kernels[0])(&block, &prepared, zero, t_max);
+        let triangles = TriangleSet::<V>::from_f64(
+            &corners
+                .iter()
+                .map(|corner| corner.map(|v| v.to_f64_array()))
+                .collect::<Vec<_>>(),
+        );
+        for (lane, &t) in want.iter().enumerate() {
+            // A degenerate triangle is stored collapsed, so never hit; skip it.
+            if triangles.triangles()[lane] != corners[lane] {
+                continue;
+            }
+            let single = triangles.intersect(&prepared, lane, zero, t_max);
+            prop_assert_eq!(
+                bits(&[single.unwrap_or(V::Scalar::NAN)]),
+                bits(&[t]),
+                "{:?}",
+                test
+            );
+        }
+        for kernel in &kernels {
+            let got = test_of(kernel)(&block, &prepared, zero, t_max);
+            prop_assert_eq!(bits(&got), bits(&want), "{:?} {:?}", kernel.isa, test);
+        }
+        Ok(())
     }
 
     /// Packets on every instruction set: the same hits as the portable packets, and as each

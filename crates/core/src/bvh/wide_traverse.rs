@@ -8,12 +8,10 @@
 
 use std::any::Any;
 
-use glam::Vec3;
-
 use crate::bvh::wide::{LEAF_BLOCK, WideBvh, WideNode};
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
-use crate::primitive::{HitTest, LeafPrimitives, PrimitiveSet, TriangleBlock};
+use crate::primitive::{HitTest, LeafPrimitives, PrimitiveSet, TriangleBlock, TriangleRay};
 use crate::query::{Hit, Order, Query, TraceOptions};
 use crate::ray::Ray;
 use crate::search::HitSearch;
@@ -131,9 +129,14 @@ where
     if tree.nodes.is_empty() {
         return None;
     }
-    let mut state = RayState::new(primitives, ray, options);
+    let state = RayState::new(primitives, ray, options);
+    // The search is a local, not the state's (which lives in memory): its closest hit is then
+    // returned from registers, not written in pieces and read back whole (a store-forwarding
+    // stall on every ray).
+    let mut search = state.search;
     stack.entries.clear();
     state.run::<K, O, W>(
+        &mut search,
         tree,
         primitives,
         Pending::root(ray.t_min),
@@ -141,7 +144,7 @@ where
         &mut stack.entries,
         observer,
     );
-    state.search.closest
+    search.closest
 }
 
 impl<S: Real> Pending<S> {
@@ -160,26 +163,19 @@ struct RayState<'a, V: Vector, P: LeafPrimitives<V>> {
     ray: &'a Ray<V>,
     slab_ray: SlabRay<V>,
     primitive_ray: <P::Set as PrimitiveSet<V>>::RayData,
-    /// The triangle blocks and the ray in 3D f32, when the set has blocks and the test is the
-    /// fast one (the arithmetic the blocks hold).
-    blocks: Option<(&'a [TriangleBlock], &'a Ray<Vec3>)>,
+    /// The triangle blocks, when the set has them (3D triangles in a wide BVH's leaf order).
+    blocks: Option<&'a [TriangleBlock<V::Scalar>]>,
     search: HitSearch<V::Scalar>,
 }
 
 impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
     #[inline(always)]
     fn new(primitives: &'a P, ray: &'a Ray<V>, options: &TraceOptions) -> Self {
-        // Blocks of four triangles are 3D f32 (the type test is resolved at compile time).
-        let block_ray = (ray as &dyn Any).downcast_ref::<Ray<Vec3>>();
-        let blocks = match (primitives.triangle_blocks(), block_ray, options.hit_test) {
-            (Some(blocks), Some(block_ray), HitTest::Fast) => Some((blocks, block_ray)),
-            _ => None,
-        };
         Self {
             ray,
             slab_ray: SlabRay::new(ray, options.robust_traversal),
             primitive_ray: primitives.stored().prepare(ray, options.hit_test),
-            blocks,
+            blocks: primitives.triangle_blocks(),
             search: HitSearch::new(ray.t_max, options.query),
         }
     }
@@ -195,27 +191,58 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
         numbers: &[u32],
         observer: &mut O,
     ) -> bool {
-        match self.blocks {
-            Some((blocks, block_ray)) => {
-                search.test_blocks::<K, O>(blocks, block_ray, first, numbers, observer)
-            }
-            None => search.test_leaf(
-                primitives,
-                &self.primitive_ray,
-                self.ray.t_min,
-                first as usize,
-                numbers,
-                |_| false,
-                observer,
-            ),
+        // A set with blocks is a triangle set, whose rays are prepared for triangles (the type
+        // test is resolved when the code is compiled).
+        let block_ray = (&self.primitive_ray as &dyn Any)
+            .downcast_ref::<TriangleRay<<V::Scalar as Real>::Vec3>>();
+        if let (Some(blocks), Some(block_ray)) = (self.blocks, block_ray) {
+            let (t_min, ray) = (block_ray.ray.t_min, &block_ray.ray);
+            return match block_ray.test {
+                // Möller–Trumbore compares `t` itself with the interval: a lane inside the
+                // interval the block was tested with is inside a shrunk one when its `t` is.
+                HitTest::Fast => search.test_blocks(
+                    blocks,
+                    first,
+                    numbers,
+                    observer,
+                    |block, t_max| {
+                        K::moller_trumbore(block, ray.origin, ray.direction, t_min, t_max)
+                    },
+                    |_, _, t, t_max| t <= t_max,
+                ),
+                // The watertight test compares before it divides: ask it again.
+                HitTest::Watertight => search.test_blocks(
+                    blocks,
+                    first,
+                    numbers,
+                    observer,
+                    |block, t_max| K::watertight(block, block_ray, t_min, t_max),
+                    |block, lane, _, t_max| {
+                        block
+                            .intersect_lane(block_ray, lane, t_min, t_max)
+                            .is_some()
+                    },
+                ),
+            };
         }
+        search.test_leaf(
+            primitives,
+            &self.primitive_ray,
+            self.ray.t_min,
+            first as usize,
+            numbers,
+            |_| false,
+            observer,
+        )
     }
 
-    /// The traversal loop from `start` (the root, or where a packet left this ray); `entries`
-    /// must be empty. True when an any-hit query has its answer.
+    /// The traversal loop from `start` (the root, or where a packet left this ray), searching
+    /// into `search`; `entries` must be empty. True when an any-hit query has its answer.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn run<K: Kernel, O: Observer<V::Scalar>, const W: usize>(
-        &mut self,
+        &self,
+        search_out: &mut HitSearch<V::Scalar>,
         tree: &WideBvh<V, W>,
         primitives: &P,
         start: Pending<V::Scalar>,
@@ -224,7 +251,7 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
         observer: &mut O,
     ) -> bool {
         let nodes = tree.nodes.as_slice();
-        let mut search = self.search;
+        let mut search = *search_out;
         let mut current = Some(start);
         while let Some(Pending {
             child,
@@ -249,7 +276,7 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
                 let numbers = tree.leaf_primitives(child, count);
                 if self.test_leaf::<K, O>(&mut search, primitives, child, numbers, observer) {
                     entries.clear();
-                    self.search = search;
+                    *search_out = search;
                     return true;
                 }
                 continue;
@@ -287,7 +314,7 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
                 );
             }
         }
-        self.search = search;
+        *search_out = search;
         false
     }
 }
@@ -619,7 +646,9 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
                     t_enter,
                 };
                 let state = &mut states[ray];
+                let mut search = state.search;
                 state.run::<K, O, W>(
+                    &mut search,
                     tree,
                     primitives,
                     start,
@@ -627,7 +656,8 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
                     single,
                     &mut observers[ray],
                 );
-                lanes.t_closest[ray] = state.search.t_closest;
+                state.search = search;
+                lanes.t_closest[ray] = search.t_closest;
             });
             continue;
         }
@@ -741,36 +771,35 @@ fn for_each_ray(mut mask: u64, mut visit: impl FnMut(usize)) {
 
 impl<S: Real> HitSearch<S> {
     /// Tests a wide leaf's triangles a block of four at a time (`first` is its first slot, a
-    /// multiple of four). The observer hears each triangle in slot order, hit only within
-    /// the interval as it stood when the triangle's turn came, as if tested one by one; the
-    /// closest hit is the same either way (the least `t`, ties to the lower number). Returns
+    /// multiple of four) with `test` (a block and the interval's end: each lane's `t` inside
+    /// the interval, NaN where missed). The observer hears each triangle in slot order, hit
+    /// only within the interval as it stood when the triangle's turn came, as if tested one
+    /// by one: once an earlier lane of the block has shrunk the interval, a lane's hit is
+    /// confirmed by `still_inside` (block, lane, its `t`, the interval's new end). The closest
+    /// hit is then the one-by-one test's (the least `t`, ties to the lower number). Returns
     /// true when an any-hit query has its answer.
     #[inline(always)]
-    fn test_blocks<K: Kernel, O: Observer<S>>(
+    fn test_blocks<O: Observer<S>>(
         &mut self,
-        blocks: &[TriangleBlock],
-        ray: &Ray<Vec3>,
+        blocks: &[TriangleBlock<S>],
         first: u32,
         numbers: &[u32],
         observer: &mut O,
+        test: impl Fn(&TriangleBlock<S>, S) -> [S; 4],
+        still_inside: impl Fn(&TriangleBlock<S>, usize, S, S) -> bool,
     ) -> bool {
-        let t_min = ray.t_min;
         for (block_index, block_numbers) in (first as usize / LEAF_BLOCK..).zip(numbers.chunks(4)) {
-            let t_hits = K::test_triangles(
-                &blocks[block_index],
-                ray.origin,
-                ray.direction,
-                t_min,
-                self.t_closest.to_f64() as f32,
-            );
+            let block = &blocks[block_index];
+            let t_max = self.t_closest;
+            let t_hits = test(block, t_max);
             // Most blocks are missed by every lane: then only an observer has work to do.
             let any_hit = t_hits.iter().any(|t| !t.is_nan());
             if !any_hit && !O::ACTIVE {
                 continue;
             }
-            for (&primitive, &t) in block_numbers.iter().zip(&t_hits) {
-                let t = S::from_f32(t);
-                let hit = t <= self.t_closest;
+            for (lane, (&primitive, &t)) in block_numbers.iter().zip(&t_hits).enumerate() {
+                let hit = !t.is_nan()
+                    && (self.t_closest == t_max || still_inside(block, lane, t, self.t_closest));
                 observer.primitive_tested(primitive, hit.then_some(t));
                 if hit
                     && self

@@ -11,6 +11,8 @@ mod triangle;
 pub use shape::{Shape, ShapeSet, Sphere};
 pub use triangle::{TriangleBlock, TriangleRay, TriangleSet};
 
+use std::any::Any;
+
 use crate::aabb::Aabb;
 use crate::math::{Vector, Vector3};
 use crate::ray::Ray;
@@ -30,7 +32,7 @@ pub enum HitTest {
 /// An indexed set of primitives that a ray can be tested against.
 pub trait PrimitiveSet<V: Vector> {
     /// What a ray precomputes once before testing many primitives.
-    type RayData;
+    type RayData: 'static;
 
     /// The number of primitives; they are numbered `0..len()`.
     fn len(&self) -> usize;
@@ -84,11 +86,11 @@ pub trait LeafPrimitives<V: Vector> {
     fn stored(&self) -> &Self::Set;
     /// Where the primitive of leaf slot `slot`, numbered `primitive`, is stored.
     fn storage_index(&self, slot: usize, primitive: u32) -> usize;
-    /// The primitives as 3D f32 triangles four to a block, block `b` holding slots `4b..4b + 4`
+    /// The primitives as 3D triangles four to a block, block `b` holding slots `4b..4b + 4`
     /// (a wide BVH's leaf order, see [`WideBvh::leaf_ordered`](crate::bvh::WideBvh::leaf_ordered)),
     /// when stored so.
     #[inline(always)]
-    fn triangle_blocks(&self) -> Option<&[TriangleBlock]> {
+    fn triangle_blocks(&self) -> Option<&[TriangleBlock<V::Scalar>]> {
         None
     }
 }
@@ -122,8 +124,15 @@ stored_in_own_order!(ShapeSet, Vector);
 #[derive(Clone, Debug)]
 pub struct LeafOrdered<P> {
     stored: P,
-    /// For 3D f32 triangles in a wide BVH's leaf order: the same triangles in blocks of four.
-    blocks: Option<Vec<TriangleBlock>>,
+    /// For 3D triangles in a wide BVH's leaf order: the same triangles in blocks of four.
+    blocks: Option<Blocks>,
+}
+
+/// Triangle blocks in their precision.
+#[derive(Clone, Debug)]
+enum Blocks {
+    F32(Vec<TriangleBlock<f32>>),
+    F64(Vec<TriangleBlock<f64>>),
 }
 
 impl<P> LeafOrdered<P> {
@@ -137,15 +146,20 @@ impl<P> LeafOrdered<P> {
     }
 
     /// Wraps `stored`, in the leaf order of a wide BVH (each leaf starting at a multiple of
-    /// four), and when it is a set of 3D f32 triangles packs them in blocks of four too.
+    /// four), and when it is a set of 3D triangles packs them in blocks of four too.
     pub(crate) fn with_blocks(stored: P) -> Self
     where
         P: 'static,
     {
-        let any = &stored as &dyn std::any::Any;
-        let blocks = any
-            .downcast_ref::<TriangleSet<glam::Vec3>>()
-            .map(|triangles| TriangleBlock::pack(triangles.triangles()));
+        let any = &stored as &dyn Any;
+        let blocks = match (
+            any.downcast_ref::<TriangleSet<glam::Vec3>>(),
+            any.downcast_ref::<TriangleSet<glam::DVec3>>(),
+        ) {
+            (Some(triangles), _) => Some(Blocks::F32(TriangleBlock::pack(triangles.triangles()))),
+            (_, Some(triangles)) => Some(Blocks::F64(TriangleBlock::pack(triangles.triangles()))),
+            _ => None,
+        };
         Self { stored, blocks }
     }
 }
@@ -164,7 +178,16 @@ impl<V: Vector, P: PrimitiveSet<V>> LeafPrimitives<V> for LeafOrdered<P> {
     }
 
     #[inline(always)]
-    fn triangle_blocks(&self) -> Option<&[TriangleBlock]> {
-        self.blocks.as_deref()
+    fn triangle_blocks(&self) -> Option<&[TriangleBlock<V::Scalar>]> {
+        // Concrete types on both sides: the test is resolved when the code is compiled.
+        match self.blocks.as_ref()? {
+            Blocks::F32(blocks) => {
+                (blocks as &dyn Any).downcast_ref::<Vec<TriangleBlock<V::Scalar>>>()
+            }
+            Blocks::F64(blocks) => {
+                (blocks as &dyn Any).downcast_ref::<Vec<TriangleBlock<V::Scalar>>>()
+            }
+        }
+        .map(Vec::as_slice)
     }
 }

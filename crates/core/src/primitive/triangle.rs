@@ -1,7 +1,5 @@
 //! Triangles in 3D and the two ray/triangle tests users trade between.
 
-use glam::Vec3;
-
 use crate::aabb::Aabb;
 use crate::math::{Real, Vector3};
 use crate::primitive::{HitTest, PrimitiveSet};
@@ -64,17 +62,18 @@ pub struct TriangleRay<V: Vector3> {
     /// Which test runs.
     pub test: HitTest,
     /// Watertight test: the axis along which the direction is largest (becomes z) ...
-    axis_z: usize,
+    pub(crate) axis_z: usize,
     /// ... and the other two, ordered to keep the winding.
-    axis_x: usize,
-    axis_y: usize,
+    pub(crate) axis_x: usize,
+    pub(crate) axis_y: usize,
     /// The shear that maps the ray onto the +z axis: `(−d_x/d_z, −d_y/d_z, 1/d_z)`.
-    shear: [V::Scalar; 3],
+    pub(crate) shear: [V::Scalar; 3],
 }
 
 impl<V: Vector3> TriangleRay<V> {
     /// Precomputes the ray's permutation and shear (Woop, Benthin, Wald 2013, §3) when the
     /// test is watertight.
+    #[inline(always)]
     pub fn new(ray: &Ray<V>, test: HitTest) -> Self {
         if test == HitTest::Fast {
             return Self {
@@ -119,44 +118,23 @@ fn moller_trumbore<V: Vector3>(
     t_min: V::Scalar,
     t_max: V::Scalar,
 ) -> Option<V::Scalar> {
-    moller_trumbore_edges(
-        ray.origin,
-        ray.direction,
-        *v0,
-        *v1 - *v0,
-        *v2 - *v0,
-        t_min,
-        t_max,
-    )
-}
-
-/// [`moller_trumbore`] from a corner and the two edges leaving it (what a [`TriangleBlock`]
-/// stores), so that a block and a single triangle compute the same `t`.
-#[inline(always)]
-fn moller_trumbore_edges<V: Vector3>(
-    origin: V,
-    direction: V,
-    v0: V,
-    edge1: V,
-    edge2: V,
-    t_min: V::Scalar,
-    t_max: V::Scalar,
-) -> Option<V::Scalar> {
     let zero = V::Scalar::ZERO;
-    let p = direction.cross(edge2);
+    let edge1 = *v1 - *v0;
+    let edge2 = *v2 - *v0;
+    let p = ray.direction.cross(edge2);
     let det = edge1.dot(p);
     // A zero determinant: the ray is parallel to the plane, or the triangle is degenerate.
     if det == zero {
         return None;
     }
     let inv_det = V::Scalar::ONE / det;
-    let s = origin - v0;
+    let s = ray.origin - *v0;
     let u = s.dot(p) * inv_det;
     if u < zero || u > V::Scalar::ONE {
         return None;
     }
     let q = s.cross(edge1);
-    let v = direction.dot(q) * inv_det;
+    let v = ray.direction.dot(q) * inv_det;
     if v < zero || u + v > V::Scalar::ONE {
         return None;
     }
@@ -164,35 +142,42 @@ fn moller_trumbore_edges<V: Vector3>(
     (t >= t_min && t <= t_max).then_some(t)
 }
 
-/// Four triangles stored lane by lane (a corner and the two edges leaving it, each coordinate
-/// a row of four), so that one SIMD Möller–Trumbore tests them together: a wide BVH leaf's
-/// block of [`LEAF_BLOCK`](crate::bvh::LEAF_BLOCK) slots. Three cache lines.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// Four triangles stored lane by lane (each corner's coordinates a row of four), so that one
+/// SIMD test checks them together: a wide BVH leaf's block of
+/// [`LEAF_BLOCK`](crate::bvh::LEAF_BLOCK) slots, in f32 (three cache lines) or f64 (five).
+///
+/// The corners are stored, not a corner and two edges, because the watertight test needs the
+/// corners themselves (`v0 + (v1 − v0)` need not round back to `v1`); Möller–Trumbore takes the
+/// edges' differences when it runs, as the one-triangle test does, so both give its `t`.
+#[derive(Clone, Copy, Debug, PartialEq)]
 #[repr(C, align(64))]
-pub struct TriangleBlock {
-    /// First corners: `v0[axis][lane]`.
-    pub v0: [[f32; 4]; 3],
-    /// `v1 − v0`.
-    pub edge1: [[f32; 4]; 3],
-    /// `v2 − v0`.
-    pub edge2: [[f32; 4]; 3],
+pub struct TriangleBlock<S: Real = f32> {
+    /// `corners[corner][axis][lane]`.
+    pub corners: [[[S; 4]; 3]; 3],
 }
 
-impl TriangleBlock {
+impl<S: Real> Default for TriangleBlock<S> {
+    fn default() -> Self {
+        Self {
+            corners: [[[S::ZERO; 4]; 3]; 3],
+        }
+    }
+}
+
+impl<S: Real> TriangleBlock<S> {
     /// Packs triangles (in slot order) four to a block; a short last block repeats its last
     /// triangle.
-    pub fn pack(triangles: &[[Vec3; 3]]) -> Vec<TriangleBlock> {
+    pub fn pack<V: Vector3<Scalar = S>>(triangles: &[[V; 3]]) -> Vec<Self> {
         triangles
             .chunks(4)
             .map(|chunk| {
-                let mut block = TriangleBlock::default();
+                let mut block = Self::default();
                 for lane in 0..4 {
-                    let [v0, v1, v2] = chunk[lane.min(chunk.len() - 1)];
-                    let (edge1, edge2) = (v1 - v0, v2 - v0);
-                    for axis in 0..3 {
-                        block.v0[axis][lane] = v0[axis];
-                        block.edge1[axis][lane] = edge1[axis];
-                        block.edge2[axis][lane] = edge2[axis];
+                    let triangle = chunk[lane.min(chunk.len() - 1)];
+                    for (corner, point) in triangle.iter().enumerate() {
+                        for axis in 0..3 {
+                            block.corners[corner][axis][lane] = point[axis];
+                        }
                     }
                 }
                 block
@@ -200,25 +185,38 @@ impl TriangleBlock {
             .collect()
     }
 
-    /// Each lane's `t` where the ray hits its triangle within `[t_min, t_max]`, `NaN` where it
-    /// does not: the one-triangle test, lane by lane (the SIMD kernels compute the same).
+    /// Lane `lane`'s triangle.
     #[inline(always)]
-    pub fn intersect(&self, origin: Vec3, direction: Vec3, t_min: f32, t_max: f32) -> [f32; 4] {
-        let row = |rows: &[[f32; 4]; 3], lane: usize| {
-            Vec3::new(rows[0][lane], rows[1][lane], rows[2][lane])
-        };
+    pub fn triangle(&self, lane: usize) -> [S::Vec3; 3] {
+        self.corners
+            .map(|[x, y, z]| S::Vec3::new(x[lane], y[lane], z[lane]))
+    }
+
+    /// Each lane's `t` where the ray hits its triangle within `[t_min, t_max]`, `NaN` where it
+    /// does not, with the ray's test: the one-triangle test, lane by lane (the SIMD kernels
+    /// compute the same).
+    #[inline(always)]
+    pub fn intersect(&self, ray: &TriangleRay<S::Vec3>, t_min: S, t_max: S) -> [S; 4] {
         std::array::from_fn(|lane| {
-            moller_trumbore_edges(
-                origin,
-                direction,
-                row(&self.v0, lane),
-                row(&self.edge1, lane),
-                row(&self.edge2, lane),
-                t_min,
-                t_max,
-            )
-            .unwrap_or(f32::NAN)
+            self.intersect_lane(ray, lane, t_min, t_max)
+                .unwrap_or(S::NAN)
         })
+    }
+
+    /// The one-triangle test of lane `lane`.
+    #[inline(always)]
+    pub fn intersect_lane(
+        &self,
+        ray: &TriangleRay<S::Vec3>,
+        lane: usize,
+        t_min: S,
+        t_max: S,
+    ) -> Option<S> {
+        let triangle = self.triangle(lane);
+        match ray.test {
+            HitTest::Fast => moller_trumbore(&ray.ray, &triangle, t_min, t_max),
+            HitTest::Watertight => watertight(ray, &triangle, t_min, t_max),
+        }
     }
 }
 
@@ -302,6 +300,9 @@ impl<V: Vector3> PrimitiveSet<V> for TriangleSet<V> {
         Aabb::from_points(self.triangles[index])
     }
 
+    // Inlined, so that a traversal's ray state is written in place (a copy of the prepared
+    // ray right after it was written stalls on store forwarding).
+    #[inline(always)]
     fn prepare(&self, ray: &Ray<V>, test: HitTest) -> TriangleRay<V> {
         TriangleRay::new(ray, test)
     }
