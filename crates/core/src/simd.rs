@@ -505,10 +505,12 @@ fn children_in_lanes<L: Lanes, const W: usize>(
         let mut t_exit = L::splat(L::Scalar::INFINITY);
         for axis in 0..3 {
             // The near and far planes for this ray, chosen by the sign of its direction
-            // without a branch (Williams et al. 2005).
-            let rows = [&node.lower[axis], &node.upper[axis]];
-            let negative = usize::from(ray.negative[axis]);
-            let (near, far) = (rows[negative], rows[1 - negative]);
+            // (Williams et al. 2005): a select of two addresses, not a branch.
+            let (near, far) = if ray.negative[axis] {
+                (&node.upper[axis], &node.lower[axis])
+            } else {
+                (&node.lower[axis], &node.upper[axis])
+            };
             let origin = L::splat(ray.origin[axis]);
             let inverse = L::splat(ray.inv_direction[axis]);
             let t_near = L::from_slice(&near[first..]).sub(origin).mul(inverse);
