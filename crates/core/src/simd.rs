@@ -25,7 +25,9 @@ use std::sync::atomic::{AtomicU8, Ordering};
 
 use glam::{DVec3, Vec3};
 
-use crate::bvh::wide_traverse::{traverse_packet_with, traverse_wide_with};
+use crate::bvh::wide_traverse::{
+    BoxAgainstRays, LANES, PacketLanes, traverse_packet_with, traverse_wide_with,
+};
 use crate::bvh::{ChildTests, PacketStack, WideBvh, WideNode, WideStack};
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
@@ -264,6 +266,16 @@ pub(crate) trait Kernel {
         t_min: S,
         t_max: S,
     ) -> [S; 4];
+
+    /// One box against a group of a packet's rays, as
+    /// [`PacketLanes::box_against_rays`] computes it.
+    fn box_against_rays<S: Real>(
+        lanes: &PacketLanes<S>,
+        lower: [S; 3],
+        upper: [S; 3],
+        first: usize,
+        dims: usize,
+    ) -> BoxAgainstRays<S>;
 }
 
 /// The reference kernels: plain Rust.
@@ -311,6 +323,17 @@ impl Kernel for Portable {
     ) -> [S; 4] {
         block.intersect(ray, t_min, t_max)
     }
+
+    #[inline(always)]
+    fn box_against_rays<S: Real>(
+        lanes: &PacketLanes<S>,
+        lower: [S; 3],
+        upper: [S; 3],
+        first: usize,
+        dims: usize,
+    ) -> BoxAgainstRays<S> {
+        lanes.box_against_rays(lower, upper, first, dims)
+    }
 }
 
 /// The same generic code with the slab test of a 3D node in SIMD lanes (`$children` for f32,
@@ -325,7 +348,9 @@ macro_rules! kernel {
         $moller_trumbore:ident,
         $moller_trumbore64:ident,
         $watertight:ident,
-        $watertight64:ident
+        $watertight64:ident,
+        $box_against_rays:ident,
+        $box_against_rays64:ident
     ) => {
         impl Kernel for $name {
             #[inline(always)]
@@ -422,6 +447,37 @@ macro_rules! kernel {
                     return same_type(t_hits).unwrap_or_else(|| unreachable!());
                 }
                 Portable::watertight(block, ray, t_min, t_max)
+            }
+
+            #[inline(always)]
+            fn box_against_rays<S: Real>(
+                lanes: &PacketLanes<S>,
+                lower: [S; 3],
+                upper: [S; 3],
+                first: usize,
+                dims: usize,
+            ) -> BoxAgainstRays<S> {
+                use std::any::Any;
+                // SAFETY (both calls): as above.
+                #[allow(unused_unsafe)]
+                if let (Some(lanes), Some(&lower), Some(&upper)) = (
+                    (lanes as &dyn Any).downcast_ref::<PacketLanes<f32>>(),
+                    (&lower as &dyn Any).downcast_ref::<[f32; 3]>(),
+                    (&upper as &dyn Any).downcast_ref::<[f32; 3]>(),
+                ) {
+                    let tests = unsafe { $box_against_rays(lanes, lower, upper, first, dims) };
+                    return same_type(tests).unwrap_or_else(|| unreachable!());
+                }
+                #[allow(unused_unsafe)]
+                if let (Some(lanes), Some(&lower), Some(&upper)) = (
+                    (lanes as &dyn Any).downcast_ref::<PacketLanes<f64>>(),
+                    (&lower as &dyn Any).downcast_ref::<[f64; 3]>(),
+                    (&upper as &dyn Any).downcast_ref::<[f64; 3]>(),
+                ) {
+                    let tests = unsafe { $box_against_rays64(lanes, lower, upper, first, dims) };
+                    return same_type(tests).unwrap_or_else(|| unreachable!());
+                }
+                Portable::box_against_rays(lanes, lower, upper, first, dims)
             }
         }
     };
@@ -643,6 +699,47 @@ fn watertight4<L: Lanes>(
     out
 }
 
+/// One box against a group of [`LANES`] rays of a packet, `L::COUNT` rays at a time: the
+/// arithmetic of [`PacketLanes::box_against_rays`] (each ray's near plane chosen by the sign of
+/// its reciprocal direction, which is its sign bit: a reciprocal is never zero or NaN), so the
+/// same intervals bit for bit.
+#[inline(always)]
+fn box_in_lanes<L: Lanes>(
+    lanes: &PacketLanes<L::Scalar>,
+    lower: [L::Scalar; 3],
+    upper: [L::Scalar; 3],
+    first: usize,
+    dims: usize,
+) -> BoxAgainstRays<L::Scalar> {
+    let mut tests = BoxAgainstRays {
+        t_enter: [L::Scalar::ZERO; LANES],
+        t_exit: [L::Scalar::ZERO; LANES],
+        hits: 0,
+    };
+    let zero = L::splat(L::Scalar::ZERO);
+    for start in (0..LANES).step_by(L::COUNT) {
+        let at = first + start;
+        let mut t_enter = L::from_slice(&lanes.t_min[at..]);
+        let mut t_exit = L::splat(L::Scalar::INFINITY);
+        for axis in 0..dims {
+            let origin = L::from_slice(&lanes.origin[axis][at..]);
+            let inverse = L::from_slice(&lanes.inv_direction[axis][at..]);
+            let t_lower = L::splat(lower[axis]).sub(origin).mul(inverse);
+            let t_upper = L::splat(upper[axis]).sub(origin).mul(inverse);
+            let negative = inverse.lt(zero);
+            t_enter = t_upper.select(t_lower, negative).later(t_enter);
+            t_exit = t_lower.select(t_upper, negative).earlier(t_exit);
+        }
+        let t_exit = t_exit
+            .mul(L::splat(lanes.far_scale))
+            .earlier(L::from_slice(&lanes.t_closest[at..]));
+        tests.hits |= t_enter.le(t_exit).bits() << start;
+        t_enter.write_to(&mut tests.t_enter[start..]);
+        t_exit.write_to(&mut tests.t_exit[start..]);
+    }
+    tests
+}
+
 /// A block's corner relative to the ray's origin, its axes permuted to the ray's (a function,
 /// not a closure: the compiler does not always inline closures here).
 #[inline(always)]
@@ -677,7 +774,9 @@ mod x86 {
         moller_trumbore_avx2,
         moller_trumbore64_avx2,
         watertight_avx2,
-        watertight64_avx2
+        watertight64_avx2,
+        box_against_rays_avx2,
+        box_against_rays64_avx2
     );
     kernel!(
         Avx512,
@@ -686,7 +785,9 @@ mod x86 {
         moller_trumbore_avx512,
         moller_trumbore64_avx512,
         watertight_avx512,
-        watertight64_avx512
+        watertight64_avx512,
+        box_against_rays_avx512,
+        box_against_rays64_avx512
     );
 
     /// The whole traversal compiled for one instruction set, so the kernels inline into it.
@@ -755,6 +856,8 @@ mod x86 {
             $moller_trumbore64:ident,
             $watertight:ident,
             $watertight64:ident,
+            $box_against_rays:ident,
+            $box_against_rays64:ident,
             $features:literal
         ) => {
             #[inline]
@@ -826,6 +929,30 @@ mod x86 {
             ) -> [f64; 4] {
                 watertight4::<__m256d>(block, ray, t_min, t_max)
             }
+
+            #[inline]
+            #[target_feature(enable = $features)]
+            pub(super) fn $box_against_rays(
+                lanes: &PacketLanes<f32>,
+                lower: [f32; 3],
+                upper: [f32; 3],
+                first: usize,
+                dims: usize,
+            ) -> BoxAgainstRays<f32> {
+                box_in_lanes::<__m256>(lanes, lower, upper, first, dims)
+            }
+
+            #[inline]
+            #[target_feature(enable = $features)]
+            pub(super) fn $box_against_rays64(
+                lanes: &PacketLanes<f64>,
+                lower: [f64; 3],
+                upper: [f64; 3],
+                first: usize,
+                dims: usize,
+            ) -> BoxAgainstRays<f64> {
+                box_in_lanes::<__m256d>(lanes, lower, upper, first, dims)
+            }
         };
     }
 
@@ -836,6 +963,8 @@ mod x86 {
         moller_trumbore64_avx2,
         watertight_avx2,
         watertight64_avx2,
+        box_against_rays_avx2,
+        box_against_rays64_avx2,
         "avx2,fma"
     );
     kernels!(
@@ -845,6 +974,8 @@ mod x86 {
         moller_trumbore64_avx512,
         watertight_avx512,
         watertight64_avx512,
+        box_against_rays_avx512,
+        box_against_rays64_avx512,
         "avx2,fma,avx512f,avx512vl"
     );
 
@@ -1120,7 +1251,9 @@ mod wasm {
         moller_trumbore_simd128,
         moller_trumbore64_simd128,
         watertight_simd128,
-        watertight64_simd128
+        watertight64_simd128,
+        box_against_rays_simd128,
+        box_against_rays64_simd128
     );
 
     pub(super) fn children_simd128<const W: usize>(
@@ -1150,7 +1283,27 @@ mod wasm {
         watertight4::<v128>(block, ray, t_min, t_max)
     }
 
+    pub(super) fn box_against_rays_simd128(
+        lanes: &PacketLanes<f32>,
+        lower: [f32; 3],
+        upper: [f32; 3],
+        first: usize,
+        dims: usize,
+    ) -> BoxAgainstRays<f32> {
+        box_in_lanes::<v128>(lanes, lower, upper, first, dims)
+    }
+
     // f64 has no lanes of its own here (two per `simd128` register): the portable code.
+
+    pub(super) fn box_against_rays64_simd128(
+        lanes: &PacketLanes<f64>,
+        lower: [f64; 3],
+        upper: [f64; 3],
+        first: usize,
+        dims: usize,
+    ) -> BoxAgainstRays<f64> {
+        Portable::box_against_rays(lanes, lower, upper, first, dims)
+    }
 
     pub(super) fn children64_simd128<const W: usize>(
         node: &WideNode<f64, W>,
@@ -1270,6 +1423,7 @@ mod wasm {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bvh::wide_traverse::MAX_PACKET;
     use crate::bvh::{BinnedSah, BuildParams, Builder, PacketStack, WideBvh, collapse};
     use crate::observer::{Counters, NoObserver};
     use crate::primitive::{PrimitiveSet, TriangleSet};
@@ -1421,6 +1575,60 @@ mod tests {
                     same_hits(&corners, &ray, test, t_max)?;
                     same_hits(&wide_corners, &wide_ray, test, f64::from(t_max))?;
                 }
+            }
+        }
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig {
+            cases: 500,
+            failure_persistence: None,
+            ..ProptestConfig::default()
+        })]
+
+        #[test]
+        fn every_packet_box_kernel_computes_the_portable_intervals(
+            rays in prop::collection::vec(ray(), LANES * 2),
+            corners in (vec3(), vec3()),
+            group in 0usize..2,
+            dims in 2usize..=3,
+        ) {
+            let robust = rays[0].1;
+            let mut lanes = PacketLanes {
+                origin: [[0.0; MAX_PACKET]; 3],
+                inv_direction: [[0.0; MAX_PACKET]; 3],
+                negative: [[false; MAX_PACKET]; 3],
+                t_min: [0.0; MAX_PACKET],
+                t_closest: [0.0; MAX_PACKET],
+                far_scale: SlabRay::new(&rays[0].0, robust).far_scale,
+            };
+            for (index, (ray, _, t_max)) in rays.iter().enumerate() {
+                let slab_ray = SlabRay::new(ray, robust);
+                for axis in 0..3 {
+                    lanes.origin[axis][index] = slab_ray.origin[axis];
+                    lanes.inv_direction[axis][index] = slab_ray.inv_direction[axis];
+                    lanes.negative[axis][index] = slab_ray.negative[axis];
+                }
+                lanes.t_min[index] = ray.t_min;
+                lanes.t_closest[index] = *t_max;
+            }
+            let (a, b) = corners;
+            let (lower, upper) = (a.min(b).to_array(), a.max(b).to_array());
+            let first = group * LANES;
+            let want = lanes.box_against_rays(lower, upper, first, dims);
+            for isa in Isa::ALL.into_iter().filter(|isa| isa.is_available()) {
+                let got = match isa {
+                    #[cfg(target_arch = "x86_64")]
+                    Isa::Avx2 => <x86::Avx2 as Kernel>::box_against_rays(&lanes, lower, upper, first, dims),
+                    #[cfg(target_arch = "x86_64")]
+                    Isa::Avx512 => <x86::Avx512 as Kernel>::box_against_rays(&lanes, lower, upper, first, dims),
+                    #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+                    Isa::Simd128 => <wasm::Simd128 as Kernel>::box_against_rays(&lanes, lower, upper, first, dims),
+                    _ => Portable::box_against_rays(&lanes, lower, upper, first, dims),
+                };
+                prop_assert_eq!(got.hits, want.hits, "{:?}", isa);
+                prop_assert_eq!(bits(&got.t_enter), bits(&want.t_enter), "{:?}", isa);
+                prop_assert_eq!(bits(&got.t_exit), bits(&want.t_exit), "{:?}", isa);
             }
         }
     }

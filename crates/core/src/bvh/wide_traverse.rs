@@ -327,7 +327,7 @@ pub const MAX_PACKET: usize = 64;
 const SCATTERED: u32 = 2;
 
 /// Rays whose lanes are tested together: a group of eight.
-const LANES: usize = 8;
+pub(crate) const LANES: usize = 8;
 
 /// A child waiting to be visited by some rays of a packet.
 #[derive(Clone, Copy, Debug)]
@@ -350,14 +350,14 @@ pub struct PacketStack<S: Real> {
 }
 
 /// A packet's rays lane by lane, for testing one box against many rays at once.
-struct PacketLanes<S: Real> {
-    origin: [[S; MAX_PACKET]; 3],
-    inv_direction: [[S; MAX_PACKET]; 3],
-    negative: [[bool; MAX_PACKET]; 3],
-    t_min: [S; MAX_PACKET],
+pub(crate) struct PacketLanes<S: Real> {
+    pub(crate) origin: [[S; MAX_PACKET]; 3],
+    pub(crate) inv_direction: [[S; MAX_PACKET]; 3],
+    pub(crate) negative: [[bool; MAX_PACKET]; 3],
+    pub(crate) t_min: [S; MAX_PACKET],
     /// Each ray's closest hit so far (its search interval's end).
-    t_closest: [S; MAX_PACKET],
-    far_scale: S,
+    pub(crate) t_closest: [S; MAX_PACKET],
+    pub(crate) far_scale: S,
 }
 
 /// Bounds on a packet's rays, axis by axis, for rejecting a box every ray misses with one test
@@ -409,10 +409,12 @@ impl<S: Real> PacketBounds<S> {
                     (origin, inverse)
                 };
                 usable &= lanes.negative[axis][ray] == negative && inverse.is_finite();
-                axis_bounds.origin_min = axis_bounds.origin_min.min(origin);
-                axis_bounds.origin_max = axis_bounds.origin_max.max(origin);
-                axis_bounds.inverse_min = axis_bounds.inverse_min.min(inverse);
-                axis_bounds.inverse_max = axis_bounds.inverse_max.max(inverse);
+                // Plain comparisons (no value is NaN: origins are finite, reciprocals of
+                // non-NaN directions are not NaN), which compile to one vector instruction.
+                axis_bounds.origin_min = earlier(axis_bounds.origin_min, origin);
+                axis_bounds.origin_max = later(axis_bounds.origin_max, origin);
+                axis_bounds.inverse_min = earlier(axis_bounds.inverse_min, inverse);
+                axis_bounds.inverse_max = later(axis_bounds.inverse_max, inverse);
             }
             *bounds = usable.then_some(axis_bounds);
         }
@@ -469,29 +471,38 @@ impl<S: Real> PacketBounds<S> {
     }
 }
 
+/// One box against a group of [`LANES`] rays of a packet: each ray's interval, clipped to its
+/// search interval (`t_exit` below `t_enter` where it misses).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BoxAgainstRays<S: Real> {
+    pub(crate) t_enter: [S; LANES],
+    pub(crate) t_exit: [S; LANES],
+    /// Bit `lane` set where `t_enter <= t_exit`.
+    pub(crate) hits: u32,
+}
+
 impl<S: Real> PacketLanes<S> {
-    /// The slab test of one box (slot `slot` of `node`) against the rays of lane group
-    /// `group`: each ray's interval as [`test_children`] computes it for that box, which of
-    /// the rays in `active` (the packet's bits) hit, and the nearest entry among those.
+    /// The slab test of the box `lower`–`upper` (the first `dims` axes) against the rays
+    /// `first..first + LANES`: the arithmetic of [`test_children`] for each ray, so each ray's
+    /// interval is the one its single-ray traversal computes for that box. What the SIMD
+    /// kernels compute in lanes.
     #[inline(always)]
-    fn test_box<V: Vector<Scalar = S>, const W: usize>(
+    pub(crate) fn box_against_rays(
         &self,
-        node: &WideNode<S, W>,
-        slot: usize,
-        group: usize,
-        active: u64,
-    ) -> ([S; LANES], [S; LANES], u64, S) {
-        let lanes = group * LANES..group * LANES + LANES;
-        let mut t_enter: [S; LANES] = std::array::from_fn(|lane| self.t_min[lanes.start + lane]);
+        lower: [S; 3],
+        upper: [S; 3],
+        first: usize,
+        dims: usize,
+    ) -> BoxAgainstRays<S> {
+        let mut t_enter: [S; LANES] = std::array::from_fn(|lane| self.t_min[first + lane]);
         let mut t_exit = [S::INFINITY; LANES];
-        for axis in 0..V::DIM {
-            let (lower, upper) = (node.lower[axis][slot], node.upper[axis][slot]);
+        for axis in 0..dims {
             for lane in 0..LANES {
-                let ray = lanes.start + lane;
+                let ray = first + lane;
                 let origin = self.origin[axis][ray];
                 let inverse = self.inv_direction[axis][ray];
-                let t_lower = (lower - origin) * inverse;
-                let t_upper = (upper - origin) * inverse;
+                let t_lower = (lower[axis] - origin) * inverse;
+                let t_upper = (upper[axis] - origin) * inverse;
                 let negative = self.negative[axis][ray];
                 let t_near = if negative { t_upper } else { t_lower };
                 let t_far = if negative { t_lower } else { t_upper };
@@ -499,18 +510,48 @@ impl<S: Real> PacketLanes<S> {
                 t_exit[lane] = earlier(t_exit[lane], t_far);
             }
         }
-        let group_active = active >> lanes.start;
-        let mut hits = 0u64;
-        // Without branches: which lanes hit, and their entries (+inf elsewhere), whose least
+        let mut hits = 0;
+        for lane in 0..LANES {
+            t_exit[lane] = earlier(self.t_closest[first + lane], t_exit[lane] * self.far_scale);
+            hits |= u32::from(t_enter[lane] <= t_exit[lane]) << lane;
+        }
+        BoxAgainstRays {
+            t_enter,
+            t_exit,
+            hits,
+        }
+    }
+
+    /// The slab test of one box (slot `slot` of `node`) against the rays of lane group
+    /// `group` (with the kernels of `K`): each ray's interval, which of the rays in `active`
+    /// (the packet's bits) hit, and the nearest entry among those.
+    #[inline(always)]
+    fn test_box<K: Kernel, V: Vector<Scalar = S>, const W: usize>(
+        &self,
+        node: &WideNode<S, W>,
+        slot: usize,
+        group: usize,
+        active: u64,
+    ) -> ([S; LANES], [S; LANES], u64, S) {
+        let lanes = group * LANES..group * LANES + LANES;
+        let lower = std::array::from_fn(|axis| node.lower[axis][slot]);
+        let upper = std::array::from_fn(|axis| node.upper[axis][slot]);
+        let BoxAgainstRays {
+            t_enter,
+            t_exit,
+            hits: box_hits,
+        } = K::box_against_rays(self, lower, upper, lanes.start, V::DIM);
+        let hits = u64::from(box_hits) & (active >> lanes.start) & ((1 << LANES) - 1);
+        // Without branches: the entries of the lanes that hit (+inf elsewhere), whose least
         // is taken pairwise (entries are never NaN: they start at `t_min`, and `later`
         // ignores NaN).
         let mut entries = [S::INFINITY; LANES];
         for lane in 0..LANES {
-            let t_max = self.t_closest[lanes.start + lane];
-            t_exit[lane] = earlier(t_max, t_exit[lane] * self.far_scale);
-            let hit = (t_enter[lane] <= t_exit[lane]) & ((group_active >> lane) & 1 != 0);
-            hits |= u64::from(hit) << lane;
-            entries[lane] = if hit { t_enter[lane] } else { S::INFINITY };
+            entries[lane] = if (hits >> lane) & 1 != 0 {
+                t_enter[lane]
+            } else {
+                S::INFINITY
+            };
         }
         let mut width = LANES / 2;
         while width > 0 {
@@ -717,7 +758,7 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
                     continue;
                 }
                 let (t_enter, t_exit, hit, group_nearest) =
-                    lanes.test_box::<V, W>(node, slot, group, active);
+                    lanes.test_box::<K, V, W>(node, slot, group, active);
                 slot_rays |= hit;
                 nearest = earlier(nearest, group_nearest);
                 if O::ACTIVE {
