@@ -275,6 +275,7 @@ pub(crate) trait Kernel {
         upper: [S; 3],
         first: usize,
         dims: usize,
+        active: u32,
     ) -> BoxAgainstRays<S>;
 }
 
@@ -331,8 +332,9 @@ impl Kernel for Portable {
         upper: [S; 3],
         first: usize,
         dims: usize,
+        active: u32,
     ) -> BoxAgainstRays<S> {
-        lanes.box_against_rays(lower, upper, first, dims)
+        lanes.box_against_rays(lower, upper, first, dims, active)
     }
 }
 
@@ -456,6 +458,7 @@ macro_rules! kernel {
                 upper: [S; 3],
                 first: usize,
                 dims: usize,
+                active: u32,
             ) -> BoxAgainstRays<S> {
                 use std::any::Any;
                 // SAFETY (both calls): as above.
@@ -465,7 +468,8 @@ macro_rules! kernel {
                     (&lower as &dyn Any).downcast_ref::<[f32; 3]>(),
                     (&upper as &dyn Any).downcast_ref::<[f32; 3]>(),
                 ) {
-                    let tests = unsafe { $box_against_rays(lanes, lower, upper, first, dims) };
+                    let tests =
+                        unsafe { $box_against_rays(lanes, lower, upper, first, dims, active) };
                     return same_type(tests).unwrap_or_else(|| unreachable!());
                 }
                 #[allow(unused_unsafe)]
@@ -474,10 +478,11 @@ macro_rules! kernel {
                     (&lower as &dyn Any).downcast_ref::<[f64; 3]>(),
                     (&upper as &dyn Any).downcast_ref::<[f64; 3]>(),
                 ) {
-                    let tests = unsafe { $box_against_rays64(lanes, lower, upper, first, dims) };
+                    let tests =
+                        unsafe { $box_against_rays64(lanes, lower, upper, first, dims, active) };
                     return same_type(tests).unwrap_or_else(|| unreachable!());
                 }
-                Portable::box_against_rays(lanes, lower, upper, first, dims)
+                Portable::box_against_rays(lanes, lower, upper, first, dims, active)
             }
         }
     };
@@ -540,6 +545,8 @@ trait Lanes: Copy {
     fn earlier(self, other: Self) -> Self;
     /// A mask's lanes as bits, lane 0 lowest.
     fn bits(self) -> u32;
+    /// The mask whose lane `i` is set where bit `i` of `bits` is (the inverse of `bits`).
+    fn from_bits(bits: u32) -> Self;
 }
 
 /// The slab test of every child of `node`, `L::COUNT` children at a time: the arithmetic of
@@ -710,12 +717,15 @@ fn box_in_lanes<L: Lanes>(
     upper: [L::Scalar; 3],
     first: usize,
     dims: usize,
+    active: u32,
 ) -> BoxAgainstRays<L::Scalar> {
     let mut tests = BoxAgainstRays {
         t_enter: [L::Scalar::ZERO; LANES],
         t_exit: [L::Scalar::ZERO; LANES],
         hits: 0,
+        entries: [L::Scalar::ZERO; LANES],
     };
+    let infinity = L::splat(L::Scalar::INFINITY);
     let zero = L::splat(L::Scalar::ZERO);
     for start in (0..LANES).step_by(L::COUNT) {
         let at = first + start;
@@ -733,9 +743,13 @@ fn box_in_lanes<L: Lanes>(
         let t_exit = t_exit
             .mul(L::splat(lanes.far_scale))
             .earlier(L::from_slice(&lanes.t_closest[at..]));
-        tests.hits |= t_enter.le(t_exit).bits() << start;
+        let hit = t_enter.le(t_exit).and(L::from_bits(active >> start));
+        tests.hits |= hit.bits() << start;
         t_enter.write_to(&mut tests.t_enter[start..]);
         t_exit.write_to(&mut tests.t_exit[start..]);
+        t_enter
+            .select(infinity, hit)
+            .write_to(&mut tests.entries[start..]);
     }
     tests
 }
@@ -938,8 +952,9 @@ mod x86 {
                 upper: [f32; 3],
                 first: usize,
                 dims: usize,
+                active: u32,
             ) -> BoxAgainstRays<f32> {
-                box_in_lanes::<__m256>(lanes, lower, upper, first, dims)
+                box_in_lanes::<__m256>(lanes, lower, upper, first, dims, active)
             }
 
             #[inline]
@@ -950,8 +965,9 @@ mod x86 {
                 upper: [f64; 3],
                 first: usize,
                 dims: usize,
+                active: u32,
             ) -> BoxAgainstRays<f64> {
-                box_in_lanes::<__m256d>(lanes, lower, upper, first, dims)
+                box_in_lanes::<__m256d>(lanes, lower, upper, first, dims, active)
             }
         };
     }
@@ -1067,6 +1083,14 @@ mod x86 {
         fn bits(self) -> u32 {
             unsafe { _mm_movemask_ps(self) as u32 }
         }
+        #[inline(always)]
+        fn from_bits(bits: u32) -> Self {
+            unsafe {
+                let lanes = _mm_setr_epi32(1, 2, 4, 8);
+                let set = _mm_and_si128(_mm_set1_epi32(bits as i32), lanes);
+                _mm_castsi128_ps(_mm_cmpeq_epi32(set, lanes))
+            }
+        }
     }
 
     /// AVX's eight lanes.
@@ -1150,6 +1174,14 @@ mod x86 {
         fn bits(self) -> u32 {
             unsafe { _mm256_movemask_ps(self) as u32 }
         }
+        #[inline(always)]
+        fn from_bits(bits: u32) -> Self {
+            unsafe {
+                let lanes = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+                let set = _mm256_and_si256(_mm256_set1_epi32(bits as i32), lanes);
+                _mm256_castsi256_ps(_mm256_cmpeq_epi32(set, lanes))
+            }
+        }
     }
 
     /// AVX's four lanes of f64.
@@ -1232,6 +1264,14 @@ mod x86 {
         fn bits(self) -> u32 {
             unsafe { _mm256_movemask_pd(self) as u32 }
         }
+        #[inline(always)]
+        fn from_bits(bits: u32) -> Self {
+            unsafe {
+                let lanes = _mm256_setr_epi64x(1, 2, 4, 8);
+                let set = _mm256_and_si256(_mm256_set1_epi64x(i64::from(bits)), lanes);
+                _mm256_castsi256_pd(_mm256_cmpeq_epi64(set, lanes))
+            }
+        }
     }
 }
 
@@ -1289,8 +1329,9 @@ mod wasm {
         upper: [f32; 3],
         first: usize,
         dims: usize,
+        active: u32,
     ) -> BoxAgainstRays<f32> {
-        box_in_lanes::<v128>(lanes, lower, upper, first, dims)
+        box_in_lanes::<v128>(lanes, lower, upper, first, dims, active)
     }
 
     // f64 has no lanes of its own here (two per `simd128` register): the portable code.
@@ -1301,8 +1342,9 @@ mod wasm {
         upper: [f64; 3],
         first: usize,
         dims: usize,
+        active: u32,
     ) -> BoxAgainstRays<f64> {
-        Portable::box_against_rays(lanes, lower, upper, first, dims)
+        Portable::box_against_rays(lanes, lower, upper, first, dims, active)
     }
 
     pub(super) fn children64_simd128<const W: usize>(
@@ -1416,6 +1458,11 @@ mod wasm {
         #[inline(always)]
         fn bits(self) -> u32 {
             u32::from(i32x4_bitmask(self))
+        }
+        #[inline(always)]
+        fn from_bits(bits: u32) -> Self {
+            let lanes = i32x4(1, 2, 4, 8);
+            i32x4_eq(v128_and(i32x4_splat(bits as i32), lanes), lanes)
         }
     }
 }
@@ -1592,7 +1639,9 @@ mod tests {
             corners in (vec3(), vec3()),
             group in 0usize..2,
             dims in 2usize..=3,
+            active in any::<u8>(),
         ) {
+            let active = u32::from(active);
             let robust = rays[0].1;
             let mut lanes = PacketLanes {
                 origin: [[0.0; MAX_PACKET]; 3],
@@ -1615,20 +1664,21 @@ mod tests {
             let (a, b) = corners;
             let (lower, upper) = (a.min(b).to_array(), a.max(b).to_array());
             let first = group * LANES;
-            let want = lanes.box_against_rays(lower, upper, first, dims);
+            let want = lanes.box_against_rays(lower, upper, first, dims, active);
             for isa in Isa::ALL.into_iter().filter(|isa| isa.is_available()) {
                 let got = match isa {
                     #[cfg(target_arch = "x86_64")]
-                    Isa::Avx2 => <x86::Avx2 as Kernel>::box_against_rays(&lanes, lower, upper, first, dims),
+                    Isa::Avx2 => <x86::Avx2 as Kernel>::box_against_rays(&lanes, lower, upper, first, dims, active),
                     #[cfg(target_arch = "x86_64")]
-                    Isa::Avx512 => <x86::Avx512 as Kernel>::box_against_rays(&lanes, lower, upper, first, dims),
+                    Isa::Avx512 => <x86::Avx512 as Kernel>::box_against_rays(&lanes, lower, upper, first, dims, active),
                     #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
-                    Isa::Simd128 => <wasm::Simd128 as Kernel>::box_against_rays(&lanes, lower, upper, first, dims),
-                    _ => Portable::box_against_rays(&lanes, lower, upper, first, dims),
+                    Isa::Simd128 => <wasm::Simd128 as Kernel>::box_against_rays(&lanes, lower, upper, first, dims, active),
+                    _ => Portable::box_against_rays(&lanes, lower, upper, first, dims, active),
                 };
                 prop_assert_eq!(got.hits, want.hits, "{:?}", isa);
                 prop_assert_eq!(bits(&got.t_enter), bits(&want.t_enter), "{:?}", isa);
                 prop_assert_eq!(bits(&got.t_exit), bits(&want.t_exit), "{:?}", isa);
+                prop_assert_eq!(bits(&got.entries), bits(&want.entries), "{:?}", isa);
             }
         }
     }

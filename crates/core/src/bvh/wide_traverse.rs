@@ -477,15 +477,17 @@ impl<S: Real> PacketBounds<S> {
 pub(crate) struct BoxAgainstRays<S: Real> {
     pub(crate) t_enter: [S; LANES],
     pub(crate) t_exit: [S; LANES],
-    /// Bit `lane` set where `t_enter <= t_exit`.
+    /// Bit `lane` set where the ray is active and `t_enter <= t_exit`.
     pub(crate) hits: u32,
+    /// `t_enter` where a ray hits, `+∞` elsewhere.
+    pub(crate) entries: [S; LANES],
 }
 
 impl<S: Real> PacketLanes<S> {
     /// The slab test of the box `lower`–`upper` (the first `dims` axes) against the rays
-    /// `first..first + LANES`: the arithmetic of [`test_children`] for each ray, so each ray's
-    /// interval is the one its single-ray traversal computes for that box. What the SIMD
-    /// kernels compute in lanes.
+    /// `first..first + LANES` (those whose bits are set in `active` count as hits): the
+    /// arithmetic of [`test_children`] for each ray, so each ray's interval is the one its
+    /// single-ray traversal computes for that box. What the SIMD kernels compute in lanes.
     #[inline(always)]
     pub(crate) fn box_against_rays(
         &self,
@@ -493,6 +495,7 @@ impl<S: Real> PacketLanes<S> {
         upper: [S; 3],
         first: usize,
         dims: usize,
+        active: u32,
     ) -> BoxAgainstRays<S> {
         let mut t_enter: [S; LANES] = std::array::from_fn(|lane| self.t_min[first + lane]);
         let mut t_exit = [S::INFINITY; LANES];
@@ -511,14 +514,20 @@ impl<S: Real> PacketLanes<S> {
             }
         }
         let mut hits = 0;
+        let mut entries = [S::INFINITY; LANES];
         for lane in 0..LANES {
             t_exit[lane] = earlier(self.t_closest[first + lane], t_exit[lane] * self.far_scale);
-            hits |= u32::from(t_enter[lane] <= t_exit[lane]) << lane;
+            let hit = t_enter[lane] <= t_exit[lane] && (active >> lane) & 1 != 0;
+            hits |= u32::from(hit) << lane;
+            if hit {
+                entries[lane] = t_enter[lane];
+            }
         }
         BoxAgainstRays {
             t_enter,
             t_exit,
             hits,
+            entries,
         }
     }
 
@@ -536,23 +545,15 @@ impl<S: Real> PacketLanes<S> {
         let lanes = group * LANES..group * LANES + LANES;
         let lower = std::array::from_fn(|axis| node.lower[axis][slot]);
         let upper = std::array::from_fn(|axis| node.upper[axis][slot]);
+        let group_active = ((active >> lanes.start) & ((1 << LANES) - 1)) as u32;
         let BoxAgainstRays {
             t_enter,
             t_exit,
-            hits: box_hits,
-        } = K::box_against_rays(self, lower, upper, lanes.start, V::DIM);
-        let hits = u64::from(box_hits) & (active >> lanes.start) & ((1 << LANES) - 1);
-        // Without branches: the entries of the lanes that hit (+inf elsewhere), whose least
-        // is taken pairwise (entries are never NaN: they start at `t_min`, and `later`
-        // ignores NaN).
-        let mut entries = [S::INFINITY; LANES];
-        for lane in 0..LANES {
-            entries[lane] = if (hits >> lane) & 1 != 0 {
-                t_enter[lane]
-            } else {
-                S::INFINITY
-            };
-        }
+            hits,
+            mut entries,
+        } = K::box_against_rays(self, lower, upper, lanes.start, V::DIM, group_active);
+        // The least entry of the rays that hit, taken pairwise (entries are never NaN: they
+        // start at `t_min`, and `later` ignores NaN).
         let mut width = LANES / 2;
         while width > 0 {
             for lane in 0..width {
@@ -560,7 +561,7 @@ impl<S: Real> PacketLanes<S> {
             }
             width /= 2;
         }
-        (t_enter, t_exit, hits << lanes.start, entries[0])
+        (t_enter, t_exit, u64::from(hits) << lanes.start, entries[0])
     }
 }
 
