@@ -682,7 +682,7 @@ fn watertight4<L: Lanes>(
     let w = bx.mul(ay).sub(by.mul(ax));
     let zero = L::splat(L::Scalar::ZERO);
     if u.ne(zero).and(v.ne(zero)).and(w.ne(zero)).bits() != (1 << L::COUNT) - 1 {
-        return block.intersect(ray, t_min, t_max);
+        return on_an_edge(block, ray, t_min, t_max);
     }
     let mixed = u
         .lt(zero)
@@ -704,6 +704,18 @@ fn watertight4<L: Lanes>(
         .select(L::splat(L::Scalar::NAN), accepted)
         .write_to(&mut out);
     out
+}
+
+/// [`watertight4`]'s rare case, out of line so that the kernel stays small enough to inline.
+#[cold]
+#[inline(never)]
+fn on_an_edge<S: Real>(
+    block: &TriangleBlock<S>,
+    ray: &TriangleRay<S::Vec3>,
+    t_min: S,
+    t_max: S,
+) -> [S; 4] {
+    block.intersect(ray, t_min, t_max)
 }
 
 /// One box against a group of [`LANES`] rays of a packet, `L::COUNT` rays at a time: the
