@@ -47,7 +47,7 @@ pub struct SlabRay<V: Vector> {
     wide: WideRay,
 }
 
-/// Origin, reciprocal direction and direction signs in SIMD lanes (3D; zeros otherwise).
+/// Origin, reciprocal direction and direction signs in SIMD lanes (3D f32; zeros otherwise).
 #[derive(Clone, Copy, Debug)]
 struct WideRay {
     origin: Vec3A,
@@ -67,19 +67,31 @@ impl<V: Vector> SlabRay<V> {
             // 1/−0 = −∞, so the sign of the reciprocal carries the sign of a zero too.
             negative[axis] = inverse < V::Scalar::ZERO;
         }
-        let lanes = |v: V| {
-            let [x, y, z] = v.to_f64_array();
-            Vec3A::new(x as f32, y as f32, z as f32)
+        // Only 3D f32 uses the lanes (`slab_clip_vec3a`); the type test is resolved when the
+        // code is compiled, and the lanes are then two moves and a comparison.
+        let wide = match (
+            (&ray.origin as &dyn Any).downcast_ref::<Vec3>(),
+            (&inv_direction as &dyn Any).downcast_ref::<Vec3>(),
+        ) {
+            (Some(&origin), Some(&inverse)) => {
+                let inverse = Vec3A::from(inverse);
+                WideRay {
+                    origin: Vec3A::from(origin),
+                    inv_direction: inverse,
+                    negative: inverse.cmplt(Vec3A::ZERO),
+                }
+            }
+            _ => WideRay {
+                origin: Vec3A::ZERO,
+                inv_direction: Vec3A::ZERO,
+                negative: BVec3A::FALSE,
+            },
         };
         Self {
             origin: ray.origin,
             inv_direction,
             negative,
-            wide: WideRay {
-                origin: lanes(ray.origin),
-                inv_direction: lanes(inv_direction),
-                negative: BVec3A::new(negative[0], negative[1], negative[2]),
-            },
+            wide,
             t_min: ray.t_min,
             far_scale: if robust {
                 V::Scalar::ONE + V::Scalar::TWO * V::Scalar::gamma(3)
