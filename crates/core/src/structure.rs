@@ -587,8 +587,8 @@ impl<V: Vector> Tree<V> {
 
     /// Traces up to [`bvh::MAX_PACKET`] rays together (a wide BVH's packet traversal,
     /// [`bvh::traverse_packet`]; other trees, and a packet of one, trace rays one by one),
-    /// writing each ray's hit
-    /// to `hits`: the answers [`Tree::trace`] gives each ray. `observers[i]` hears ray `i`.
+    /// writing each ray's hit to `hits`: the answers [`Tree::trace`] gives each ray.
+    /// `observers[i]` hears ray `i`.
     pub fn trace_packet<P: LeafPrimitives<V>, O: Observer<V::Scalar>>(
         &self,
         primitives: &P,
