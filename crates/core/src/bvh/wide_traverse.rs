@@ -28,11 +28,103 @@ pub(crate) struct Pending<S: Real> {
     t_enter: S,
 }
 
+/// How many pending children a traversal keeps at hand; deeper stacks spill their bottom half
+/// to the heap (an 8-wide tree pushes at most 7 a level, so trees of up to 9 wide levels, the
+/// bunny's is 7, never spill).
+const STACK_SLOTS: usize = 64;
+
 /// Reusable stack for [`traverse_wide`]: make one per thread, so tracing allocates nothing per
 /// ray.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct WideStack<S: Real> {
-    entries: Vec<Pending<S>>,
+    /// The top of the stack; its depth lives in a register while a ray is traced.
+    slots: Box<[Pending<S>; STACK_SLOTS]>,
+    /// Entries below the slots, bottom first, for trees deeper than the slots hold.
+    spilled: Vec<Pending<S>>,
+}
+
+impl<S: Real> Default for WideStack<S> {
+    fn default() -> Self {
+        Self {
+            slots: Box::new([Pending::root(S::ZERO); STACK_SLOTS]),
+            spilled: Vec::new(),
+        }
+    }
+}
+
+/// A ray's stack of pending children while it is traced: the slots of a [`WideStack`] and
+/// the depth in them (kept in a register, where a `Vec`'s length is written back to memory
+/// at every push and pop).
+struct PendingStack<'a, S: Real> {
+    slots: &'a mut [Pending<S>; STACK_SLOTS],
+    spilled: &'a mut Vec<Pending<S>>,
+    top: usize,
+}
+
+impl<'a, S: Real> PendingStack<'a, S> {
+    /// An empty stack over `stack`'s storage.
+    #[inline(always)]
+    fn new(stack: &'a mut WideStack<S>) -> Self {
+        stack.spilled.clear();
+        Self {
+            slots: &mut stack.slots,
+            spilled: &mut stack.spilled,
+            top: 0,
+        }
+    }
+
+    /// Makes room for `count` (at most half the slots) more entries in the slots, side by
+    /// side.
+    #[inline(always)]
+    fn reserve(&mut self, count: usize) {
+        if self.top + count > STACK_SLOTS {
+            self.spill();
+        }
+    }
+
+    /// Moves the bottom half of the slots to the heap.
+    #[cold]
+    #[inline(never)]
+    fn spill(&mut self) {
+        let half = STACK_SLOTS / 2;
+        self.spilled.extend_from_slice(&self.slots[..half]);
+        self.slots.copy_within(half..self.top, 0);
+        self.top -= half;
+    }
+
+    /// Brings entries back from the heap into the empty slots; false when there are none.
+    #[cold]
+    #[inline(never)]
+    fn refill(&mut self) -> bool {
+        let count = self.spilled.len().min(STACK_SLOTS / 2);
+        let from = self.spilled.len() - count;
+        self.slots[..count].copy_from_slice(&self.spilled[from..]);
+        self.spilled.truncate(from);
+        self.top = count;
+        count > 0
+    }
+
+    /// Pushes `entry` (after a [`reserve`](Self::reserve) for it).
+    #[inline(always)]
+    fn push(&mut self, entry: Pending<S>) {
+        self.slots[self.top] = entry;
+        self.top += 1;
+    }
+
+    /// The most recently pushed entry, taken off.
+    #[inline(always)]
+    fn pop(&mut self) -> Option<Pending<S>> {
+        if self.top == 0 && (self.spilled.is_empty() || !self.refill()) {
+            return None;
+        }
+        self.top -= 1;
+        Some(self.slots[self.top])
+    }
+
+    /// The top `count` entries, the top last.
+    fn top_entries(&self, count: usize) -> &[Pending<S>] {
+        &self.slots[self.top - count..self.top]
+    }
 }
 
 /// The ray/box tests of one node's children: each slot's interval and which slots are hit.
@@ -134,14 +226,13 @@ where
     // returned from registers, not written in pieces and read back whole (a store-forwarding
     // stall on every ray).
     let mut search = state.search;
-    stack.entries.clear();
     state.run::<K, O, W>(
         &mut search,
         tree,
         primitives,
         Pending::root(ray.t_min),
         options,
-        &mut stack.entries,
+        stack,
         observer,
     );
     search.closest
@@ -180,21 +271,26 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
         }
     }
 
+    /// The ray prepared for triangle tests, when the set is one of triangles (a set with
+    /// blocks is; the type test is resolved when the code is compiled).
+    #[inline(always)]
+    fn block_ray(&self) -> Option<&TriangleRay<<V::Scalar as Real>::Vec3>> {
+        (&self.primitive_ray as &dyn Any).downcast_ref::<TriangleRay<<V::Scalar as Real>::Vec3>>()
+    }
+
     /// Tests a leaf's primitives into `search` (this ray's, held apart so that the loop can
     /// keep it in registers); true when an any-hit query has its answer.
     #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
     fn test_leaf<K: Kernel, O: Observer<V::Scalar>>(
         &self,
         search: &mut HitSearch<V::Scalar>,
         primitives: &P,
+        block_ray: Option<&TriangleRay<<V::Scalar as Real>::Vec3>>,
         first: u32,
         numbers: &[u32],
         observer: &mut O,
     ) -> bool {
-        // A set with blocks is a triangle set, whose rays are prepared for triangles (the type
-        // test is resolved when the code is compiled).
-        let block_ray = (&self.primitive_ray as &dyn Any)
-            .downcast_ref::<TriangleRay<<V::Scalar as Real>::Vec3>>();
         if let (Some(blocks), Some(block_ray)) = (self.blocks, block_ray) {
             let (t_min, ray) = (block_ray.ray.t_min, &block_ray.ray);
             return match block_ray.test {
@@ -237,7 +333,7 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
     }
 
     /// The traversal loop from `start` (the root, or where a packet left this ray), searching
-    /// into `search`; `entries` must be empty. True when an any-hit query has its answer.
+    /// into `search_out` with `stack`'s storage. True when an any-hit query has its answer.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn run<K: Kernel, O: Observer<V::Scalar>, const W: usize>(
@@ -247,71 +343,100 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
         primitives: &P,
         start: Pending<V::Scalar>,
         options: &TraceOptions,
-        entries: &mut Vec<Pending<V::Scalar>>,
+        stack: &mut WideStack<V::Scalar>,
         observer: &mut O,
     ) -> bool {
         let nodes = tree.nodes.as_slice();
         let mut search = *search_out;
-        let mut current = Some(start);
-        while let Some(Pending {
-            child,
-            count,
-            t_enter,
-        }) = current.take().or_else(|| entries.pop())
-        {
-            if t_enter > search.t_closest {
+        let mut pending = PendingStack::new(stack);
+        let near_first = options.order == Order::NearFirst;
+        // A copy that nothing else can reach: the leaf tests pass the state to functions
+        // out of line, after which the compiler must reload whatever they might have changed,
+        // and so did with the ray's lanes at every node (callgrind: 9 loads and broadcasts).
+        let slab_ray = self.slab_ray;
+        let mut next = start;
+        'trace: loop {
+            let Pending {
+                child,
+                count,
+                t_enter,
+            } = next;
+            'visit: {
+                if t_enter > search.t_closest {
+                    if O::ACTIVE {
+                        observer.node_culled(
+                            tree.child_source(child, count),
+                            t_enter,
+                            search.t_closest,
+                        );
+                    }
+                    break 'visit;
+                }
                 if O::ACTIVE {
-                    observer.node_culled(
+                    observer.node_entered(tree.child_source(child, count));
+                }
+                if count > 0 {
+                    let numbers = tree.leaf_primitives(child, count);
+                    if self.test_leaf::<K, O>(
+                        &mut search,
+                        primitives,
+                        self.block_ray(),
+                        child,
+                        numbers,
+                        observer,
+                    ) {
+                        *search_out = search;
+                        return true;
+                    }
+                    break 'visit;
+                }
+                let node = &nodes[child as usize];
+                let tests = K::test_children(node, &slab_ray, search.t_closest);
+                if O::ACTIVE {
+                    for slot in 0..node.slots_used() {
+                        observer.box_tested(
+                            tree.slot_source(child as usize, slot),
+                            tests.t_enter[slot],
+                            tests.t_exit[slot],
+                            tests.hit_mask & (1 << slot) != 0,
+                        );
+                    }
+                }
+                let Some((visited, pushed)) =
+                    visit_children(node, &tests, near_first, &mut pending)
+                else {
+                    if O::ACTIVE {
+                        observer.children_ordered(
+                            tree.child_source(child, count),
+                            node.slots_used() as u32,
+                            &[],
+                        );
+                    }
+                    break 'visit;
+                };
+                if O::ACTIVE {
+                    // The order chosen: the child visited next, then the ones just pushed,
+                    // the nearest last on the stack.
+                    let mut order = [0u32; W];
+                    let chosen =
+                        std::iter::once(&visited).chain(pending.top_entries(pushed).iter().rev());
+                    for (place, entry) in order.iter_mut().zip(chosen) {
+                        *place = tree.child_source(entry.child, entry.count);
+                    }
+                    observer.children_ordered(
                         tree.child_source(child, count),
-                        t_enter,
-                        search.t_closest,
+                        node.slots_used() as u32,
+                        &order[..pushed + 1],
                     );
                 }
-                continue;
+                // The child visited next is never culled (it is entered before the interval's
+                // end), so it goes straight round.
+                next = visited;
+                continue 'trace;
             }
-            if O::ACTIVE {
-                observer.node_entered(tree.child_source(child, count));
-            }
-            if count > 0 {
-                let numbers = tree.leaf_primitives(child, count);
-                if self.test_leaf::<K, O>(&mut search, primitives, child, numbers, observer) {
-                    entries.clear();
-                    *search_out = search;
-                    return true;
-                }
-                continue;
-            }
-            let node = &nodes[child as usize];
-            let tests = K::test_children(node, &self.slab_ray, search.t_closest);
-            if O::ACTIVE {
-                for slot in 0..node.slots_used() {
-                    observer.box_tested(
-                        tree.slot_source(child as usize, slot),
-                        tests.t_enter[slot],
-                        tests.t_exit[slot],
-                        tests.hit_mask & (1 << slot) != 0,
-                    );
-                }
-            }
-            current = visit_children(node, &tests, options.order, entries);
-            if O::ACTIVE {
-                // The order chosen: the child visited next, then the ones just pushed, the
-                // nearest last on the stack.
-                let pushed = (tests.hit_mask.count_ones() as usize).saturating_sub(1);
-                let mut order = [0u32; W];
-                let chosen = current
-                    .iter()
-                    .chain(entries[entries.len() - pushed..].iter().rev());
-                for (place, entry) in order.iter_mut().zip(chosen) {
-                    *place = tree.child_source(entry.child, entry.count);
-                }
-                let hit_count = tests.hit_mask.count_ones() as usize;
-                let tested = node.slots_used() as u32;
-                observer.children_ordered(
-                    tree.child_source(child, count),
-                    tested,
-                    &order[..hit_count],
-                );
+            match pending.pop() {
+                Some(entry) => next = entry,
+                None => break,
             }
         }
         *search_out = search;
@@ -346,7 +471,7 @@ struct PacketPending<S: Real> {
 pub struct PacketStack<S: Real> {
     entries: Vec<PacketPending<S>>,
     /// For a ray that leaves its packet.
-    single: Vec<Pending<S>>,
+    single: WideStack<S>,
 }
 
 /// A packet's rays lane by lane, for testing one box against many rays at once.
@@ -684,7 +809,6 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
         if active.count_ones() <= SCATTERED {
             // The packet has scattered: its last rays go on alone from here.
             for_each_ray(active, |ray| {
-                single.clear();
                 let start = Pending {
                     child,
                     count,
@@ -719,6 +843,7 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
                 let done = state.test_leaf::<K, O>(
                     &mut search,
                     primitives,
+                    state.block_ray(),
                     child,
                     numbers,
                     &mut observers[ray],
@@ -864,16 +989,18 @@ impl<S: Real> HitSearch<S> {
     }
 }
 
-/// Pushes the children hit, farthest (or last) first, and returns the one to visit next.
-/// One and two hits, the common cases, take no loop (as in Embree's single-ray traversal).
+/// Pushes the children hit but the first to visit onto `pending`, farthest (or last) first,
+/// and returns the one to visit and how many were pushed; `None` when no child is hit. One and
+/// two hits, the common cases, take no loop (as in Embree's single-ray traversal); more are
+/// sorted where they lie on the stack.
 #[inline(always)]
 fn visit_children<S: Real, const W: usize>(
     node: &WideNode<S, W>,
     tests: &ChildTests<S, W>,
-    order: Order,
-    entries: &mut Vec<Pending<S>>,
-) -> Option<Pending<S>> {
-    let pending = |slot: usize| Pending {
+    near_first: bool,
+    pending: &mut PendingStack<'_, S>,
+) -> Option<(Pending<S>, usize)> {
+    let child = |slot: usize| Pending {
         child: node.child[slot],
         count: node.count[slot],
         t_enter: tests.t_enter[slot],
@@ -882,51 +1009,96 @@ fn visit_children<S: Real, const W: usize>(
     if mask == 0 {
         return None;
     }
-    let first = mask.trailing_zeros() as usize;
+    let first = child(mask.trailing_zeros() as usize);
     mask &= mask - 1;
     if mask == 0 {
-        return Some(pending(first));
+        return Some((first, 0));
     }
-    let second = mask.trailing_zeros() as usize;
+    let second = child(mask.trailing_zeros() as usize);
     mask &= mask - 1;
-    let near_first = order == Order::NearFirst;
+    pending.reserve(W);
     if mask == 0 {
-        let (near, far) = if near_first && tests.t_enter[second] < tests.t_enter[first] {
+        let (near, far) = if near_first && second.t_enter < first.t_enter {
             (second, first)
         } else {
             (first, second)
         };
-        entries.push(pending(far));
-        return Some(pending(near));
+        pending.push(far);
+        return Some((near, 1));
     }
-    // Three or more: the slots hit, sorted by entry (near first) with an insertion sort that
-    // keeps slot order for equal entries.
-    let mut slots = [0u8; W];
-    slots[0] = first as u8;
-    slots[1] = second as u8;
-    let mut hit_count = 2;
-    while mask != 0 {
-        slots[hit_count] = mask.trailing_zeros() as u8;
-        mask &= mask - 1;
-        hit_count += 1;
+    // Three or more: pushed from the last slot to the first, each (near first) sunk below the
+    // entries it is nearer than, so the nearest ends on top and equal entries keep slot order.
+    let bottom = pending.top;
+    let mut slots = mask;
+    let mut last_slots = [0u8; W];
+    let mut rest = 0;
+    while slots != 0 {
+        last_slots[rest] = slots.trailing_zeros() as u8;
+        slots &= slots - 1;
+        rest += 1;
     }
-    if near_first {
-        for index in 1..hit_count {
-            let slot = slots[index];
-            let t_enter = tests.t_enter[slot as usize];
-            let mut at = index;
-            while at > 0 && tests.t_enter[slots[at - 1] as usize] > t_enter {
-                slots[at] = slots[at - 1];
+    let place = |entry: Pending<S>, pending: &mut PendingStack<'_, S>| {
+        let mut at = pending.top;
+        pending.push(entry);
+        if near_first {
+            while at > bottom && pending.slots[at - 1].t_enter < entry.t_enter {
+                pending.slots[at] = pending.slots[at - 1];
                 at -= 1;
             }
-            slots[at] = slot;
+            pending.slots[at] = entry;
         }
+    };
+    for &slot in last_slots[..rest].iter().rev() {
+        place(child(slot as usize), pending);
     }
-    entries.extend(
-        slots[1..hit_count]
-            .iter()
-            .rev()
-            .map(|&slot| pending(slot as usize)),
-    );
-    Some(pending(slots[0] as usize))
+    place(second, pending);
+    place(first, pending);
+    let pushed = pending.top - bottom - 1;
+    let visited = pending.pop().unwrap_or(first);
+    Some((visited, pushed))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The stack spills its bottom half to the heap and brings it back, and stays a stack:
+    /// against a `Vec`, through pushes and pops far deeper than its slots.
+    #[test]
+    fn pending_stack_spills_and_refills_in_order() {
+        let mut storage = WideStack::<f32>::default();
+        let mut stack = PendingStack::new(&mut storage);
+        let mut model = Vec::new();
+        let entry = |number: u32| Pending {
+            child: number,
+            count: number % 3,
+            t_enter: number as f32,
+        };
+        let mut number = 0;
+        // Grow by five and shrink by two, three hundred times, then empty it.
+        for _ in 0..300 {
+            stack.reserve(5);
+            for _ in 0..5 {
+                stack.push(entry(number));
+                model.push(entry(number));
+                number += 1;
+            }
+            for _ in 0..2 {
+                let (got, want) = (stack.pop(), model.pop());
+                assert_eq!(got.map(|e| e.child), want.map(|e| e.child));
+            }
+        }
+        assert!(model.len() > 4 * STACK_SLOTS);
+        while let Some(want) = model.pop() {
+            let got = stack.pop().expect("as deep as the model");
+            assert_eq!(
+                (got.child, got.count, got.t_enter),
+                (want.child, want.count, want.t_enter)
+            );
+        }
+        assert!(stack.pop().is_none());
+        // Emptied, it starts again from nothing.
+        let mut stack = PendingStack::new(&mut storage);
+        assert!(stack.pop().is_none());
+    }
 }
