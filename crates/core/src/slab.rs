@@ -56,6 +56,19 @@ struct WideRay {
 }
 
 impl<V: Vector> SlabRay<V> {
+    /// Which side of a wide node's planes ([`LOWER`](crate::bvh::LOWER) or
+    /// [`UPPER`](crate::bvh::UPPER)) the ray enters through on `axis`.
+    #[inline(always)]
+    pub fn near_side(&self, axis: usize) -> usize {
+        usize::from(self.negative[axis])
+    }
+
+    /// The side it leaves through.
+    #[inline(always)]
+    pub fn far_side(&self, axis: usize) -> usize {
+        usize::from(!self.negative[axis])
+    }
+
     /// Prepares `ray`; `robust` widens every `t_far` conservatively (Ize 2013).
     #[inline]
     pub fn new(ray: &Ray<V>, robust: bool) -> Self {

@@ -19,7 +19,7 @@
 //! order of the children (the wide tree's "file order" is the binary one).
 
 use crate::bvh::tree::Bvh;
-use crate::bvh::wide::{EMPTY_SLOT, LEAF_BLOCK, WideBvh, WideNode};
+use crate::bvh::wide::{EMPTY_SLOT, LEAF_BLOCK, LOWER, UPPER, WideBvh, WideNode};
 use crate::math::{Real, Vector};
 use crate::sah::SahCost;
 
@@ -149,8 +149,8 @@ pub fn collapse<V: Vector, const W: usize>(binary: Bvh<V>, cost: &SahCost) -> Wi
         for (slot, &subtree) in subtrees.iter().enumerate() {
             let bounds = binary.nodes[subtree as usize].bounds;
             for axis in 0..V::DIM {
-                node.lower[axis][slot] = bounds.min[axis];
-                node.upper[axis][slot] = bounds.max[axis];
+                node.planes[LOWER][axis][slot] = bounds.min[axis];
+                node.planes[UPPER][axis][slot] = bounds.max[axis];
             }
             let is_leaf = binary.nodes[subtree as usize].is_leaf()
                 || choices[subtree as usize][0] == Choice::Leaf;

@@ -27,7 +27,7 @@ pub use collapse::collapse;
 pub use traverse::{TraversalStack, traverse};
 pub use tree::{Bvh, BvhNode};
 pub use validate::{ValidationError, validate, validate_wide};
-pub use wide::{EMPTY_SLOT, LEAF_BLOCK, Slot, WideBvh, WideNode};
+pub use wide::{EMPTY_SLOT, LEAF_BLOCK, LOWER, Slot, UPPER, WideBvh, WideNode};
 pub use wide_traverse::{
     ChildTests, MAX_PACKET, PacketStack, WideStack, test_children, traverse_packet, traverse_wide,
 };

@@ -8,14 +8,14 @@
 
 use std::any::Any;
 
-use crate::bvh::wide::{LEAF_BLOCK, WideBvh, WideNode};
+use crate::bvh::wide::{LEAF_BLOCK, LOWER, UPPER, WideBvh, WideNode};
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
 use crate::primitive::{HitTest, LeafPrimitives, PrimitiveSet, TriangleBlock, TriangleRay};
 use crate::query::{Hit, Order, Query, TraceOptions};
 use crate::ray::Ray;
 use crate::search::HitSearch;
-use crate::simd::Kernel;
+use crate::simd::{Kernel, NodeRay};
 use crate::slab::{SlabRay, earlier, later};
 
 /// One child waiting to be visited: a wide node or a leaf, and where the ray enters its box.
@@ -151,11 +151,8 @@ pub fn test_children<V: Vector, const W: usize>(
     let mut t_enter = [ray.t_min; W];
     let mut t_exit = [V::Scalar::INFINITY; W];
     for axis in 0..V::DIM {
-        let (near, far) = if ray.negative[axis] {
-            (&node.upper[axis], &node.lower[axis])
-        } else {
-            (&node.lower[axis], &node.upper[axis])
-        };
+        let near = &node.planes[ray.near_side(axis)][axis];
+        let far = &node.planes[ray.far_side(axis)][axis];
         let origin = ray.origin[axis];
         let inverse = ray.inv_direction[axis];
         for slot in 0..W {
@@ -230,6 +227,7 @@ where
         &mut search,
         tree,
         primitives,
+        SlabRay::new(ray, options.robust_traversal),
         Pending::root(ray.t_min),
         options,
         stack,
@@ -249,10 +247,13 @@ impl<S: Real> Pending<S> {
     }
 }
 
-/// One ray's traversal under way: the ray prepared for box and primitive tests, and its search.
+/// One ray's traversal under way: the ray prepared for primitive tests, and its search. (The
+/// ray prepared for box tests is passed to the loop by value: held here, in memory that the
+/// leaf tests' functions out of line might change, its lanes were reloaded at every node, and
+/// a copy read it whole just after it was written in pieces, a store-forwarding stall on every
+/// ray.)
 struct RayState<'a, V: Vector, P: LeafPrimitives<V>> {
     ray: &'a Ray<V>,
-    slab_ray: SlabRay<V>,
     primitive_ray: <P::Set as PrimitiveSet<V>>::RayData,
     /// The triangle blocks, when the set has them (3D triangles in a wide BVH's leaf order).
     blocks: Option<&'a [TriangleBlock<V::Scalar>]>,
@@ -264,7 +265,6 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
     fn new(primitives: &'a P, ray: &'a Ray<V>, options: &TraceOptions) -> Self {
         Self {
             ray,
-            slab_ray: SlabRay::new(ray, options.robust_traversal),
             primitive_ray: primitives.stored().prepare(ray, options.hit_test),
             blocks: primitives.triangle_blocks(),
             search: HitSearch::new(ray.t_max, options.query),
@@ -332,8 +332,9 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
         )
     }
 
-    /// The traversal loop from `start` (the root, or where a packet left this ray), searching
-    /// into `search_out` with `stack`'s storage. True when an any-hit query has its answer.
+    /// The traversal loop from `start` (the root, or where a packet left this ray), with
+    /// `slab_ray` the ray prepared for box tests, searching into `search_out` with `stack`'s
+    /// storage. True when an any-hit query has its answer.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     fn run<K: Kernel, O: Observer<V::Scalar>, const W: usize>(
@@ -341,6 +342,7 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
         search_out: &mut HitSearch<V::Scalar>,
         tree: &WideBvh<V, W>,
         primitives: &P,
+        slab_ray: SlabRay<V>,
         start: Pending<V::Scalar>,
         options: &TraceOptions,
         stack: &mut WideStack<V::Scalar>,
@@ -350,10 +352,7 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
         let mut search = *search_out;
         let mut pending = PendingStack::new(stack);
         let near_first = options.order == Order::NearFirst;
-        // A copy that nothing else can reach: the leaf tests pass the state to functions
-        // out of line, after which the compiler must reload whatever they might have changed,
-        // and so did with the ray's lanes at every node (callgrind: 9 loads and broadcasts).
-        let slab_ray = self.slab_ray;
+        let node_ray = NodeRay::<V, W>::new(slab_ray);
         let mut next = start;
         'trace: loop {
             let Pending {
@@ -391,7 +390,7 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
                     break 'visit;
                 }
                 let node = &nodes[child as usize];
-                let tests = K::test_children(node, &slab_ray, search.t_closest);
+                let tests = K::test_children(node, &node_ray, search.t_closest);
                 if O::ACTIVE {
                     for slot in 0..node.slots_used() {
                         observer.box_tested(
@@ -569,7 +568,10 @@ impl<S: Real> PacketBounds<S> {
         let mut far = S::INFINITY;
         for (axis, bounds) in self.axes.iter().enumerate().take(V::DIM) {
             let Some(bounds) = bounds else { continue };
-            let (lower, upper) = (node.lower[axis][slot], node.upper[axis][slot]);
+            let (lower, upper) = (
+                node.planes[LOWER][axis][slot],
+                node.planes[UPPER][axis][slot],
+            );
             let (near_plane, far_plane) = if bounds.negative {
                 (-upper, -lower)
             } else {
@@ -668,8 +670,8 @@ impl<S: Real> PacketLanes<S> {
         active: u64,
     ) -> ([S; LANES], [S; LANES], u64, S) {
         let lanes = group * LANES..group * LANES + LANES;
-        let lower = std::array::from_fn(|axis| node.lower[axis][slot]);
-        let upper = std::array::from_fn(|axis| node.upper[axis][slot]);
+        let lower = std::array::from_fn(|axis| node.planes[LOWER][axis][slot]);
+        let upper = std::array::from_fn(|axis| node.planes[UPPER][axis][slot]);
         let group_active = ((active >> lanes.start) & ((1 << LANES) - 1)) as u32;
         let BoxAgainstRays {
             t_enter,
@@ -752,14 +754,16 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
         negative: [[false; MAX_PACKET]; 3],
         t_min: [V::Scalar::ZERO; MAX_PACKET],
         t_closest: [V::Scalar::NEG_INFINITY; MAX_PACKET],
-        far_scale: states[0].slab_ray.far_scale,
+        far_scale: V::Scalar::ZERO,
     };
     for (ray, state) in states.iter().enumerate() {
+        let slab_ray = SlabRay::new(state.ray, options.robust_traversal);
         for axis in 0..V::DIM {
-            lanes.origin[axis][ray] = state.slab_ray.origin[axis];
-            lanes.inv_direction[axis][ray] = state.slab_ray.inv_direction[axis];
-            lanes.negative[axis][ray] = state.slab_ray.negative[axis];
+            lanes.origin[axis][ray] = slab_ray.origin[axis];
+            lanes.inv_direction[axis][ray] = slab_ray.inv_direction[axis];
+            lanes.negative[axis][ray] = slab_ray.negative[axis];
         }
+        lanes.far_scale = slab_ray.far_scale;
         lanes.t_min[ray] = state.ray.t_min;
         lanes.t_closest[ray] = state.search.t_closest;
     }
@@ -820,6 +824,7 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
                     &mut search,
                     tree,
                     primitives,
+                    SlabRay::new(state.ray, options.robust_traversal),
                     start,
                     options,
                     single,
