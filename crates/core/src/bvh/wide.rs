@@ -101,10 +101,13 @@ impl<S: Real, const W: usize> WideNode<S, W> {
 
     /// The number of slots in use (they come first).
     pub fn slots_used(&self) -> usize {
+        // Empty slots come last, so the used ones are those not empty: counted without a
+        // branch, which compiles to one vector comparison (a loop that stops at the first
+        // empty slot took 2 % of a packet traversal's time).
         self.child
             .iter()
-            .take_while(|&&child| child != EMPTY_SLOT)
-            .count()
+            .map(|&child| usize::from(child != EMPTY_SLOT))
+            .sum()
     }
 }
 
