@@ -353,24 +353,27 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
         let mut pending = PendingStack::new(stack);
         let near_first = options.order == Order::NearFirst;
         let node_ray = NodeRay::<V, W>::new(slab_ray);
+        // A child waiting on the stack is skipped when the ray enters it beyond the closest
+        // hit (a cull); the child visited straight after its node's test never is (it is
+        // entered before the interval's end), so only a popped child (or `start`) is checked.
+        let culled = |entry: &Pending<V::Scalar>, t_closest: V::Scalar, observer: &mut O| {
+            let culled = entry.t_enter > t_closest;
+            if O::ACTIVE && culled {
+                observer.node_culled(
+                    tree.child_source(entry.child, entry.count),
+                    entry.t_enter,
+                    t_closest,
+                );
+            }
+            culled
+        };
+        if culled(&start, search.t_closest, observer) {
+            return false;
+        }
         let mut next = start;
         'trace: loop {
-            let Pending {
-                child,
-                count,
-                t_enter,
-            } = next;
+            let Pending { child, count, .. } = next;
             'visit: {
-                if t_enter > search.t_closest {
-                    if O::ACTIVE {
-                        observer.node_culled(
-                            tree.child_source(child, count),
-                            t_enter,
-                            search.t_closest,
-                        );
-                    }
-                    break 'visit;
-                }
                 if O::ACTIVE {
                     observer.node_entered(tree.child_source(child, count));
                 }
@@ -428,14 +431,17 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
                         &order[..pushed + 1],
                     );
                 }
-                // The child visited next is never culled (it is entered before the interval's
-                // end), so it goes straight round.
                 next = visited;
                 continue 'trace;
             }
-            match pending.pop() {
-                Some(entry) => next = entry,
-                None => break,
+            loop {
+                let Some(entry) = pending.pop() else {
+                    break 'trace;
+                };
+                if !culled(&entry, search.t_closest, observer) {
+                    next = entry;
+                    break;
+                }
             }
         }
         *search_out = search;
