@@ -408,7 +408,7 @@ impl Lesson for MeshTreeLesson {
     }
 
     fn update(&mut self) {
-        MeshTree::request(&mut self.tree, &self.stage.scene, self.structure);
+        MeshTree::request(&mut self.tree, &mut self.stage.scene, self.structure);
         let Some(tree) = self.tree.get().cloned() else {
             return;
         };

@@ -414,13 +414,17 @@ impl MeshTree {
             .get_or_init(|| self.build.built.tree.leaf_ordered(&self.triangles))
     }
 
-    /// Asks `derived` for `structure` built over the scene's mesh (on a worker thread on
-    /// the desktop when the mesh is large).
+    /// Takes in a file read aside if it has arrived, then asks `derived` for `structure`
+    /// built over the scene's mesh (on a worker thread on the desktop when the mesh is large).
+    /// Called before anything is drawn, so a read that ends becomes a build in the same frame
+    /// and [`loading_ui`] never draws a frame with neither (a click on its cancel button would
+    /// be lost).
     pub fn request(
         derived: &mut Derived<(u64, Structure), MeshTree>,
-        scene: &MeshScene,
+        scene: &mut MeshScene,
         structure: Structure,
     ) {
+        scene.poll();
         let mesh = scene.mesh.clone();
         let key = (scene.revision, structure);
         #[cfg(target_arch = "wasm32")]
@@ -510,7 +514,6 @@ pub fn loading_ui(
     scene: &mut MeshScene,
     tree: &mut Derived<(u64, Structure), MeshTree>,
 ) {
-    scene.poll();
     if let Some(problem) = &scene.problem {
         ui.colored_label(crate::canvas::palette::MISS, problem);
     }
@@ -532,6 +535,15 @@ pub fn loading_ui(
     };
     let Some((text, progress)) = line else { return };
     ui.horizontal(|ui| {
+        // The button first, so it stays where it is when reading turns into building.
+        if ui
+            .button("cancel")
+            .on_hover_text("Stop, and go back to the mesh shown before")
+            .clicked()
+        {
+            tree.cancel();
+            scene.go_back();
+        }
         match progress {
             Some(progress) => ui.add(
                 egui::ProgressBar::new(progress)
@@ -543,14 +555,6 @@ pub fn loading_ui(
                 ui.label(text)
             }
         };
-        if ui
-            .button("cancel")
-            .on_hover_text("Stop, and go back to the mesh shown before")
-            .clicked()
-        {
-            tree.cancel();
-            scene.go_back();
-        }
     });
     ui.ctx().request_repaint();
 }
