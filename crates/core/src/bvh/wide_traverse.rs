@@ -516,92 +516,114 @@ struct PacketBounds<S: Real> {
 }
 
 impl<S: Real> PacketBounds<S> {
-    // Inlined into each instruction set's packet traversal, so its loops over the rays are
-    // compiled for that set's vectors (out of line it ran in SSE2: 17 % of a packet's time).
+    // Inlined into each instruction set's packet traversal, so its reductions are compiled
+    // for that set's vectors (out of line they ran in SSE2: 17 % of a packet's time).
     #[inline(always)]
     fn new<V: Vector<Scalar = S>>(lanes: &PacketLanes<S>, count: usize) -> Self {
         let mut axes = [None; 3];
         for (axis, bounds) in axes.iter_mut().enumerate().take(V::DIM) {
-            let negative = lanes.negative[axis][0];
-            let mut axis_bounds = AxisBounds {
-                negative,
-                origin_min: S::INFINITY,
-                origin_max: S::NEG_INFINITY,
-                inverse_min: S::INFINITY,
-                inverse_max: S::NEG_INFINITY,
+            let (origin_min, origin_max) = extremes(&lanes.origin[axis][..count]);
+            let (inverse_min, inverse_max) = extremes(&lanes.inv_direction[axis][..count]);
+            // Every ray moves one way along the axis (a reciprocal's sign is its direction's;
+            // −0 gives −∞, which is not finite) and none is parallel to it: else the axis
+            // bounds nothing.
+            let finite = inverse_min > S::NEG_INFINITY && inverse_max < S::INFINITY;
+            *bounds = if finite && inverse_min >= S::ZERO {
+                Some(AxisBounds {
+                    negative: false,
+                    origin_min,
+                    origin_max,
+                    inverse_min,
+                    inverse_max,
+                })
+            } else if finite && inverse_max < S::ZERO {
+                // Mirrored (exact): the smallest of the negated values is the negated largest.
+                Some(AxisBounds {
+                    negative: true,
+                    origin_min: -origin_max,
+                    origin_max: -origin_min,
+                    inverse_min: -inverse_max,
+                    inverse_max: -inverse_min,
+                })
+            } else {
+                None
             };
-            let mut usable = true;
-            for ray in 0..count {
-                let (origin, inverse) = (lanes.origin[axis][ray], lanes.inv_direction[axis][ray]);
-                let (origin, inverse) = if negative {
-                    (-origin, -inverse)
-                } else {
-                    (origin, inverse)
-                };
-                usable &= lanes.negative[axis][ray] == negative && inverse.is_finite();
-                // Plain comparisons (no value is NaN: origins are finite, reciprocals of
-                // non-NaN directions are not NaN), which compile to one vector instruction.
-                axis_bounds.origin_min = earlier(axis_bounds.origin_min, origin);
-                axis_bounds.origin_max = later(axis_bounds.origin_max, origin);
-                axis_bounds.inverse_min = earlier(axis_bounds.inverse_min, inverse);
-                axis_bounds.inverse_max = later(axis_bounds.inverse_max, inverse);
-            }
-            *bounds = usable.then_some(axis_bounds);
         }
-        let t_min =
-            lanes.t_min[..count].iter().fold(
-                S::INFINITY,
-                |lowest, &t| if t < lowest { t } else { lowest },
-            );
         Self {
             axes,
-            t_min,
+            t_min: extremes(&lanes.t_min[..count]).0,
             far_scale: lanes.far_scale,
         }
     }
 
-    /// True when no ray of the packet can enter slot `slot`'s box before `t_max`: the lowest
-    /// entry any ray can have is past the highest exit any can have. Conservative: each bound
-    /// is computed from the rays' own products, rounded the same way (rounding is monotonic).
+    /// Bit `slot` set for each child box of `node` that no ray of the packet can enter before
+    /// `t_max`: the lowest entry any ray can have is past the highest exit any can have.
+    /// Conservative: each bound is computed from the rays' own products, rounded the same way
+    /// (rounding is monotonic). Every slot at once, in lanes the compiler can vectorise.
     #[inline(always)]
     fn misses<V: Vector<Scalar = S>, const W: usize>(
         &self,
         node: &WideNode<S, W>,
-        slot: usize,
         t_max: S,
-    ) -> bool {
-        let mut near = self.t_min;
-        let mut far = S::INFINITY;
+    ) -> u32 {
+        let mut near = [self.t_min; W];
+        let mut far = [S::INFINITY; W];
         for (axis, bounds) in self.axes.iter().enumerate().take(V::DIM) {
             let Some(bounds) = bounds else { continue };
-            let (lower, upper) = (
-                node.planes[LOWER][axis][slot],
-                node.planes[UPPER][axis][slot],
-            );
-            let (near_plane, far_plane) = if bounds.negative {
-                (-upper, -lower)
-            } else {
-                (lower, upper)
-            };
-            // The least (near plane − origin) and the greatest (far plane − origin).
-            let to_near = near_plane - bounds.origin_max;
-            let to_far = far_plane - bounds.origin_min;
-            let t_near = if to_near >= S::ZERO {
-                to_near * bounds.inverse_min
-            } else {
-                to_near * bounds.inverse_max
-            };
-            let t_far = if to_far >= S::ZERO {
-                to_far * bounds.inverse_max
-            } else {
-                to_far * bounds.inverse_min
-            };
-            near = later(near, t_near);
-            far = earlier(far, t_far);
+            let (lower, upper) = (&node.planes[LOWER][axis], &node.planes[UPPER][axis]);
+            for slot in 0..W {
+                let (near_plane, far_plane) = if bounds.negative {
+                    (-upper[slot], -lower[slot])
+                } else {
+                    (lower[slot], upper[slot])
+                };
+                // The least (near plane − origin) and the greatest (far plane − origin).
+                let to_near = near_plane - bounds.origin_max;
+                let to_far = far_plane - bounds.origin_min;
+                let t_near = if to_near >= S::ZERO {
+                    to_near * bounds.inverse_min
+                } else {
+                    to_near * bounds.inverse_max
+                };
+                let t_far = if to_far >= S::ZERO {
+                    to_far * bounds.inverse_max
+                } else {
+                    to_far * bounds.inverse_min
+                };
+                near[slot] = later(near[slot], t_near);
+                far[slot] = earlier(far[slot], t_far);
+            }
         }
-        let far = far * self.far_scale;
-        near > far || near > t_max
+        let mut missed = 0;
+        for slot in 0..W {
+            let far = far[slot] * self.far_scale;
+            missed |= u32::from(near[slot] > far || near[slot] > t_max) << slot;
+        }
+        missed
     }
+}
+
+/// The least and the greatest of `values` (none NaN), `(∞, −∞)` for none: reduced in eight
+/// running lanes, which the compiler turns into vector minimums and maximums (a running
+/// scalar, with its dependence from one value to the next, it does not).
+#[inline(always)]
+fn extremes<S: Real>(values: &[S]) -> (S, S) {
+    let mut least = [S::INFINITY; LANES];
+    let mut greatest = [S::NEG_INFINITY; LANES];
+    let mut chunks = values.chunks_exact(LANES);
+    for chunk in &mut chunks {
+        for lane in 0..LANES {
+            least[lane] = earlier(least[lane], chunk[lane]);
+            greatest[lane] = later(greatest[lane], chunk[lane]);
+        }
+    }
+    for (lane, &value) in chunks.remainder().iter().enumerate() {
+        least[lane] = earlier(least[lane], value);
+        greatest[lane] = later(greatest[lane], value);
+    }
+    let least = least.iter().fold(S::INFINITY, |a, &b| earlier(a, b));
+    let greatest = greatest.iter().fold(S::NEG_INFINITY, |a, &b| later(a, b));
+    (least, greatest)
 }
 
 /// One box against a group of [`LANES`] rays of a packet: each ray's interval, clipped to its
@@ -774,6 +796,16 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
         lanes.t_closest[ray] = state.search.t_closest;
     }
     let bounds = PacketBounds::new::<V>(&lanes, rays.len());
+    // The least and the greatest search-interval end of the packet's rays, kept up to date
+    // as leaves shrink them, so that a node costs no loop over the rays when none of them can
+    // be culled there (the least), and a box's one test for the whole packet has a bound
+    // (the greatest: finished and absent rays hold −∞ or their hit, at most an active ray's).
+    let greatest_t_closest = |lanes: &PacketLanes<V::Scalar>| extremes(&lanes.t_closest).1;
+    let mut t_closest_least = extremes(&lanes.t_closest[..rays.len()]).0;
+    let mut t_farthest = greatest_t_closest(&lanes);
+    // Set when a leaf shrank some ray's interval: `t_farthest` is then made again before it
+    // is next needed (a stale one is larger, so only less tight).
+    let mut t_farthest_stale = false;
     // Rays still searching (an any-hit query drops a ray at its first hit).
     let mut searching = if rays.len() == MAX_PACKET {
         u64::MAX
@@ -799,10 +831,11 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
         let mut active = entry_rays & searching;
         // Rays that found a hit before the child's box skip it.
         let mut culled = 0u64;
-        for (ray, &t_closest) in lanes.t_closest.iter().enumerate() {
-            culled |= u64::from(t_enter > t_closest) << ray;
+        if t_enter > t_closest_least {
+            for_each_ray(active, |ray| {
+                culled |= u64::from(t_enter > lanes.t_closest[ray]) << ray;
+            });
         }
-        culled &= active;
         if O::ACTIVE {
             for_each_ray(culled, |ray| {
                 observers[ray].node_culled(
@@ -838,7 +871,9 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
                 );
                 state.search = search;
                 lanes.t_closest[ray] = search.t_closest;
+                t_closest_least = earlier(t_closest_least, search.t_closest);
             });
+            t_farthest_stale = true;
             continue;
         }
         if O::ACTIVE {
@@ -863,8 +898,10 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
                 if done {
                     searching &= !(1 << ray);
                 }
-                lanes.t_closest[ray] = state.search.t_closest;
+                lanes.t_closest[ray] = search.t_closest;
+                t_closest_least = earlier(t_closest_least, search.t_closest);
             });
+            t_farthest_stale = true;
             continue;
         }
         // Every child's box against every active ray, a group of lanes at a time.
@@ -876,24 +913,23 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
             t_enter: V::Scalar::INFINITY,
         }; W];
         let mut used = 0;
-        // (Finished and absent rays keep −∞ or their hit, at most what an active ray has.)
-        let t_farthest =
-            lanes.t_closest.iter().fold(
-                V::Scalar::NEG_INFINITY,
-                |far, &t| if t > far { t } else { far },
-            );
-        for slot in 0..node.slots_used() {
-            // One test rejects a box the whole packet misses (no ray's observer hears it).
-            if bounds.misses::<V, W>(node, slot, t_farthest) {
-                continue;
-            }
+        if t_farthest_stale {
+            t_farthest = greatest_t_closest(&lanes);
+            t_farthest_stale = false;
+        }
+        // One test rejects a box the whole packet misses (no ray's observer hears it).
+        let missed = bounds.misses::<V, W>(node, t_farthest);
+        // The groups of lanes with an active ray: the others are not tested.
+        let mut groups = 0u64;
+        for group in 0..MAX_PACKET / LANES {
+            groups |= u64::from((active >> (group * LANES)) & ((1 << LANES) - 1) != 0) << group;
+        }
+        let tested = !u64::from(missed) & ((1 << node.slots_used()) - 1);
+        for_each_ray(tested, |slot| {
             let mut slot_rays = 0u64;
             let mut nearest = V::Scalar::INFINITY;
-            for group in 0..MAX_PACKET / LANES {
+            for_each_ray(groups, |group| {
                 let group_rays = (active >> (group * LANES)) & ((1 << LANES) - 1);
-                if group_rays == 0 {
-                    continue;
-                }
                 let (t_enter, t_exit, hit, group_nearest) =
                     lanes.test_box::<K, V, W>(node, slot, group, active);
                 slot_rays |= hit;
@@ -910,7 +946,7 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
                         );
                     });
                 }
-            }
+            });
             if slot_rays != 0 {
                 children[used] = PacketPending {
                     child: node.child[slot],
@@ -920,7 +956,7 @@ pub(crate) fn traverse_packet_with<K, V, P, O, const W: usize>(
                 };
                 used += 1;
             }
-        }
+        });
         // Farthest pushed first, so the nearest comes off the stack next (stable: slot order
         // for equal entries, and for file order).
         if options.order == Order::NearFirst {
