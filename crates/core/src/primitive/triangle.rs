@@ -85,7 +85,8 @@ impl<V: Vector3> TriangleRay<V> {
                 shear: [V::Scalar::ZERO; 3],
             };
         }
-        let d = ray.direction;
+        // (An array: see `watertight`.)
+        let d = ray.direction.to_array3();
         let mut axis_z = 0;
         for axis in 1..3 {
             if d[axis].abs() > d[axis_z].abs() {
@@ -238,9 +239,11 @@ fn watertight<V: Vector3>(
     let (kx, ky, kz) = (prepared.axis_x, prepared.axis_y, prepared.axis_z);
     let [sx, sy, sz] = prepared.shear;
     let origin = prepared.ray.origin;
-    let a = corners[0] - origin;
-    let b = corners[1] - origin;
-    let c = corners[2] - origin;
+    // As arrays: a glam vector indexed by a number known only when the code runs is a
+    // `match`, two branches that the ray's axes make unpredictable.
+    let a = (corners[0] - origin).to_array3();
+    let b = (corners[1] - origin).to_array3();
+    let c = (corners[2] - origin).to_array3();
     // Shear and scale the corners into ray space.
     let ax = a[kx] - sx * a[kz];
     let ay = a[ky] - sy * a[kz];
