@@ -1008,12 +1008,9 @@ mod x86 {
                 moller_trumbore4::<__m256d>(block, origin, direction, t_min, t_max)
             }
 
-            // Not compiled for the set itself but inlined into its traversals, which are:
-            // as a function of its own, the compiler left the watertight test out of line
-            // (a call per block, and the loop's state spilled around it: 29 % of the robust
-            // mode's time). SAFETY for callers: as for the functions compiled for the set.
-            #[inline(always)]
-            pub(super) unsafe fn $watertight(
+            #[inline]
+            #[target_feature(enable = $features)]
+            pub(super) fn $watertight(
                 block: &TriangleBlock<f32>,
                 ray: &TriangleRay<Vec3>,
                 t_min: f32,
@@ -1022,9 +1019,9 @@ mod x86 {
                 watertight4::<__m128>(block, ray, t_min, t_max)
             }
 
-            // (As `$watertight`.)
-            #[inline(always)]
-            pub(super) unsafe fn $watertight64(
+            #[inline]
+            #[target_feature(enable = $features)]
+            pub(super) fn $watertight64(
                 block: &TriangleBlock<f64>,
                 ray: &TriangleRay<DVec3>,
                 t_min: f64,

@@ -7,7 +7,6 @@
 //! packet of rays against one box.
 
 use std::any::Any;
-use std::marker::PhantomData;
 
 use crate::bvh::wide::{LEAF_BLOCK, LOWER, UPPER, WideBvh, WideNode};
 use crate::math::{Real, Vector};
@@ -295,26 +294,29 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
         if let (Some(blocks), Some(block_ray)) = (self.blocks, block_ray) {
             let (t_min, ray) = (block_ray.ray.t_min, &block_ray.ray);
             return match block_ray.test {
+                // Möller–Trumbore compares `t` itself with the interval: a lane inside the
+                // interval the block was tested with is inside a shrunk one when its `t` is.
                 HitTest::Fast => search.test_blocks(
                     blocks,
                     first,
                     numbers,
                     observer,
-                    &FastBlocks::<K, _> {
-                        ray,
-                        t_min,
-                        kernel: PhantomData,
+                    |block, t_max| {
+                        K::moller_trumbore(block, ray.origin, ray.direction, t_min, t_max)
                     },
+                    |_, _, t, t_max| t <= t_max,
                 ),
+                // The watertight test compares before it divides: ask it again.
                 HitTest::Watertight => search.test_blocks(
                     blocks,
                     first,
                     numbers,
                     observer,
-                    &WatertightBlocks::<K, _> {
-                        ray: block_ray,
-                        t_min,
-                        kernel: PhantomData,
+                    |block, t_max| K::watertight(block, block_ray, t_min, t_max),
+                    |block, lane, _, t_max| {
+                        block
+                            .intersect_lane(block_ray, lane, t_min, t_max)
+                            .is_some()
                     },
                 ),
             };
@@ -986,12 +988,13 @@ fn for_each_ray(mut mask: u64, mut visit: impl FnMut(usize)) {
 
 impl<S: Real> HitSearch<S> {
     /// Tests a wide leaf's triangles a block of four at a time (`first` is its first slot, a
-    /// multiple of four) with `test`. The observer hears each triangle in slot order, hit
+    /// multiple of four) with `test` (a block and the interval's end: each lane's `t` inside
+    /// the interval, NaN where missed). The observer hears each triangle in slot order, hit
     /// only within the interval as it stood when the triangle's turn came, as if tested one
     /// by one: once an earlier lane of the block has shrunk the interval, a lane's hit is
-    /// confirmed by [`BlockTest::still_inside`]. The closest hit is then the one-by-one
-    /// test's (the least `t`, ties to the lower number). Returns true when an any-hit query
-    /// has its answer.
+    /// confirmed by `still_inside` (block, lane, its `t`, the interval's new end). The closest
+    /// hit is then the one-by-one test's (the least `t`, ties to the lower number). Returns
+    /// true when an any-hit query has its answer.
     #[inline(always)]
     fn test_blocks<O: Observer<S>>(
         &mut self,
@@ -999,12 +1002,13 @@ impl<S: Real> HitSearch<S> {
         first: u32,
         numbers: &[u32],
         observer: &mut O,
-        test: &impl BlockTest<S>,
+        test: impl Fn(&TriangleBlock<S>, S) -> [S; 4],
+        still_inside: impl Fn(&TriangleBlock<S>, usize, S, S) -> bool,
     ) -> bool {
         for (block_index, block_numbers) in (first as usize / LEAF_BLOCK..).zip(numbers.chunks(4)) {
             let block = &blocks[block_index];
             let t_max = self.t_closest;
-            let t_hits = test.test(block, t_max);
+            let t_hits = test(block, t_max);
             // Most blocks are missed by every lane: then only an observer has work to do.
             let any_hit = t_hits.iter().any(|t| !t.is_nan());
             if !any_hit && !O::ACTIVE {
@@ -1012,8 +1016,7 @@ impl<S: Real> HitSearch<S> {
             }
             for (lane, (&primitive, &t)) in block_numbers.iter().zip(&t_hits).enumerate() {
                 let hit = !t.is_nan()
-                    && (self.t_closest == t_max
-                        || test.still_inside(block, lane, t, self.t_closest));
+                    && (self.t_closest == t_max || still_inside(block, lane, t, self.t_closest));
                 observer.primitive_tested(primitive, hit.then_some(t));
                 if hit
                     && self
@@ -1030,65 +1033,6 @@ impl<S: Real> HitSearch<S> {
             }
         }
         false
-    }
-}
-
-/// A triangle test of a block of four for one ray, for [`HitSearch::test_blocks`]. (Types,
-/// not closures: a closure is a function of its own, which the compiler may leave out of line
-/// and compiles without the traversal's instruction set.)
-trait BlockTest<S: Real> {
-    /// Each lane's `t` inside the interval ending at `t_max`, NaN where missed.
-    fn test(&self, block: &TriangleBlock<S>, t_max: S) -> [S; 4];
-    /// Whether lane `lane`'s hit at `t` is inside the interval now ending at `t_max`.
-    fn still_inside(&self, block: &TriangleBlock<S>, lane: usize, t: S, t_max: S) -> bool;
-}
-
-/// Möller–Trumbore with the kernels of `K`.
-struct FastBlocks<'a, K, S: Real> {
-    ray: &'a Ray<S::Vec3>,
-    t_min: S,
-    kernel: PhantomData<K>,
-}
-
-impl<K: Kernel, S: Real> BlockTest<S> for FastBlocks<'_, K, S> {
-    #[inline(always)]
-    fn test(&self, block: &TriangleBlock<S>, t_max: S) -> [S; 4] {
-        K::moller_trumbore(
-            block,
-            self.ray.origin,
-            self.ray.direction,
-            self.t_min,
-            t_max,
-        )
-    }
-
-    // Möller–Trumbore compares `t` itself with the interval: a lane inside the interval the
-    // block was tested with is inside a shrunk one when its `t` is.
-    #[inline(always)]
-    fn still_inside(&self, _: &TriangleBlock<S>, _: usize, t: S, t_max: S) -> bool {
-        t <= t_max
-    }
-}
-
-/// The watertight test with the kernels of `K`.
-struct WatertightBlocks<'a, K, S: Real> {
-    ray: &'a TriangleRay<S::Vec3>,
-    t_min: S,
-    kernel: PhantomData<K>,
-}
-
-impl<K: Kernel, S: Real> BlockTest<S> for WatertightBlocks<'_, K, S> {
-    #[inline(always)]
-    fn test(&self, block: &TriangleBlock<S>, t_max: S) -> [S; 4] {
-        K::watertight(block, self.ray, self.t_min, t_max)
-    }
-
-    // The watertight test compares before it divides: ask it again.
-    #[inline(always)]
-    fn still_inside(&self, block: &TriangleBlock<S>, lane: usize, _: S, t_max: S) -> bool {
-        block
-            .intersect_lane(self.ray, lane, self.t_min, t_max)
-            .is_some()
     }
 }
 
