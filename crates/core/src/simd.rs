@@ -236,6 +236,22 @@ pub(crate) fn traverse_packet<V, P, O, const W: usize>(
     )
 }
 
+/// Asks the processor to bring the `LINES` 64-byte lines from `address` on into its caches,
+/// without waiting for them (x86-64's `prefetcht0`; nothing elsewhere). A hint only: it reads
+/// nothing the program sees and never faults, so any address is sound.
+#[inline(always)]
+pub(crate) fn prefetch_lines<const LINES: usize>(address: *const u8) {
+    #[cfg(target_arch = "x86_64")]
+    for line in 0..LINES {
+        use std::arch::x86_64::{_MM_HINT_T0, _mm_prefetch};
+        // SAFETY: a prefetch changes nothing but the caches (SSE, which every x86-64 processor
+        // has); `wrapping_add` makes no claim on the address.
+        unsafe { _mm_prefetch::<_MM_HINT_T0>(address.wrapping_add(64 * line).cast::<i8>()) };
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = address;
+}
+
 /// What a wide traversal needs done in lanes: a node's child boxes, a block of triangles.
 /// Implemented by [`Portable`] for every vector type, and by the SIMD kernels for 3D f32 (other
 /// types fall back to the portable code inside them).
