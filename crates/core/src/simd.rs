@@ -4,12 +4,13 @@
 //! One binary runs on any x86-64 machine: [`Isa::detect`] asks the processor once which
 //! instruction sets it has, and the wide traversal is compiled once per set (a
 //! `#[target_feature]` copy of the same generic code, so the kernels inline into the loop).
-//! `unsafe` is needed for two things only, both here:
+//! `unsafe` is needed for three things only, all here:
 //! - calling a `#[target_feature]` function, which is sound only on a processor that has the
 //!   feature: every such call is behind [`Isa::active`], which only ever holds a detected set;
 //! - loading and storing SIMD registers through pointers, each into a slice indexed first (so
 //!   the lanes loaded are inside it); and x86 intrinsics outside `#[target_feature]`
-//!   functions, in the lanes below, which run only inside such functions.
+//!   functions, in the lanes below, which run only inside such functions;
+//! - the prefetch hint ([`prefetch_lines`]), which never faults whatever its address.
 //!
 //! Every kernel does the arithmetic of the portable code (`Portable`) in the same order, with
 //! the same NaN rules (`max_ps(a, b)` is `a > b ? a : b`, which ignores a NaN `a`, like the
