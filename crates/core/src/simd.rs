@@ -10,7 +10,7 @@
 //! - loading and storing SIMD registers through pointers, each into a slice indexed first (so
 //!   the lanes loaded are inside it); and x86 intrinsics outside `#[target_feature]`
 //!   functions, in the lanes below, which run only inside such functions;
-//! - the prefetch hint ([`prefetch_lines`]), which never faults whatever its address.
+//! - the prefetch hint (`prefetch_lines`), which never faults whatever its address.
 //!
 //! Every kernel does the arithmetic of the portable code (`Portable`) in the same order, with
 //! the same NaN rules (`max_ps(a, b)` is `a > b ? a : b`, which ignores a NaN `a`, like the
