@@ -6,9 +6,9 @@
 use std::sync::Arc;
 
 use accelviz_app::AccelvizApp;
+use accelviz_app::mesh::MeshTree;
+use accelviz_app::mesh::heat::{HeatJob, HeatKey};
 use accelviz_app::view3d::Gpu;
-use accelviz_app::view3d::heat::{HeatJob, HeatKey};
-use accelviz_app::view3d::mesh_scene::MeshTree;
 use accelviz_core::Structure;
 use criterion::{Criterion, criterion_group, criterion_main};
 
@@ -108,7 +108,7 @@ fn view3d_costs(c: &mut Criterion) {
     let mesh = accelviz_scene::obj::parse_obj(&text, "bunny.obj").expect("parses");
     let tree = Arc::new(MeshTree::build(Arc::new(mesh), structure()));
     let threads = std::thread::available_parallelism().map_or(1, usize::from);
-    for tile in [1, accelviz_app::view3d::heat::PACKET_TILE] {
+    for tile in [1, accelviz_app::mesh::heat::PACKET_TILE] {
         let key = HeatKey {
             tree: 1,
             camera: accelviz_app::view3d::Orbit::default()

@@ -6,13 +6,13 @@ use egui::{RichText, Ui};
 use crate::files::{
     DialogOutcome, FileChannel, FileEvent, FileFilter, FilePanel, PanelAction, PanelMode,
 };
-use crate::lecture::script::{LectureScript, StartStep};
-use crate::lecture::{Lecture, Outcome, Theme};
+use crate::lecture::script::LectureScript;
+use crate::lecture::{Lecture, Theme};
 use crate::lesson::Lesson;
 use crate::registry::{self, BrokenLesson};
 
 /// The inspector's widths: it may be widened by hand, but content never pushes it.
-const INSPECTOR_WIDTH: (f32, f32, f32) = (280.0, 400.0, 560.0);
+pub(crate) const INSPECTOR_WIDTH: (f32, f32, f32) = (280.0, 400.0, 560.0);
 
 /// The side panels' widths for a window `width` points wide: their usual sizes on a large
 /// window, and shares of a small one (or of a large one zoomed in, as Ctrl + does), so the
@@ -29,7 +29,7 @@ fn panel_widths(width: f32) -> (f32, f32, f32, f32) {
 
 /// The accelviz app.
 pub struct AccelvizApp {
-    lessons: Vec<Result<Box<dyn Lesson>, BrokenLesson>>,
+    pub(crate) lessons: Vec<Result<Box<dyn Lesson>, BrokenLesson>>,
     /// The lesson shown.
     pub selected: usize,
     /// The last message for the user: text and whether it reports a problem.
@@ -56,7 +56,7 @@ pub struct AccelvizApp {
     /// What the style was last set to (theme, lecture text sizes), so it is set on change.
     styled: Option<(Theme, bool)>,
     /// The step a shared view opens at, once its lesson's animation knows its steps.
-    pending_step: Option<usize>,
+    pub(crate) pending_step: Option<usize>,
     /// The share window, when open: the text typed to open a shared view.
     pub share_window: Option<String>,
 }
@@ -138,157 +138,6 @@ impl AccelvizApp {
         }
     }
 
-    /// The view as a shared state: the lesson, its step, its scene when it is not the
-    /// lesson's own, and the lesson's choices. An error says what cannot go in a link (a mesh
-    /// opened from a file).
-    pub fn share_state(&self) -> Result<crate::share::ViewState, String> {
-        let lesson = self.lesson().ok_or("this lesson did not load")?;
-        let stage = lesson.stage();
-        let mut state = crate::share::ViewState {
-            lesson: self.selected,
-            step: stage.timeline.shown,
-            values: lesson.share(),
-            scene: None,
-        };
-        if let Some(flat) = stage.scene.flat()
-            && flat.scene != lesson.text().scene
-        {
-            state.scene = Some(flat.scene.to_ron());
-        }
-        let is_3d = stage.scene.flat().is_none() && stage.scene.noun() == "mesh";
-        if is_3d && !state.values.iter().any(|(key, _)| key == "mesh") {
-            return Err(
-                "a mesh opened from a file cannot go in a link: share the file, or pick a built-in mesh".into(),
-            );
-        }
-        if state.encode().len() > crate::share::MOST_BYTES {
-            return Err("the scene is too large for a link: save it as a file instead".into());
-        }
-        Ok(state)
-    }
-
-    /// Opens a shared view (a state string, a link, or a file holding one): exactly that
-    /// lesson, scene, choices and step. On any problem the app shows its first lesson and the
-    /// error says why.
-    pub fn open_state(&mut self, text: &str) -> Result<(), String> {
-        let result = self.apply_state(text);
-        if let Err(problem) = &result {
-            log::warn!("accelviz: the shared view could not be opened: {problem}");
-            // Nothing half-opened: back to the first lesson, as it starts.
-            if let Some(lesson) = self.lesson_mut() {
-                lesson.stage_mut().reset_scene();
-            }
-            self.selected = 0;
-            self.pending_step = None;
-            self.status = Some((
-                format!(
-                    "The shared view could not be opened ({problem}); this is the first lesson."
-                ),
-                true,
-            ));
-        }
-        result
-    }
-
-    fn apply_state(&mut self, text: &str) -> Result<(), String> {
-        let state = crate::share::ViewState::decode(text)?;
-        if state.lesson >= self.lessons.len() {
-            return Err(format!(
-                "lesson {} does not exist; there are {}",
-                state.lesson + 1,
-                self.lessons.len()
-            ));
-        }
-        self.mode = Mode::Lessons;
-        self.lecture = None;
-        self.selected = state.lesson;
-        let lesson = self.lesson_mut().ok_or("that lesson did not load")?;
-        lesson.stage_mut().reset_scene();
-        if let Some(scene) = &state.scene {
-            lesson.stage_mut().scene.open("the link's scene", scene)?;
-        }
-        for (key, value) in &state.values {
-            lesson.restore(key, value)?;
-        }
-        lesson.stage_mut().timeline.playing = false;
-        self.pending_step = Some(state.step);
-        self.status = Some(("Opened a shared view.".into(), false));
-        log::info!(
-            "accelviz: opened a shared view of lesson {}",
-            state.lesson + 1
-        );
-        Ok(())
-    }
-
-    /// Applies a shared view's step once the lesson's animation knows its steps.
-    fn apply_pending_step(&mut self) {
-        let Some(step) = self.pending_step else {
-            return;
-        };
-        let Some(lesson) = self.lesson_mut() else {
-            return;
-        };
-        let animated = lesson.caption().is_some();
-        let timeline = &mut lesson.stage_mut().timeline;
-        if !animated {
-            self.pending_step = None;
-        } else if timeline.len > 0 {
-            timeline.shown = step.min(timeline.len);
-            self.pending_step = None;
-        }
-    }
-
-    /// The share window: the view's link to copy, and a field to open one.
-    fn share_window_ui(&mut self, ctx: &egui::Context) {
-        let Some(mut typed) = self.share_window.take() else {
-            return;
-        };
-        let mut open = true;
-        let mut opened = None;
-        let state = self.share_state().map(|state| state.encode());
-        egui::Window::new("Share this view")
-            .open(&mut open)
-            .collapsible(false)
-            .default_width(520.0)
-            .show(ctx, |ui| {
-                match &state {
-                    Ok(encoded) => {
-                        let link = crate::files::page_link(encoded);
-                        ui.label("This link opens exactly this view: the lesson, its scene and ray, its choices and the step.");
-                        let mut shown = link.clone();
-                        ui.add(
-                            egui::TextEdit::multiline(&mut shown)
-                                .desired_rows(3)
-                                .desired_width(f32::INFINITY),
-                        );
-                        if ui.button("Copy").clicked() {
-                            ui.ctx().copy_text(link);
-                        }
-                    }
-                    Err(problem) => {
-                        ui.colored_label(crate::canvas::palette::MISS, problem);
-                    }
-                }
-                ui.separator();
-                let label = ui.label("Open a shared view (paste a link or its text):");
-                let field = ui
-                    .add(egui::TextEdit::singleline(&mut typed).desired_width(f32::INFINITY))
-                    .labelled_by(label.id);
-                let enter = field.lost_focus() && ui.input(|input| input.key_pressed(egui::Key::Enter));
-                if ui.button("Open").clicked() || enter {
-                    opened = Some(typed.clone());
-                }
-            });
-        if let Some(text) = opened
-            && self.open_state(&text).is_ok()
-        {
-            return;
-        }
-        if open {
-            self.share_window = Some(typed);
-        }
-    }
-
     /// How many lessons there are.
     pub fn lesson_count(&self) -> usize {
         self.lessons.len()
@@ -324,16 +173,14 @@ impl AccelvizApp {
         self.selected = self.selected.min(self.lessons.len().saturating_sub(1));
         self.apply_style(ui.ctx());
         match self.mode {
-            Mode::Quiz => {
-                self.quiz_ui(ui);
-                return;
-            }
-            Mode::Lecture if self.lecture.is_some() => {
-                self.lecture_ui(ui);
-                return;
-            }
-            Mode::Lecture | Mode::Lessons => {}
+            Mode::Quiz => self.quiz_ui(ui),
+            Mode::Lecture if self.lecture.is_some() => self.lecture_ui(ui),
+            Mode::Lecture | Mode::Lessons => self.lessons_ui(ui),
         }
+    }
+
+    /// The lessons mode: the lesson list, the lesson's canvas and inspector, its timeline.
+    fn lessons_ui(&mut self, ui: &mut Ui) {
         self.take_export();
         self.take_dropped_files(ui.ctx());
         self.apply_file_events();
@@ -434,256 +281,6 @@ impl AccelvizApp {
         } else if was_lecturing {
             ctx.set_zoom_factor(1.0);
         }
-    }
-
-    /// Starts lecture mode with the script, at its first slide.
-    pub fn start_lecture(&mut self) {
-        match &self.script {
-            Ok(script) => {
-                self.lecture = Some(Lecture::new(script.clone()));
-                self.mode = Mode::Lecture;
-                self.open_slide(0, false);
-            }
-            Err(problem) => {
-                self.status = Some((format!("No lecture: {problem}"), true));
-            }
-        }
-    }
-
-    /// Leaves lecture mode for the lesson last shown.
-    pub fn stop_lecture(&mut self, ctx: &egui::Context) {
-        if self
-            .lecture
-            .as_ref()
-            .is_some_and(|lecture| lecture.full_screen)
-        {
-            set_full_screen(ctx, false);
-        }
-        self.lecture = None;
-        self.mode = Mode::Lessons;
-    }
-
-    /// Opens slide `index` of the lecture (at its last step when going back).
-    pub fn open_slide(&mut self, index: usize, at_end: bool) {
-        let Some(lecture) = &mut self.lecture else {
-            return;
-        };
-        let Some((lesson, show)) = lecture.open(index, at_end) else {
-            return;
-        };
-        self.selected = lesson.min(self.lessons.len().saturating_sub(1));
-        let slide = lecture.slide + 1;
-        let path = lecture.script.path.clone();
-        let mut problem = None;
-        if let Some(name) = show
-            && let Some(lesson) = self.lesson_mut()
-            && !lesson.show_named(&name)
-        {
-            problem = Some(format!(
-                "{path}: slide {slide}: this lesson has no ray or preset \"{name}\"; it has: {}",
-                lesson.named().join(", ")
-            ));
-        }
-        if let Some(lecture) = &mut self.lecture {
-            lecture.message = problem.map(|problem| (problem, true));
-        }
-    }
-
-    /// Lecture mode: the slide fills the window under a bar of large controls.
-    fn lecture_ui(&mut self, ui: &mut Ui) {
-        let ctx = ui.ctx().clone();
-        // The clicker's keys first, so the frame shows where they lead.
-        for action in Lecture::pressed(ui) {
-            if !self.lecture_act(&ctx, action) {
-                return;
-            }
-        }
-        let on_lesson = matches!(
-            self.lecture.as_ref().map(Lecture::current),
-            Some(crate::lecture::script::Slide::Lesson { .. })
-        );
-        if on_lesson && let Some(lesson) = self.lesson_mut() {
-            lesson.update();
-        }
-        // A lesson slide's start step, once its animation knows its steps.
-        let pending = self.lecture.as_ref().and_then(Lecture::pending);
-        if let (true, Some(pending)) = (on_lesson, pending) {
-            let ready = self
-                .lesson()
-                .map(|lesson| lesson.caption().is_none() || lesson.stage().timeline.len > 0);
-            if ready == Some(true) {
-                if let Some(lecture) = &mut self.lecture {
-                    lecture.take_pending();
-                }
-                if let Some(lesson) = self.lesson_mut() {
-                    let timeline = &mut lesson.stage_mut().timeline;
-                    timeline.playing = false;
-                    timeline.shown = match pending {
-                        StartStep::At(step) => step.min(timeline.len),
-                        StartStep::End => timeline.len,
-                    };
-                }
-            }
-        }
-        egui::Panel::top("lecture bar").show(ui, |ui| self.lecture_bar_ui(ui));
-        let caption = self
-            .lesson()
-            .filter(|_| on_lesson)
-            .and_then(|lesson| lesson.caption());
-        if let Some(caption) = caption {
-            egui::Panel::bottom("lecture caption").show(ui, |ui| {
-                ui.add_space(4.0);
-                ui.label(RichText::new(caption).size(20.0));
-                ui.add_space(4.0);
-            });
-        }
-        let panels = self.lecture.as_ref().is_some_and(|lecture| lecture.panels);
-        if on_lesson {
-            let selected = self.selected;
-            if panels {
-                egui::Panel::right("inspector")
-                    .resizable(true)
-                    .default_size(INSPECTOR_WIDTH.1)
-                    .show(ui, |ui| {
-                        egui::ScrollArea::vertical().show(ui, |ui| {
-                            if let Ok(lesson) = &mut self.lessons[selected] {
-                                text_ui(ui, lesson.text());
-                                ui.separator();
-                                lesson.inspector_ui(ui);
-                            }
-                        });
-                    });
-            }
-            self.last_layout.canvas = egui::CentralPanel::default()
-                .show(ui, |ui| {
-                    if let Some(lesson) = self.lesson_mut() {
-                        lesson.canvas_ui(ui);
-                    }
-                })
-                .response
-                .rect;
-        } else if let Some(lecture) = &mut self.lecture {
-            self.last_layout.canvas = egui::CentralPanel::default()
-                .show(ui, |ui| lecture.question_ui(ui))
-                .response
-                .rect;
-        }
-        if let Some(lecture) = &self.lecture {
-            if lecture.pointer {
-                crate::lecture::paint_pointer(&ctx);
-            }
-            if lecture.blank {
-                crate::lecture::paint_blank(&ctx);
-            }
-        }
-        self.report_position(ui);
-    }
-
-    /// The lecture's bar: where the lecture is, and large buttons for what the keys do.
-    fn lecture_bar_ui(&mut self, ui: &mut Ui) {
-        let titles = self.titles();
-        let step = self
-            .lesson()
-            .filter(|lesson| lesson.caption().is_some())
-            .map(|lesson| (lesson.stage().timeline.shown, lesson.stage().timeline.len));
-        let Some(lecture) = &mut self.lecture else {
-            return;
-        };
-        let mut outcome = None;
-        ui.horizontal_wrapped(|ui| {
-            let count = lecture.script.slides.len();
-            let what = match lecture.current() {
-                crate::lecture::script::Slide::Lesson { index, .. } => {
-                    let title = titles.get(*index).cloned().unwrap_or_default();
-                    match step {
-                        Some((shown, len)) => format!("{title} · step {shown} of {len}"),
-                        None => title,
-                    }
-                }
-                crate::lecture::script::Slide::Question { kind, .. } => {
-                    let step = lecture
-                        .question()
-                        .map(|session| session.step() + 1)
-                        .unwrap_or(1);
-                    format!("Question: {kind} · step {step}")
-                }
-            };
-            ui.label(
-                RichText::new(format!("Slide {} of {count} · {what}", lecture.slide + 1)).strong(),
-            );
-            ui.separator();
-            for (label, action) in [
-                ("Back", crate::lecture::Action::Previous),
-                ("Next", crate::lecture::Action::Next),
-                ("Reveal (R)", crate::lecture::Action::Reveal),
-                ("Blank (B)", crate::lecture::Action::Blank),
-                ("Full screen (F)", crate::lecture::Action::FullScreen),
-                ("Panels (I)", crate::lecture::Action::Panels),
-                ("Exit (Esc)", crate::lecture::Action::Exit),
-            ] {
-                if ui.button(label).clicked() {
-                    outcome = Some(action);
-                }
-            }
-            ui.separator();
-            ui.checkbox(&mut lecture.pointer, "Pointer");
-            let label = ui.label("Scale");
-            let scale = ui
-                .add(egui::Slider::new(&mut lecture.scale, 1.0..=2.5).step_by(0.1))
-                .labelled_by(label.id);
-            if scale.drag_stopped() || scale.lost_focus() {
-                ui.ctx().set_zoom_factor(lecture.scale);
-            }
-            for theme in Theme::ALL {
-                if ui
-                    .selectable_label(self.theme == theme, theme.name())
-                    .clicked()
-                {
-                    self.theme = theme;
-                }
-            }
-            if let Some((message, problem)) = &lecture.message {
-                let color = if *problem {
-                    crate::canvas::palette::MISS
-                } else {
-                    ui.visuals().weak_text_color()
-                };
-                ui.colored_label(color, message);
-            }
-        });
-        if let Some(action) = outcome {
-            self.lecture_act(&ui.ctx().clone(), action);
-        }
-    }
-
-    /// Does what a lecture key or button asks; false once lecture mode is left.
-    fn lecture_act(&mut self, ctx: &egui::Context, action: crate::lecture::Action) -> bool {
-        let on_lesson = matches!(
-            self.lecture.as_ref().map(Lecture::current),
-            Some(crate::lecture::script::Slide::Lesson { .. })
-        );
-        let selected = self.selected;
-        let lesson = if on_lesson {
-            self.lessons
-                .get_mut(selected)
-                .and_then(|lesson| lesson.as_mut().ok())
-                .map(|lesson| lesson.as_mut() as &mut dyn Lesson)
-        } else {
-            None
-        };
-        let Some(lecture) = &mut self.lecture else {
-            return false;
-        };
-        match lecture.act(action, lesson) {
-            Outcome::Stay => {}
-            Outcome::Open(index, at_end) => self.open_slide(index, at_end),
-            Outcome::FullScreen(on) => set_full_screen(ctx, on),
-            Outcome::Exit => {
-                self.stop_lecture(ctx);
-                return false;
-            }
-        }
-        true
     }
 
     /// The quiz: its panel on the right, its figure in the middle.
@@ -997,120 +594,62 @@ impl AccelvizApp {
     }
 
     /// Logs each change of lesson or step once (the browser test reads these lines) and puts
-    /// them in the page title on the web.
-    fn report_position(&mut self, ui: &Ui) {
+    /// them in the page title on the web. Each mode says where it is.
+    pub(crate) fn report_position(&mut self, ui: &Ui) {
         // Read at the end of the frame: a click in the lesson list may have changed the lesson.
-        let lecture_place = self
-            .lecture
-            .as_ref()
-            .filter(|_| self.mode == Mode::Lecture)
-            .map(|lecture| {
-                let slide = format!(
-                    "lecture slide {} of {}",
-                    lecture.slide + 1,
-                    lecture.script.slides.len()
-                );
-                match lecture.question() {
-                    Some(session) => format!(
-                        "{slide}: question {}, step {}{}",
-                        session.questions()[0].kind,
-                        session.step() + 1,
-                        if session.is_revealed() {
-                            ", revealed"
-                        } else {
-                            ""
-                        }
-                    ),
-                    None => slide,
-                }
-            });
-        let blank = self.lecture.as_ref().is_some_and(|lecture| lecture.blank);
-        let on_question = self
-            .lecture
-            .as_ref()
-            .is_some_and(|lecture| lecture.question().is_some());
-        let (line, title) = if let Some(place) = lecture_place.clone().filter(|_| on_question) {
-            let place = format!("{place}{}", if blank { ", blank" } else { "" });
-            (format!("accelviz: {place}"), place)
-        } else if self.mode == Mode::Quiz {
-            let line = self.quiz.session().map_or_else(
-                || "accelviz: quiz".to_owned(),
-                |session| {
-                    // What the step wants, so a test driving the page by keys knows what to
-                    // press: a letter for a choice, digits for a number.
-                    let wants = match session.ask().map(|ask| &ask.expected) {
-                        Some(accelviz_quiz::Expected::Number { .. }) => "a number",
-                        Some(_) => "a choice",
-                        None => "nothing",
-                    };
-                    let shown = if session.is_revealed() { ", answered" } else { "" };
-                    format!(
-                        "accelviz: quiz seed {}, question {} of {}, step {} ({wants}{shown}), score {} of {}",
-                        session.seed(),
-                        (session.position() + 1).min(session.questions().len()),
-                        session.questions().len(),
-                        session.step() + 1,
-                        session.score(),
-                        session.answered()
-                    )
-                },
-            );
-            (
-                line.clone(),
-                line.trim_start_matches("accelviz: ").to_owned(),
-            )
-        } else {
-            let (shown, len) = self
-                .lesson()
-                .filter(|lesson| lesson.caption().is_some())
-                .map_or((0, 0), |lesson| {
-                    let timeline = &lesson.stage().timeline;
-                    (timeline.shown, timeline.len)
-                });
-            let title = self
-                .titles()
-                .get(self.selected)
-                .cloned()
-                .unwrap_or_default();
-            let slide = lecture_place
-                .map(|place| format!("{place}: "))
-                .unwrap_or_default();
-            let line = format!(
-                "accelviz: {slide}lesson {} ({title}), step {shown} of {len}{}",
-                self.selected + 1,
-                if blank { ", blank" } else { "" }
-            );
-            let blanked = if blank { ", blank" } else { "" };
-            (
-                line,
-                format!("{slide}{title}, step {shown} of {len}{blanked}"),
-            )
+        let position = match (self.mode, &self.lecture) {
+            (Mode::Quiz, _) => self.quiz.position(),
+            (Mode::Lecture, Some(lecture)) => self.lecture_position(lecture),
+            (Mode::Lecture | Mode::Lessons, _) => self.lesson_position(),
         };
-        if self.reported.as_deref() == Some(line.as_str()) {
+        if self.reported.as_deref() == Some(position.line.as_str()) {
             return;
         }
-        log::info!("{line}");
+        log::info!("{}", position.line);
         // The desktop names the window; the browser's page title says the step as well.
+        let title = &position.title;
         if cfg!(target_arch = "wasm32") {
             crate::files::set_page_title(&format!("accelviz: {title}"));
         } else {
-            let name = title.split(", step").next().unwrap_or(&title).to_owned();
+            let name = title.split(", step").next().unwrap_or(title).to_owned();
             ui.ctx()
                 .send_viewport_cmd(egui::ViewportCommand::Title(format!("accelviz: {name}")));
         }
-        self.reported = Some(line);
+        self.reported = Some(position.line);
+    }
+
+    /// Where the lessons mode is: the lesson and its step.
+    pub(crate) fn lesson_position(&self) -> Position {
+        let (shown, len) = self
+            .lesson()
+            .filter(|lesson| lesson.caption().is_some())
+            .map_or((0, 0), |lesson| {
+                let timeline = &lesson.stage().timeline;
+                (timeline.shown, timeline.len)
+            });
+        let title = self
+            .titles()
+            .get(self.selected)
+            .cloned()
+            .unwrap_or_default();
+        Position {
+            line: format!(
+                "accelviz: lesson {} ({title}), step {shown} of {len}",
+                self.selected + 1
+            ),
+            title: format!("{title}, step {shown} of {len}"),
+        }
     }
 }
 
-/// Full screen on or off: the window on the desktop, the page in the browser.
-fn set_full_screen(ctx: &egui::Context, on: bool) {
-    #[cfg(target_arch = "wasm32")]
-    {
-        let _ = ctx;
-        crate::files::web_full_screen(on);
-    }
-    #[cfg(not(target_arch = "wasm32"))]
-    ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(on));
+/// Where the app is, as one line for the log (`accelviz: lesson 4 (…), step 3 of 12`) and as
+/// the window's or the page's title.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Position {
+    /// The log's line.
+    pub line: String,
+    /// The title (the desktop's window keeps what comes before ", step").
+    pub title: String,
 }
 
 impl AccelvizApp {
@@ -1146,7 +685,7 @@ const PNG_FILTER: FileFilter = FileFilter {
 };
 
 /// The slide, the explanation and things to try, for the inspector's top.
-pub fn text_ui(ui: &mut Ui, text: &crate::lesson::LessonText) {
+pub fn text_ui(ui: &mut Ui, text: &crate::lesson_file::LessonText) {
     ui.label(RichText::new(format!("Slide: {}", text.file.slide)).weak());
     for paragraph in &text.file.explanation {
         ui.label(paragraph);

@@ -9,28 +9,33 @@
 //! and only the newest waiting key is made next, so dragging a slider does not queue a build
 //! per frame.
 
+use std::cell::Cell;
 use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Duration;
 
 use web_time::Instant;
 
-/// Whether work of some size goes to worker threads. Off until the desktop app turns it on.
-static BACKGROUND: AtomicBool = AtomicBool::new(false);
+thread_local! {
+    /// Whether work of some size that this thread asks for goes to worker threads: a setting
+    /// of the thread that runs the UI (the desktop app's main thread), off until it is turned
+    /// on, so tests on other threads of the same process each choose for themselves.
+    static BACKGROUND: Cell<bool> = const { Cell::new(false) };
+}
 
 /// Work on fewer primitives than this is done at once even in the background mode: it takes
 /// a few milliseconds, and a result in the same frame keeps small scenes flicker-free.
 pub const AT_ONCE_BELOW: usize = 3_000;
 
-/// Turns worker threads on (the desktop app) or off (the default: the browser, tests).
+/// Turns worker threads on (the desktop app) or off (the default: the browser, tests) for
+/// the work the calling thread asks for.
 pub fn set_background(on: bool) {
-    BACKGROUND.store(on && cfg!(not(target_arch = "wasm32")), Ordering::Relaxed);
+    BACKGROUND.set(on && cfg!(not(target_arch = "wasm32")));
 }
 
 /// How many worker threads work that can be shared out may use: every core on the desktop,
 /// none (0: work a slice a frame on the UI thread) in the browser and in tests.
 pub fn worker_threads() -> usize {
-    if BACKGROUND.load(Ordering::Relaxed) {
+    if BACKGROUND.get() {
         std::thread::available_parallelism().map_or(1, usize::from)
     } else {
         0
@@ -39,7 +44,7 @@ pub fn worker_threads() -> usize {
 
 /// Whether work of `size` primitives goes to a worker thread.
 fn in_background(size: usize) -> bool {
-    size >= AT_ONCE_BELOW && BACKGROUND.load(Ordering::Relaxed)
+    size >= AT_ONCE_BELOW && BACKGROUND.get()
 }
 
 /// Whether work of `size` primitives waits a frame (the browser, which cannot run it aside).

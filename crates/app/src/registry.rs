@@ -3,7 +3,8 @@
 
 use std::path::Path;
 
-use crate::lesson::{Lesson, LessonText};
+use crate::lesson::Lesson;
+use crate::lesson_file::LessonText;
 use crate::lessons::{
     bounding_volumes, build_steps, bvh, cost_split, heat, kd, mesh_tree, near_first, recap, slab,
     slab3d, splits, trivial,

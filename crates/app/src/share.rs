@@ -5,6 +5,8 @@
 //! Opening it restores exactly that view; text that is not such a state is refused with a
 //! reason (and the app stays on its default lesson).
 
+use crate::app::{AccelvizApp, Mode};
+
 /// The state string's version; a link of another version is refused, not misread.
 pub const VERSION: &str = "1";
 
@@ -103,6 +105,160 @@ impl ViewState {
     }
 }
 
+/// The app's side of sharing: a view made into a state, a state opened, and the Share window.
+impl AccelvizApp {
+    /// The view as a shared state: the lesson, its step, its scene when it is not the
+    /// lesson's own, and the lesson's choices. An error says what cannot go in a link (a mesh
+    /// opened from a file).
+    pub fn share_state(&self) -> Result<ViewState, String> {
+        let lesson = self.lesson().ok_or("this lesson did not load")?;
+        let stage = lesson.stage();
+        let mut state = ViewState {
+            lesson: self.selected,
+            step: stage.timeline.shown,
+            values: lesson.share(),
+            scene: None,
+        };
+        if let Some(flat) = stage.scene.flat()
+            && flat.scene != lesson.text().scene
+        {
+            state.scene = Some(flat.scene.to_ron());
+        }
+        let is_3d = stage.scene.flat().is_none() && stage.scene.noun() == "mesh";
+        if is_3d && !state.values.iter().any(|(key, _)| key == "mesh") {
+            return Err(
+                "a mesh opened from a file cannot go in a link: share the file, or pick a built-in mesh".into(),
+            );
+        }
+        if state.encode().len() > MOST_BYTES {
+            return Err("the scene is too large for a link: save it as a file instead".into());
+        }
+        Ok(state)
+    }
+
+    /// Opens a shared view (a state string, a link, or a file holding one): exactly that
+    /// lesson, scene, choices and step. On any problem the app shows its first lesson and the
+    /// error says why.
+    pub fn open_state(&mut self, text: &str) -> Result<(), String> {
+        let result = self.apply_state(text);
+        if let Err(problem) = &result {
+            log::warn!("accelviz: the shared view could not be opened: {problem}");
+            // Nothing half-opened: back to the first lesson, as it starts.
+            if let Some(lesson) = self.lesson_mut() {
+                lesson.stage_mut().reset_scene();
+            }
+            self.selected = 0;
+            self.pending_step = None;
+            self.status = Some((
+                format!(
+                    "The shared view could not be opened ({problem}); this is the first lesson."
+                ),
+                true,
+            ));
+        }
+        result
+    }
+
+    fn apply_state(&mut self, text: &str) -> Result<(), String> {
+        let state = ViewState::decode(text)?;
+        if state.lesson >= self.lessons.len() {
+            return Err(format!(
+                "lesson {} does not exist; there are {}",
+                state.lesson + 1,
+                self.lessons.len()
+            ));
+        }
+        self.mode = Mode::Lessons;
+        self.lecture = None;
+        self.selected = state.lesson;
+        let lesson = self.lesson_mut().ok_or("that lesson did not load")?;
+        lesson.stage_mut().reset_scene();
+        if let Some(scene) = &state.scene {
+            lesson.stage_mut().scene.open("the link's scene", scene)?;
+        }
+        for (key, value) in &state.values {
+            lesson.restore(key, value)?;
+        }
+        lesson.stage_mut().timeline.playing = false;
+        self.pending_step = Some(state.step);
+        self.status = Some(("Opened a shared view.".into(), false));
+        log::info!(
+            "accelviz: opened a shared view of lesson {}",
+            state.lesson + 1
+        );
+        Ok(())
+    }
+
+    /// Applies a shared view's step once the lesson's animation knows its steps.
+    pub(crate) fn apply_pending_step(&mut self) {
+        let Some(step) = self.pending_step else {
+            return;
+        };
+        let Some(lesson) = self.lesson_mut() else {
+            return;
+        };
+        let animated = lesson.caption().is_some();
+        let timeline = &mut lesson.stage_mut().timeline;
+        if !animated {
+            self.pending_step = None;
+        } else if timeline.len > 0 {
+            timeline.shown = step.min(timeline.len);
+            self.pending_step = None;
+        }
+    }
+
+    /// The share window: the view's link to copy, and a field to open one.
+    pub(crate) fn share_window_ui(&mut self, ctx: &egui::Context) {
+        let Some(mut typed) = self.share_window.take() else {
+            return;
+        };
+        let mut open = true;
+        let mut opened = None;
+        let state = self.share_state().map(|state| state.encode());
+        egui::Window::new("Share this view")
+            .open(&mut open)
+            .collapsible(false)
+            .default_width(520.0)
+            .show(ctx, |ui| {
+                match &state {
+                    Ok(encoded) => {
+                        let link = crate::files::page_link(encoded);
+                        ui.label("This link opens exactly this view: the lesson, its scene and ray, its choices and the step.");
+                        let mut shown = link.clone();
+                        ui.add(
+                            egui::TextEdit::multiline(&mut shown)
+                                .desired_rows(3)
+                                .desired_width(f32::INFINITY),
+                        );
+                        if ui.button("Copy").clicked() {
+                            ui.ctx().copy_text(link);
+                        }
+                    }
+                    Err(problem) => {
+                        ui.colored_label(crate::canvas::palette::MISS, problem);
+                    }
+                }
+                ui.separator();
+                let label = ui.label("Open a shared view (paste a link or its text):");
+                let field = ui
+                    .add(egui::TextEdit::singleline(&mut typed).desired_width(f32::INFINITY))
+                    .labelled_by(label.id);
+                let enter = field.lost_focus() && ui.input(|input| input.key_pressed(egui::Key::Enter));
+                if ui.button("Open").clicked() || enter {
+                    opened = Some(typed.clone());
+                }
+            });
+        if let Some(text) = opened
+            && self.open_state(&text).is_ok()
+        {
+            return;
+        }
+        if open {
+            self.share_window = Some(typed);
+        }
+    }
+}
+
 /// A structure as a value: its catalogue name.
 pub fn structure_value(structure: &accelviz_core::Structure) -> (String, String) {
     ("structure".into(), structure.name())
@@ -162,7 +318,7 @@ pub fn parse_camera(value: &str) -> Result<crate::view3d::Orbit, String> {
 
 /// A 3D scene's mesh as a value, if it can go in a link (a built-in mesh; a file opened
 /// cannot).
-pub fn mesh_value(scene: &crate::view3d::mesh_scene::MeshScene) -> Option<(String, String)> {
+pub fn mesh_value(scene: &crate::mesh::MeshScene) -> Option<(String, String)> {
     scene
         .name
         .starts_with("builtin:")
@@ -170,12 +326,9 @@ pub fn mesh_value(scene: &crate::view3d::mesh_scene::MeshScene) -> Option<(Strin
 }
 
 /// Shows the built-in mesh a value names, unless it is shown already.
-pub fn restore_mesh(
-    scene: &mut crate::view3d::mesh_scene::MeshScene,
-    value: &str,
-) -> Result<(), String> {
+pub fn restore_mesh(scene: &mut crate::mesh::MeshScene, value: &str) -> Result<(), String> {
     if scene.name != value {
-        let named = crate::view3d::mesh_scene::MeshScene::named(value)?;
+        let named = crate::mesh::MeshScene::named(value)?;
         scene.replace((*named.mesh).clone());
         scene.name = named.name;
     }
@@ -184,7 +337,7 @@ pub fn restore_mesh(
 
 /// What a mesh lesson keeps (its built-in mesh, structure and camera).
 pub fn mesh_view_values(
-    scene: &crate::view3d::mesh_scene::MeshScene,
+    scene: &crate::mesh::MeshScene,
     structure: &accelviz_core::Structure,
     orbit: &crate::view3d::Orbit,
 ) -> Vec<(String, String)> {
@@ -196,7 +349,7 @@ pub fn mesh_view_values(
 
 /// Restores one of [`mesh_view_values`]'s pairs.
 pub fn restore_mesh_view(
-    scene: &mut crate::view3d::mesh_scene::MeshScene,
+    scene: &mut crate::mesh::MeshScene,
     structure: &mut accelviz_core::Structure,
     orbit: &mut crate::view3d::Orbit,
     key: &str,

@@ -12,7 +12,7 @@ use web_time::Instant;
 use crate::background::Derived;
 use crate::editor::{EditableScene, Editing, SceneOrigin};
 use crate::files::FileFilter;
-use crate::lesson::LessonText;
+use crate::lesson_file::LessonText;
 use crate::timeline::Timeline;
 
 /// How large a kD-tree a lesson builds: enough for every scene the generator makes to be cut

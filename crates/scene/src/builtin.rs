@@ -278,6 +278,23 @@ pub fn by_name(name: &str) -> Option<Mesh> {
         .map(|builtin| (builtin.make)())
 }
 
+/// The entry of [`BUILTINS`] that `spec` (`builtin:NAME`) names, or why there is none (the
+/// message lists them).
+pub fn named(spec: &str) -> Result<&'static Builtin, String> {
+    spec.strip_prefix("builtin:")
+        .and_then(|name| BUILTINS.iter().find(|builtin| builtin.name == name))
+        .ok_or_else(|| {
+            format!(
+                "'{spec}' is not a built-in mesh (builtin:{})",
+                BUILTINS
+                    .iter()
+                    .map(|builtin| builtin.name)
+                    .collect::<Vec<_>>()
+                    .join(", builtin:")
+            )
+        })
+}
+
 /// The names [`by_name`] knows, for messages.
 pub fn names() -> Vec<String> {
     let mut names: Vec<String> = BUILTINS.iter().map(|b| b.name.to_owned()).collect();

@@ -8,6 +8,7 @@
 //! The keys are listed once, in [`LECTURE_KEYS`]; the README's table is made from it (and a
 //! test holds the two together).
 
+pub mod mode;
 pub mod script;
 
 use accelviz_quiz::{Expected, Response, Session};

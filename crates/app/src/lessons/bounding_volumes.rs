@@ -13,7 +13,8 @@ use glam::DVec2;
 use crate::background::Derived;
 use crate::canvas::{faded, palette};
 use crate::editor::Editing;
-use crate::lesson::{Lesson, LessonText};
+use crate::lesson::Lesson;
+use crate::lesson_file::LessonText;
 use crate::stage::Stage;
 use crate::views::scene_view::{building_note, draw_shapes};
 

@@ -15,7 +15,8 @@ use glam::DVec2;
 use crate::background::{Cached, Derived};
 use crate::canvas::{Labels, depth_color, faded, palette};
 use crate::editor::Editing;
-use crate::lesson::{Lesson, LessonText};
+use crate::lesson::Lesson;
+use crate::lesson_file::LessonText;
 use crate::stage::{SceneTree, Stage, request_over_shapes};
 use crate::views::scene_view::{building_note, draw_shapes, narrow_x_axis};
 

@@ -14,7 +14,8 @@ use glam::DVec2;
 use crate::background::{Cached, Derived};
 use crate::canvas::palette;
 use crate::editor::Editing;
-use crate::lesson::{Lesson, LessonText};
+use crate::lesson::Lesson;
+use crate::lesson_file::LessonText;
 use crate::stage::{SceneTree, Stage, request_tree};
 use crate::trace::{Trace, TraceState, describe_step, options_in};
 use crate::views::scene_view::{

@@ -10,7 +10,8 @@ use egui::{Color32, RichText};
 use crate::background::Derived;
 use crate::canvas::faded;
 use crate::editor::Editing;
-use crate::lesson::{Lesson, LessonText};
+use crate::lesson::Lesson;
+use crate::lesson_file::LessonText;
 use crate::stage::Stage;
 use crate::views::compare::{
     Comparison, LECTURE_RULES as RULES, comparison_ui, request_comparison, rule_color,

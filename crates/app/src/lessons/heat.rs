@@ -14,12 +14,13 @@ use egui::{Color32, ColorImage, Rect, Sense, TextureHandle, TextureOptions, Vec2
 use glam::DVec3;
 
 use crate::background::{Cached, Derived, worker_threads};
-use crate::lesson::{Lesson, LessonText};
+use crate::lesson::Lesson;
+use crate::lesson_file::LessonText;
+use crate::mesh::heat::{HeatJob, HeatKey, HeatMaps, ORDERS, PACKET_TILE};
+use crate::mesh::{MeshScene, MeshTree, loading_ui, mesh_and_structure_ui, trace_overlay};
 use crate::stage::Stage;
 use crate::trace::{Trace, options_in};
-use crate::view3d::heat::{HeatJob, HeatKey, HeatMaps, ORDERS, PACKET_TILE};
-use crate::view3d::mesh_scene::{MeshScene, MeshTree, loading_ui, mesh_and_structure_ui};
-use crate::view3d::{Content, HiddenEdges, View3d, revision_of, trace_overlay};
+use crate::view3d::{Content, HiddenEdges, View3d, revision_of};
 
 /// A clicked pixel's ray, in the order it is traced.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -440,7 +441,9 @@ impl Lesson for HeatLesson {
     }
 
     fn update(&mut self) {
-        MeshTree::request(&mut self.tree, &mut self.stage.scene, self.structure);
+        self.stage
+            .scene
+            .request_tree(&mut self.tree, self.structure);
         let Some(tree) = self.tree.get().cloned() else {
             return;
         };

@@ -17,14 +17,12 @@ use glam::DVec3;
 
 use crate::background::{Cached, Derived};
 use crate::canvas::{depth_color, palette};
-use crate::lesson::{Lesson, LessonText};
+use crate::lesson::Lesson;
+use crate::lesson_file::LessonText;
+use crate::mesh::{MeshScene, MeshTree, Overlay, loading_ui, mesh_and_structure_ui, trace_overlay};
 use crate::stage::Stage;
 use crate::trace::{Trace, TraceState, options_in, step_node};
-use crate::view3d::mesh_scene::{MeshScene, MeshTree, loading_ui, mesh_and_structure_ui};
-use crate::view3d::{
-    Content, DrawTriangle, HiddenEdges, Instance, Overlay, View3d, relative, revision_of,
-    trace_overlay,
-};
+use crate::view3d::{Content, DrawTriangle, HiddenEdges, Instance, View3d, relative, revision_of};
 use crate::views::tree_diagram::{depth_range_ui, diagram_ui, traversal_emphasis};
 
 /// The ray of a clicked pixel.
@@ -408,7 +406,9 @@ impl Lesson for MeshTreeLesson {
     }
 
     fn update(&mut self) {
-        MeshTree::request(&mut self.tree, &mut self.stage.scene, self.structure);
+        self.stage
+            .scene
+            .request_tree(&mut self.tree, self.structure);
         let Some(tree) = self.tree.get().cloned() else {
             return;
         };

@@ -12,7 +12,8 @@ use egui::{Color32, RichText};
 use crate::background::Derived;
 use crate::canvas::palette;
 use crate::editor::Editing;
-use crate::lesson::{Lesson, LessonText};
+use crate::lesson::Lesson;
+use crate::lesson_file::LessonText;
 use crate::stage::Stage;
 use crate::views::compare::{Comparison, comparison_ui, request_comparison};
 

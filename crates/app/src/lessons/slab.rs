@@ -13,7 +13,8 @@ use glam::DVec2;
 
 use crate::canvas::{Canvas, faded, palette};
 use crate::editor::Editing;
-use crate::lesson::{Lesson, LessonText};
+use crate::lesson::Lesson;
+use crate::lesson_file::LessonText;
 use crate::stage::Stage;
 use crate::views::number_lines::{IntervalRow, number_lines_ui};
 use crate::views::scene_view::{draw_ray, draw_shapes, t_hint_ui};

@@ -11,7 +11,8 @@ use glam::DVec3;
 
 use crate::canvas::palette;
 use crate::files::FileFilter;
-use crate::lesson::{Lesson, LessonText, SlabFile};
+use crate::lesson::Lesson;
+use crate::lesson_file::{LessonText, SlabFile};
 use crate::stage::{SceneFile, Stage};
 use crate::view3d::{Content, HiddenEdges, Instance, View3d, relative, revision_of};
 use crate::views::number_lines::{IntervalRow, number_lines_height, number_lines_ui};

@@ -17,7 +17,8 @@ use egui_plot::{
 use crate::background::{Cached, Derived};
 use crate::canvas::{Canvas, faded, palette};
 use crate::editor::Editing;
-use crate::lesson::{Lesson, LessonText};
+use crate::lesson::Lesson;
+use crate::lesson_file::LessonText;
 use crate::stage::{SceneTree, Stage};
 use crate::views::compare::{
     Comparison, LECTURE_RULES as RULES, comparison_ui, request_comparison, rule_color,

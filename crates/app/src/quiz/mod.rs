@@ -89,6 +89,36 @@ impl QuizMode {
         self.session.as_ref()
     }
 
+    /// Where the quiz is, for the log and the title: the seed, question, step, what the step
+    /// wants (so a test driving the page by keys knows what to press: a letter for a choice,
+    /// digits for a number) and the score.
+    pub fn position(&self) -> crate::app::Position {
+        let line = self.session().map_or_else(
+            || "accelviz: quiz".to_owned(),
+            |session| {
+                let wants = match session.ask().map(|ask| &ask.expected) {
+                    Some(accelviz_quiz::Expected::Number { .. }) => "a number",
+                    Some(_) => "a choice",
+                    None => "nothing",
+                };
+                let shown = if session.is_revealed() { ", answered" } else { "" };
+                format!(
+                    "accelviz: quiz seed {}, question {} of {}, step {} ({wants}{shown}), score {} of {}",
+                    session.seed(),
+                    (session.position() + 1).min(session.questions().len()),
+                    session.questions().len(),
+                    session.step() + 1,
+                    session.score(),
+                    session.answered()
+                )
+            },
+        );
+        crate::app::Position {
+            title: line.trim_start_matches("accelviz: ").to_owned(),
+            line,
+        }
+    }
+
     /// In the review of mistakes: which mistake, and how many steps of its model answer are
     /// shown.
     pub fn review(&self) -> Option<(usize, usize)> {

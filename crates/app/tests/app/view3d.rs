@@ -1,7 +1,7 @@
 //! The 3D lessons drawn on the software adapter (snapshots named `*_3d*`), and what they
 //! trace: a clicked pixel's recorded hit is brute force's.
 
-mod common;
+use crate::common;
 
 use accelviz_app::lesson::Lesson;
 use accelviz_app::lessons::heat::HeatLesson;

@@ -3,12 +3,12 @@
 //! lesson files parsed, and lesson files on disk: an edit shows, a broken one falls back to the
 //! built-in copy and says why.
 
-mod common;
+use crate::common;
 
 use common::{app_harness, lesson_text};
 
 use accelviz_app::AccelvizApp;
-use accelviz_app::lesson::LessonText;
+use accelviz_app::lesson_file::LessonText;
 use accelviz_app::registry::{LESSONS, registry_from};
 use accelviz_scene::document::{GeneratorEntry, LayoutEntry};
 use egui_kittest::Harness;

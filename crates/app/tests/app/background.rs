@@ -2,7 +2,8 @@
 //! thread, the frame that asked for it returns at once and draws the last build, the top bar
 //! says a build is running, and the new build shows when it is done.
 //!
-//! Its own test binary: the background mode is a switch for the whole process.
+//! The background mode is a setting of the thread that asks for the work: this test turns it
+//! on for its own thread only.
 
 use accelviz_app::AccelvizApp;
 use accelviz_scene::document::{GeneratorEntry, LayoutEntry};

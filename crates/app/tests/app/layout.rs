@@ -2,7 +2,7 @@
 //! their panel in any edge case at any step, and a scene of huge (but finite) coordinates
 //! keeps every panel at its size, numbers written short.
 
-mod common;
+use crate::common;
 
 use common::lesson_text;
 

@@ -4,7 +4,7 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-mod common;
+use crate::common;
 
 use accelviz_app::AccelvizApp;
 use accelviz_app::share::ViewState;

@@ -4,7 +4,7 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-mod common;
+use crate::common;
 
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::kd::{self, KdBuilder, KdMiddleSplit, KdSah, KdTree};

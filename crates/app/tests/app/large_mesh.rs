@@ -1,8 +1,8 @@
 //! A large OBJ opened in a 3D lesson on the desktop: it is read and built on worker threads
 //! while frames keep coming, its progress is shown with a cancel button, and cancelling goes
-//! back to the mesh shown before. (Its own test binary: it turns worker threads on.)
+//! back to the mesh shown before. It turns worker threads on for its own thread.
 
-mod common;
+use crate::common;
 
 use accelviz_app::background::set_background;
 use accelviz_app::lesson::Lesson;

@@ -1,10 +1,11 @@
 //! What the app's integration tests share: a lesson's parsed file, and harnesses that draw a
 //! lesson or the whole app as the app does.
 
-#![allow(dead_code)] // Each test binary uses some of these.
+#![allow(dead_code)] // Each module uses some of these.
 
 use accelviz_app::AccelvizApp;
-use accelviz_app::lesson::{Lesson, LessonText};
+use accelviz_app::lesson::Lesson;
+use accelviz_app::lesson_file::LessonText;
 use accelviz_app::registry::LESSONS;
 use accelviz_app::view3d::Gpu;
 use eframe::egui_wgpu::RenderState;

@@ -13,7 +13,7 @@ use accelviz_core::heatmap::{HeatMap, PixelCost, trace_rows_in_packets};
 use accelviz_core::{Order, TraceOptions, TraversalStacks};
 use web_time::Instant;
 
-use super::mesh_scene::MeshTree;
+use super::tree::MeshTree;
 
 /// Rows traced as one piece of work (whole packets of rows).
 const BAND_ROWS: usize = 8;

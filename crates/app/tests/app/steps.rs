@@ -4,7 +4,7 @@
 //! screen say the same, and in the kD lesson the canvas, the code line and the status line
 //! describe the same step.
 
-mod common;
+use crate::common;
 
 use common::{lesson_harness, lesson_text};
 

@@ -4,7 +4,7 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-mod common;
+use crate::common;
 
 use accelviz_core::{Aabb, Ray, Shape, ShapeSet, Sphere, TriangleSet, Vector};
 use common::assert_agrees_with_brute_force;

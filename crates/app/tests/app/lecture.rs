@@ -5,7 +5,7 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-mod common;
+use crate::common;
 
 use accelviz_app::AccelvizApp;
 use accelviz_app::app::Mode;
@@ -230,7 +230,7 @@ fn no_text_under_24_pixels_on_any_slide() {
 
 #[test]
 fn the_readme_key_table_is_the_code_s() {
-    let readme = include_str!("../../../README.md");
+    let readme = include_str!("../../../../README.md");
     assert!(
         readme.contains(&key_table()),
         "README.md's lecture key table differs from LECTURE_KEYS; it should read:\n{}",

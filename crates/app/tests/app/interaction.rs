@@ -2,7 +2,7 @@
 //! computed, stepping is reversible, and opening and saving scenes work, also without a file
 //! dialog.
 
-mod common;
+use crate::common;
 
 use common::{app_harness, lesson_harness, lesson_text};
 

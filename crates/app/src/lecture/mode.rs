@@ -1,0 +1,309 @@
+//! Lecture mode's side of the app: starting and leaving it, opening a slide, the frame it
+//! draws (the slide under a bar of large controls) and what its keys and buttons do.
+
+use egui::{RichText, Ui};
+
+use super::script::{Slide, StartStep};
+use super::{Action, Lecture, Outcome, Theme};
+use crate::app::{AccelvizApp, INSPECTOR_WIDTH, Mode, Position, text_ui};
+use crate::lesson::Lesson;
+
+impl AccelvizApp {
+    /// Where lecture mode is: the slide and, on a question slide, the question's step; on a
+    /// lesson slide, the lesson's own position after it.
+    pub(crate) fn lecture_position(&self, lecture: &Lecture) -> Position {
+        let slide = format!(
+            "lecture slide {} of {}",
+            lecture.slide + 1,
+            lecture.script.slides.len()
+        );
+        let blank = if lecture.blank { ", blank" } else { "" };
+        match lecture.question() {
+            Some(session) => {
+                let revealed = if session.is_revealed() {
+                    ", revealed"
+                } else {
+                    ""
+                };
+                let place = format!(
+                    "{slide}: question {}, step {}{revealed}{blank}",
+                    session.questions()[0].kind,
+                    session.step() + 1,
+                );
+                Position {
+                    line: format!("accelviz: {place}"),
+                    title: place,
+                }
+            }
+            None => {
+                let lesson = self.lesson_position();
+                let line = lesson.line.trim_start_matches("accelviz: ");
+                Position {
+                    line: format!("accelviz: {slide}: {line}{blank}"),
+                    title: format!("{slide}: {}{blank}", lesson.title),
+                }
+            }
+        }
+    }
+
+    /// Starts lecture mode with the script, at its first slide.
+    pub fn start_lecture(&mut self) {
+        match &self.script {
+            Ok(script) => {
+                self.lecture = Some(Lecture::new(script.clone()));
+                self.mode = Mode::Lecture;
+                self.open_slide(0, false);
+            }
+            Err(problem) => {
+                self.status = Some((format!("No lecture: {problem}"), true));
+            }
+        }
+    }
+
+    /// Leaves lecture mode for the lesson last shown.
+    pub fn stop_lecture(&mut self, ctx: &egui::Context) {
+        if self
+            .lecture
+            .as_ref()
+            .is_some_and(|lecture| lecture.full_screen)
+        {
+            set_full_screen(ctx, false);
+        }
+        self.lecture = None;
+        self.mode = Mode::Lessons;
+    }
+
+    /// Opens slide `index` of the lecture (at its last step when going back).
+    pub fn open_slide(&mut self, index: usize, at_end: bool) {
+        let Some(lecture) = &mut self.lecture else {
+            return;
+        };
+        let Some((lesson, show)) = lecture.open(index, at_end) else {
+            return;
+        };
+        self.selected = lesson.min(self.lessons.len().saturating_sub(1));
+        let slide = lecture.slide + 1;
+        let path = lecture.script.path.clone();
+        let mut problem = None;
+        if let Some(name) = show
+            && let Some(lesson) = self.lesson_mut()
+            && !lesson.show_named(&name)
+        {
+            problem = Some(format!(
+                "{path}: slide {slide}: this lesson has no ray or preset \"{name}\"; it has: {}",
+                lesson.named().join(", ")
+            ));
+        }
+        if let Some(lecture) = &mut self.lecture {
+            lecture.message = problem.map(|problem| (problem, true));
+        }
+    }
+
+    /// Lecture mode: the slide fills the window under a bar of large controls.
+    pub(crate) fn lecture_ui(&mut self, ui: &mut Ui) {
+        let ctx = ui.ctx().clone();
+        // The clicker's keys first, so the frame shows where they lead.
+        for action in Lecture::pressed(ui) {
+            if !self.lecture_act(&ctx, action) {
+                return;
+            }
+        }
+        let on_lesson = matches!(
+            self.lecture.as_ref().map(Lecture::current),
+            Some(Slide::Lesson { .. })
+        );
+        if on_lesson && let Some(lesson) = self.lesson_mut() {
+            lesson.update();
+        }
+        // A lesson slide's start step, once its animation knows its steps.
+        let pending = self.lecture.as_ref().and_then(Lecture::pending);
+        if let (true, Some(pending)) = (on_lesson, pending) {
+            let ready = self
+                .lesson()
+                .map(|lesson| lesson.caption().is_none() || lesson.stage().timeline.len > 0);
+            if ready == Some(true) {
+                if let Some(lecture) = &mut self.lecture {
+                    lecture.take_pending();
+                }
+                if let Some(lesson) = self.lesson_mut() {
+                    let timeline = &mut lesson.stage_mut().timeline;
+                    timeline.playing = false;
+                    timeline.shown = match pending {
+                        StartStep::At(step) => step.min(timeline.len),
+                        StartStep::End => timeline.len,
+                    };
+                }
+            }
+        }
+        egui::Panel::top("lecture bar").show(ui, |ui| self.lecture_bar_ui(ui));
+        let caption = self
+            .lesson()
+            .filter(|_| on_lesson)
+            .and_then(|lesson| lesson.caption());
+        if let Some(caption) = caption {
+            egui::Panel::bottom("lecture caption").show(ui, |ui| {
+                ui.add_space(4.0);
+                ui.label(RichText::new(caption).size(20.0));
+                ui.add_space(4.0);
+            });
+        }
+        let panels = self.lecture.as_ref().is_some_and(|lecture| lecture.panels);
+        if on_lesson {
+            let selected = self.selected;
+            if panels {
+                egui::Panel::right("inspector")
+                    .resizable(true)
+                    .default_size(INSPECTOR_WIDTH.1)
+                    .show(ui, |ui| {
+                        egui::ScrollArea::vertical().show(ui, |ui| {
+                            if let Ok(lesson) = &mut self.lessons[selected] {
+                                text_ui(ui, lesson.text());
+                                ui.separator();
+                                lesson.inspector_ui(ui);
+                            }
+                        });
+                    });
+            }
+            self.last_layout.canvas = egui::CentralPanel::default()
+                .show(ui, |ui| {
+                    if let Some(lesson) = self.lesson_mut() {
+                        lesson.canvas_ui(ui);
+                    }
+                })
+                .response
+                .rect;
+        } else if let Some(lecture) = &mut self.lecture {
+            self.last_layout.canvas = egui::CentralPanel::default()
+                .show(ui, |ui| lecture.question_ui(ui))
+                .response
+                .rect;
+        }
+        if let Some(lecture) = &self.lecture {
+            if lecture.pointer {
+                super::paint_pointer(&ctx);
+            }
+            if lecture.blank {
+                super::paint_blank(&ctx);
+            }
+        }
+        self.report_position(ui);
+    }
+
+    /// The lecture's bar: where the lecture is, and large buttons for what the keys do.
+    fn lecture_bar_ui(&mut self, ui: &mut Ui) {
+        let titles = self.titles();
+        let step = self
+            .lesson()
+            .filter(|lesson| lesson.caption().is_some())
+            .map(|lesson| (lesson.stage().timeline.shown, lesson.stage().timeline.len));
+        let Some(lecture) = &mut self.lecture else {
+            return;
+        };
+        let mut outcome = None;
+        ui.horizontal_wrapped(|ui| {
+            let count = lecture.script.slides.len();
+            let what = match lecture.current() {
+                Slide::Lesson { index, .. } => {
+                    let title = titles.get(*index).cloned().unwrap_or_default();
+                    match step {
+                        Some((shown, len)) => format!("{title} · step {shown} of {len}"),
+                        None => title,
+                    }
+                }
+                Slide::Question { kind, .. } => {
+                    let step = lecture
+                        .question()
+                        .map(|session| session.step() + 1)
+                        .unwrap_or(1);
+                    format!("Question: {kind} · step {step}")
+                }
+            };
+            ui.label(
+                RichText::new(format!("Slide {} of {count} · {what}", lecture.slide + 1)).strong(),
+            );
+            ui.separator();
+            for (label, action) in [
+                ("Back", Action::Previous),
+                ("Next", Action::Next),
+                ("Reveal (R)", Action::Reveal),
+                ("Blank (B)", Action::Blank),
+                ("Full screen (F)", Action::FullScreen),
+                ("Panels (I)", Action::Panels),
+                ("Exit (Esc)", Action::Exit),
+            ] {
+                if ui.button(label).clicked() {
+                    outcome = Some(action);
+                }
+            }
+            ui.separator();
+            ui.checkbox(&mut lecture.pointer, "Pointer");
+            let label = ui.label("Scale");
+            let scale = ui
+                .add(egui::Slider::new(&mut lecture.scale, 1.0..=2.5).step_by(0.1))
+                .labelled_by(label.id);
+            if scale.drag_stopped() || scale.lost_focus() {
+                ui.ctx().set_zoom_factor(lecture.scale);
+            }
+            for theme in Theme::ALL {
+                if ui
+                    .selectable_label(self.theme == theme, theme.name())
+                    .clicked()
+                {
+                    self.theme = theme;
+                }
+            }
+            if let Some((message, problem)) = &lecture.message {
+                let color = if *problem {
+                    crate::canvas::palette::MISS
+                } else {
+                    ui.visuals().weak_text_color()
+                };
+                ui.colored_label(color, message);
+            }
+        });
+        if let Some(action) = outcome {
+            self.lecture_act(&ui.ctx().clone(), action);
+        }
+    }
+
+    /// Does what a lecture key or button asks; false once lecture mode is left.
+    fn lecture_act(&mut self, ctx: &egui::Context, action: Action) -> bool {
+        let on_lesson = matches!(
+            self.lecture.as_ref().map(Lecture::current),
+            Some(Slide::Lesson { .. })
+        );
+        let selected = self.selected;
+        let lesson = if on_lesson {
+            self.lessons
+                .get_mut(selected)
+                .and_then(|lesson| lesson.as_mut().ok())
+                .map(|lesson| lesson.as_mut() as &mut dyn Lesson)
+        } else {
+            None
+        };
+        let Some(lecture) = &mut self.lecture else {
+            return false;
+        };
+        match lecture.act(action, lesson) {
+            Outcome::Stay => {}
+            Outcome::Open(index, at_end) => self.open_slide(index, at_end),
+            Outcome::FullScreen(on) => set_full_screen(ctx, on),
+            Outcome::Exit => {
+                self.stop_lecture(ctx);
+                return false;
+            }
+        }
+        true
+    }
+}
+
+/// Full screen on or off: the window on the desktop, the page in the browser.
+pub(crate) fn set_full_screen(ctx: &egui::Context, on: bool) {
+    #[cfg(target_arch = "wasm32")]
+    {
+        let _ = ctx;
+        crate::files::web_full_screen(on);
+    }
+    #[cfg(not(target_arch = "wasm32"))]
+    ctx.send_viewport_cmd(egui::ViewportCommand::Fullscreen(on));
+}

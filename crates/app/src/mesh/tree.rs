@@ -1,0 +1,130 @@
+//! A structure built over a 3D lesson's mesh ([`MeshTree`]): what 3D lessons draw, trace and
+//! measure, and what a build makes on the builder's thread ([`MeshBuild`]).
+
+use std::sync::{Arc, OnceLock};
+
+use accelviz_core::bvh::BuildParams;
+use accelviz_core::camera::bounding_sphere_of_box;
+use accelviz_core::{Built, LeafOrdered, NoBuildObserver, Structure, TreeStats, TriangleSet};
+use accelviz_scene::Mesh;
+use glam::DVec3;
+use web_time::Instant;
+
+use crate::stage::KD_BUDGET;
+use crate::view3d::{DrawTriangle, relative};
+
+/// What building a structure over a mesh makes, on the builder's thread (a worker thread, or
+/// a Web Worker whence it comes [`pack`](super::aside::pack)ed): the structure, what is measured of it, and the
+/// mesh as drawn.
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshBuild {
+    /// The tree and its facts.
+    pub built: Built<DVec3>,
+    /// Its statistics.
+    pub stats: TreeStats,
+    /// How many triangles lie under the root (the inspector opens on it; counted here, since
+    /// a million-triangle tree takes tens of milliseconds).
+    pub root_triangles: usize,
+    /// How long the build took.
+    pub build_millis: f64,
+    /// The mesh's bounding sphere (centre, radius): the view's centre and size.
+    pub sphere: (DVec3, f64),
+    /// The mesh as drawn (relative to the sphere, see [`relative`]).
+    pub drawn: Vec<DrawTriangle>,
+}
+
+/// The mesh's colour (sRGB).
+const MESH_COLOR: [u8; 4] = [178, 188, 204, 255];
+
+/// A structure built over a mesh, with what the view draws of the mesh.
+pub struct MeshTree {
+    /// The mesh.
+    pub mesh: Arc<Mesh>,
+    /// Its triangles as the core traces them.
+    pub triangles: TriangleSet<DVec3>,
+    /// The structure, what was measured of it, and the mesh as drawn.
+    pub build: MeshBuild,
+    /// The triangles in the tree's leaf order, made when first asked for (only the heat
+    /// maps trace that many rays).
+    ordered: OnceLock<LeafOrdered<TriangleSet<DVec3>>>,
+}
+
+impl MeshTree {
+    /// Builds `structure` over `mesh`.
+    pub fn build(mesh: Arc<Mesh>, structure: Structure) -> Self {
+        let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
+        let built = Self::build_structure(&mesh, &triangles, structure);
+        Self::with_built(mesh, triangles, built)
+    }
+
+    /// What a build does on the builder's thread: the structure over `triangles` (`mesh`'s),
+    /// what is measured of it, and the mesh as drawn (the part a Web Worker does in the
+    /// browser, see [`super::aside`]).
+    pub fn build_structure(
+        mesh: &Mesh,
+        triangles: &TriangleSet<DVec3>,
+        structure: Structure,
+    ) -> MeshBuild {
+        let params = BuildParams {
+            kd_budget: KD_BUDGET,
+            ..BuildParams::default()
+        };
+        let started = Instant::now();
+        let built = Built::new(structure, triangles, &params, &mut NoBuildObserver);
+        let build_millis = started.elapsed().as_secs_f64() * 1e3;
+        let sphere = bounding_sphere_of_box(&mesh.bounds());
+        let drawn = mesh
+            .triangles
+            .iter()
+            .map(|triangle| DrawTriangle {
+                corners: triangle.map(|corner| relative(DVec3::from_array(corner), sphere)),
+                color: MESH_COLOR,
+            })
+            .collect();
+        MeshBuild {
+            stats: built.stats(0, &params.cost),
+            root_triangles: built.primitives_below(0).len(),
+            built,
+            build_millis,
+            sphere,
+            drawn,
+        }
+    }
+
+    /// The mesh with a structure built over its `triangles`.
+    pub fn with_built(mesh: Arc<Mesh>, triangles: TriangleSet<DVec3>, build: MeshBuild) -> Self {
+        Self {
+            mesh,
+            triangles,
+            build,
+            ordered: OnceLock::new(),
+        }
+    }
+
+    /// The triangles in the tree's leaf order, for tracing many rays fast.
+    pub fn ordered(&self) -> &LeafOrdered<TriangleSet<DVec3>> {
+        self.ordered
+            .get_or_init(|| self.build.built.tree.leaf_ordered(&self.triangles))
+    }
+
+    /// The timeline's caption for a clicked pixel's `trace` at `frame`, or `idle` before a
+    /// pixel is clicked.
+    pub fn caption(&self, trace: Option<&crate::trace::Trace>, frame: usize, idle: &str) -> String {
+        match trace {
+            None => idle.to_owned(),
+            Some(trace) => trace.caption(
+                frame,
+                "Press step: the traversal starts by testing the root's box.",
+                |step| crate::trace::describe_step(step, |node| self.node_name(node)),
+            ),
+        }
+    }
+
+    /// A node's name: its path from the root (`root`, `LRL`).
+    pub fn node_name(&self, node: u32) -> String {
+        match self.build.built.facts.path_to(node) {
+            path if path.is_empty() => "the root".to_owned(),
+            path => format!("node {path}"),
+        }
+    }
+}

@@ -1,0 +1,106 @@
+//! What every 3D lesson with a mesh shows above its view: the mesh and structure choosers, and
+//! the progress of a large mesh read or built aside, with its cancel button.
+
+use accelviz_core::Structure;
+use accelviz_scene::builtin::BUILTINS;
+
+use super::scene::MeshScene;
+use super::tree::MeshTree;
+use crate::background::Derived;
+
+/// The mesh and structure choosers every 3D lesson with a mesh shows. Returns whether the
+/// mesh was replaced (a traced ray then no longer fits it).
+pub fn mesh_and_structure_ui(
+    ui: &mut egui::Ui,
+    scene: &mut MeshScene,
+    structure: &mut Structure,
+) -> bool {
+    let mut replaced = false;
+    let current = scene.name.clone();
+    egui::ComboBox::from_label("mesh")
+        .selected_text(current.trim_start_matches("builtin:").to_owned())
+        .show_ui(ui, |ui| {
+            for builtin in BUILTINS {
+                let name = format!("builtin:{}", builtin.name);
+                if ui
+                    .selectable_label(current == name, builtin.name)
+                    .on_hover_text(builtin.about)
+                    .clicked()
+                {
+                    scene.replace((builtin.make)());
+                    scene.name = name;
+                    replaced = true;
+                }
+            }
+        });
+    ui.separator();
+    egui::ComboBox::from_label("structure")
+        .selected_text(structure.name())
+        .show_ui(ui, |ui| {
+            for entry in accelviz_core::CATALOGUE {
+                let chosen = structure.entry().name == entry.name;
+                if ui
+                    .selectable_label(chosen, format!("{} {}", entry.label, entry.family.label()))
+                    .on_hover_text(entry.about)
+                    .clicked()
+                {
+                    *structure = entry.structure.with_width(structure.width());
+                }
+            }
+        });
+    crate::views::width_ui(ui, structure);
+    replaced
+}
+
+/// While a large mesh is read or its structure built: a progress line with a cancel button
+/// that goes back to the mesh shown before (the UI keeps drawing meanwhile). Also says why the
+/// last file read aside could not be opened.
+pub fn loading_ui(
+    ui: &mut egui::Ui,
+    scene: &mut MeshScene,
+    tree: &mut Derived<(u64, Structure), MeshTree>,
+) {
+    if let Some(problem) = &scene.problem {
+        ui.colored_label(crate::canvas::palette::MISS, problem);
+    }
+    let building = tree.working_for();
+    let line = match (&scene.loading, building) {
+        (Some(loading), _) => Some((
+            format!("reading {}", loading.name),
+            Some(loading.progress()),
+        )),
+        (None, Some(working)) => Some((
+            format!(
+                "building the structure over {} triangles… {:.1} s",
+                scene.mesh.triangles.len(),
+                working.as_secs_f64()
+            ),
+            None,
+        )),
+        (None, None) => None,
+    };
+    let Some((text, progress)) = line else { return };
+    ui.horizontal(|ui| {
+        // The button first, so it stays where it is when reading turns into building.
+        if ui
+            .button("cancel")
+            .on_hover_text("Stop, and go back to the mesh shown before")
+            .clicked()
+        {
+            tree.cancel();
+            scene.go_back();
+        }
+        match progress {
+            Some(progress) => ui.add(
+                egui::ProgressBar::new(progress)
+                    .desired_width(260.0)
+                    .text(format!("{text}: {:.0} %", progress * 100.0)),
+            ),
+            None => {
+                ui.add(egui::Spinner::new());
+                ui.label(text)
+            }
+        };
+    });
+    ui.ctx().request_repaint();
+}

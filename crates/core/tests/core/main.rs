@@ -1,0 +1,11 @@
+//! The core's integration tests, one module a subject, in one test binary (one link instead
+//! of eight).
+
+mod brute_agreement;
+mod common;
+mod cost_curves;
+mod heatmap;
+mod kd_budget;
+mod kd_cases;
+mod observer_steps;
+mod slab_extremes;

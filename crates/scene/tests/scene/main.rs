@@ -1,0 +1,5 @@
+//! The scene crate's integration tests on the shared meshes, one module a subject, in one
+//! test binary.
+
+mod shared_meshes;
+mod watertight;
