@@ -21,7 +21,7 @@ impl<S: Real> Hit<S> {
     }
 }
 
-/// Closest hit, or the first hit found (shadow rays).
+/// Closest hit, the first hit found (shadow rays), or the lecture's kD pseudo-code's rule.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Query {
     /// The hit with the smallest `t`.
@@ -29,6 +29,16 @@ pub enum Query {
     Closest,
     /// Any hit; traversal stops at the first.
     Any,
+    /// The lecture's kD-tree pseudo-code's rule: the far side of a split is searched only
+    /// `If(no intersection)` in the near side. So the search ends after the first leaf whose
+    /// part of the ray holds the closest hit found so far (a hit beyond a leaf's cell, on a
+    /// primitive reaching past its plane, ends it in the cell where it lies); sides still
+    /// waiting are not visited. Near first through cells that do not overlap (a kD-tree),
+    /// that is the closest hit; in file order it need not be (the lecture's quiz). A BVH
+    /// leaf's part of the ray is its box's, and boxes overlap, so there even near first may
+    /// stop at a hit that is not the closest; so may a kD ray lying in a split plane, which
+    /// meets both sides all along. The trivial loop tests everything: the closest hit.
+    FirstInCell,
 }
 
 /// In what order traversal visits the two children of a node when the ray hits both.

@@ -1,6 +1,6 @@
 //! What every traversal does in a leaf, written once: test the listed primitives, keep the
-//! closest hit (ties to the lower number), shrink the interval, and stop an any-hit query at
-//! the first hit.
+//! closest hit (ties to the lower number), shrink the interval, stop an any-hit query at the
+//! first hit, and end a [`Query::FirstInCell`] search after the first leaf with a hit.
 
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
@@ -27,8 +27,24 @@ impl<S: Real> HitSearch<S> {
         }
     }
 
+    /// Whether a new closest hit ends the search: at once (true) for an any-hit query; for
+    /// [`Query::FirstInCell`] once the leaf is done (`leaf_done` is set). A BVH leaf's hits
+    /// all lie in its box, its part of the ray; the kD traversal searches its cells itself.
+    #[inline(always)]
+    pub(crate) fn ends_search(&self, leaf_done: &mut bool) -> bool {
+        match self.query {
+            Query::Closest => false,
+            Query::Any => true,
+            Query::FirstInCell => {
+                *leaf_done = true;
+                false
+            }
+        }
+    }
+
     /// Tests a leaf's primitives (`numbers`, stored from leaf slot `first` on), unless `skip`
-    /// says one was tested already. Returns true when an any-hit query has its answer.
+    /// says one was tested already. Returns true when the search has its answer (an any-hit
+    /// query's first hit, or a [`Query::FirstInCell`] leaf with a hit).
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn test_leaf<V, P, O>(
@@ -46,6 +62,7 @@ impl<S: Real> HitSearch<S> {
         P: LeafPrimitives<V>,
         O: Observer<S>,
     {
+        let mut leaf_done = false;
         for (slot, &primitive) in (first..).zip(numbers) {
             if skip(primitive) {
                 observer.primitive_skipped(primitive);
@@ -64,11 +81,11 @@ impl<S: Real> HitSearch<S> {
                 self.closest = Some(Hit { primitive, t });
                 self.t_closest = t;
                 observer.closest_hit_updated(primitive, t);
-                if self.query == Query::Any {
+                if self.ends_search(&mut leaf_done) {
                     return true;
                 }
             }
         }
-        false
+        leaf_done
     }
 }

@@ -4,8 +4,8 @@
 
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::{
-    Aabb, Built, NoBuildObserver, Order, Ray, Recorder, Shape, ShapeSet, Sphere, Step, Structure,
-    TraceOptions, TraversalStacks, Tree,
+    Aabb, Built, NoBuildObserver, Order, Query, Ray, Recorder, Shape, ShapeSet, Sphere, Step,
+    Structure, TraceOptions, TraversalStacks, Tree,
 };
 use accelviz_scene::rng::SplitMix64;
 use glam::DVec2;
@@ -225,8 +225,20 @@ pub(crate) fn record(
     ray: &Ray<DVec2>,
     order: Order,
 ) -> Vec<Step<f64>> {
+    record_query(built, shapes, ray, order, Query::Closest)
+}
+
+/// [`record`] for a `query` (the lecture's pseudo-code's rule, [`Query::FirstInCell`]).
+pub(crate) fn record_query(
+    built: &Built<DVec2>,
+    shapes: &ShapeSet<DVec2>,
+    ray: &Ray<DVec2>,
+    order: Order,
+    query: Query,
+) -> Vec<Step<f64>> {
     let options = TraceOptions {
         order,
+        query,
         ..TraceOptions::default()
     };
     let mut recorder = Recorder::default();

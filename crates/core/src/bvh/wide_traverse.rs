@@ -12,7 +12,7 @@ use crate::bvh::wide::{LEAF_BLOCK, LOWER, UPPER, WideBvh, WideNode};
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
 use crate::primitive::{HitTest, LeafPrimitives, PrimitiveSet, TriangleBlock, TriangleRay};
-use crate::query::{Hit, Order, Query, TraceOptions};
+use crate::query::{Hit, Order, TraceOptions};
 use crate::ray::Ray;
 use crate::search::HitSearch;
 use crate::simd::{Kernel, NodeRay, prefetch_lines};
@@ -1025,7 +1025,7 @@ impl<S: Real> HitSearch<S> {
     /// by one: once an earlier lane of the block has shrunk the interval, a lane's hit is
     /// confirmed by `still_inside` (block, lane, its `t`, the interval's new end). The closest
     /// hit is then the one-by-one test's (the least `t`, ties to the lower number). Returns
-    /// true when an any-hit query has its answer.
+    /// true when the search has its answer (as [`HitSearch::test_leaf`]).
     #[inline(always)]
     fn test_blocks<O: Observer<S>>(
         &mut self,
@@ -1036,6 +1036,7 @@ impl<S: Real> HitSearch<S> {
         test: impl Fn(&TriangleBlock<S>, S) -> [S; 4],
         still_inside: impl Fn(&TriangleBlock<S>, usize, S, S) -> bool,
     ) -> bool {
+        let mut leaf_done = false;
         for (block_index, block_numbers) in (first as usize / LEAF_BLOCK..).zip(numbers.chunks(4)) {
             let block = &blocks[block_index];
             let t_max = self.t_closest;
@@ -1057,13 +1058,13 @@ impl<S: Real> HitSearch<S> {
                     self.closest = Some(Hit { primitive, t });
                     self.t_closest = t;
                     observer.closest_hit_updated(primitive, t);
-                    if self.query == Query::Any {
+                    if self.ends_search(&mut leaf_done) {
                         return true;
                     }
                 }
             }
         }
-        false
+        leaf_done
     }
 }
 

@@ -11,12 +11,17 @@
 //!
 //! "No intersection" means none nearer than where the far part starts: a primitive that
 //! straddles the plane can be hit beyond the near cell, and that hit must not end the search.
+//! By default a pending far side is culled when it starts beyond the closest hit so far, so
+//! the answer is the closest hit in either order (file order does more work);
+//! [`Query::FirstInCell`] instead ends the search at the first leaf with a hit in its own
+//! part of the ray, as the pseudo-code reads, and in file order that hit need not be the
+//! closest.
 
 use crate::kd::tree::KdTree;
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
 use crate::primitive::{LeafPrimitives, PrimitiveSet};
-use crate::query::{Hit, Order, TraceOptions};
+use crate::query::{Hit, Order, Query, TraceOptions};
 use crate::ray::Ray;
 use crate::search::HitSearch;
 use crate::slab::{SlabRay, slab_clip};
@@ -83,7 +88,12 @@ where
         return None;
     }
     let primitive_ray = primitives.stored().prepare(ray, options.hit_test);
-    let mut search = HitSearch::new(ray.t_max, options.query);
+    // The pseudo-code's rule ends the search by cells, below, not by leaves as in a BVH.
+    let leaf_query = match options.query {
+        Query::FirstInCell => Query::Closest,
+        query => query,
+    };
+    let mut search = HitSearch::new(ray.t_max, leaf_query);
     let entries = &mut stack.entries;
     entries.clear();
     let mut mailbox = Mailbox::default();
@@ -116,6 +126,16 @@ where
             ) {
                 return search.closest;
             }
+            // The pseudo-code's `If(no intersection)`: a hit in this cell's part of the ray
+            // ends the search; every side still waiting is the far side of a split whose near
+            // side now holds an intersection. (A hit beyond the cell, on a primitive reaching
+            // past the plane, is kept and ends the search in the cell it lies in.)
+            if options.query == Query::FirstInCell
+                && search.closest.is_some()
+                && search.t_closest <= t_far
+            {
+                return search.closest;
+            }
             continue;
         }
         let axis = node.axis as usize;
@@ -136,8 +156,17 @@ where
             } else {
                 t_near
             };
-            entries.push((far, t_near, far_exit));
-            current = Some((near, t_near, t_far));
+            // The pseudo-code's rule ends the search at the first side with a hit, so there
+            // the side met only at the start, nearer along the ray, goes first. (A ray lying
+            // in the plane meets both sides all along: the rule may then stop at a hit that is
+            // not the closest, as in a BVH's overlapping boxes.)
+            if options.query == Query::FirstInCell && direction != V::Scalar::ZERO {
+                entries.push((near, t_near, t_far));
+                current = Some((far, t_near, far_exit));
+            } else {
+                entries.push((far, t_near, far_exit));
+                current = Some((near, t_near, t_far));
+            }
             continue;
         }
         // The child the ray meets first, by the sign of its direction on this axis (the sign

@@ -112,7 +112,7 @@ pub fn all_options() -> Vec<TraceOptions> {
     let mut options = Vec::new();
     for order in [Order::NearFirst, Order::FileOrder] {
         for robust in [false, true] {
-            for query in [Query::Closest, Query::Any] {
+            for query in [Query::Closest, Query::Any, Query::FirstInCell] {
                 options.push(
                     TraceOptions {
                         order,
@@ -129,7 +129,9 @@ pub fn all_options() -> Vec<TraceOptions> {
 
 /// Asserts that every tree and every option gives brute force's answer for every ray:
 /// the same closest primitive (or, at a tie, the same t within a relative 1e-5), and for
-/// any-hit queries a hit exactly when brute force has one.
+/// any-hit queries a hit exactly when brute force has one. The lecture's kD rule
+/// ([`Query::FirstInCell`]) gives the closest hit through a kD-tree near first, and otherwise
+/// a real hit exactly when brute force has one, never nearer than the closest.
 pub fn assert_agrees_with_brute_force<
     V: Vector,
     P: PrimitiveSet<V> + LeafPrimitives<V, Set = P> + 'static,
@@ -177,6 +179,7 @@ pub fn assert_agrees_with_brute_force<
                 match options.query {
                     Query::Closest => assert_same_hit(got, expected, &context),
                     Query::Any => assert_eq!(got.is_some(), expected.is_some(), "{context}"),
+                    Query::FirstInCell => assert_not_nearer(got, expected, &context),
                 }
                 if let Some(hit) = got {
                     // Any hit must be a real hit of that primitive.
@@ -220,7 +223,9 @@ pub fn assert_agrees_with_brute_force<
                                 );
                                 match options.query {
                                     Query::Closest => assert_same_hit(*hit, alone, &context),
-                                    Query::Any => {
+                                    // A packet visits nodes in its own order, so the first
+                                    // hit it finds may be another.
+                                    Query::Any | Query::FirstInCell => {
                                         assert_eq!(hit.is_some(), alone.is_some(), "{context}")
                                     }
                                 }
@@ -274,12 +279,45 @@ pub fn assert_agrees_with_brute_force<
                     counters.primitive_tests,
                     "{context}: mailbox"
                 );
-                match options.query {
-                    Query::Closest => assert_same_hit(got, expected, &context),
-                    Query::Any => assert_eq!(got.is_some(), expected.is_some(), "{context}"),
+                // The pseudo-code's rule near first is the closest hit, but for a ray lying in
+                // a split plane (it meets both sides all along).
+                let in_a_plane = || {
+                    let (origin, direction) = (ray.origin.to_array3(), ray.direction.to_array3());
+                    tree.nodes.iter().any(|node| {
+                        let axis = node.axis as usize;
+                        !node.is_leaf()
+                            && origin[axis] == node.split
+                            && direction[axis] == V::Scalar::ZERO
+                    })
+                };
+                match (options.query, options.order) {
+                    (Query::FirstInCell, Order::NearFirst) if in_a_plane() => {
+                        assert_not_nearer(got, expected, &context)
+                    }
+                    (Query::Closest, _) | (Query::FirstInCell, Order::NearFirst) => {
+                        assert_same_hit(got, expected, &context)
+                    }
+                    (Query::Any, _) => {
+                        assert_eq!(got.is_some(), expected.is_some(), "{context}")
+                    }
+                    (Query::FirstInCell, Order::FileOrder) => {
+                        assert_not_nearer(got, expected, &context)
+                    }
                 }
             }
         }
+    }
+}
+
+/// A hit exactly when brute force has one, and never nearer than its closest.
+fn assert_not_nearer<S: Real>(got: Option<Hit<S>>, expected: Option<Hit<S>>, context: &str) {
+    assert_eq!(got.is_some(), expected.is_some(), "{context}");
+    if let (Some(got), Some(expected)) = (got, expected) {
+        let scale = expected.t.abs().to_f64().max(1.0);
+        assert!(
+            got.t.to_f64() >= expected.t.to_f64() - 1e-5 * scale,
+            "{context}: got {got:?}, nearer than brute force's {expected:?}"
+        );
     }
 }
 

@@ -169,12 +169,18 @@ fn traverse_bvh(
     (visited, hit)
 }
 
-/// The lecture's kD traversal, recursive: cells entered in order, the hit, and per interior
-/// cell entered (cell, near child, whether the far child was entered).
+/// The lecture's kD traversal, recursive, culling a side that starts beyond the closest hit:
+/// cells entered in order, the hit, and per interior cell entered (cell, near child, whether
+/// the far child was entered). In file order the child below the plane is searched first.
+/// With the pseudo-code's `If(no intersection)` rule, a leaf whose part of the ray holds the
+/// closest hit so far ends the walk.
 struct KdWalk<'a> {
     nodes: &'a [Value],
     shapes: &'a [Value],
     ray: Ray,
+    near_first: bool,
+    first_in_cell: bool,
+    stopped: bool,
     visited: Vec<u64>,
     hit: Option<(u64, f64)>,
     cells: Vec<(u64, u64, bool)>,
@@ -182,13 +188,14 @@ struct KdWalk<'a> {
 
 impl KdWalk<'_> {
     fn visit(&mut self, node: u64, t_near: f64, t_far: f64) -> bool {
-        if t_near > self.hit.map_or(f64::INFINITY, |(_, t)| t) {
+        if self.stopped || t_near > self.hit.map_or(f64::INFINITY, |(_, t)| t) {
             return false;
         }
         self.visited.push(node);
         let entry = &self.nodes[node as usize];
         if let Some(leaf) = entry.get("shapes") {
             closest(self.shapes, &indices(leaf), &self.ray, &mut self.hit);
+            self.stopped = self.first_in_cell && self.hit.is_some_and(|(_, t)| t <= t_far);
             return true;
         }
         let axis = entry["axis"].as_u64().expect("an axis") as usize;
@@ -221,12 +228,104 @@ impl KdWalk<'_> {
         } else {
             let at = self.cells.len();
             self.cells.push((node, near, false));
-            self.visit(near, t_near, t_plane.max(t_near));
-            let entered = self.visit(far, t_plane.min(t_far), t_far);
-            self.cells[at].2 = entered;
+            let near_part = (t_near, t_plane.max(t_near));
+            let far_part = (t_plane.min(t_far), t_far);
+            if self.near_first || near == below {
+                self.visit(near, near_part.0, near_part.1);
+                let entered = self.visit(far, far_part.0, far_part.1);
+                self.cells[at].2 = entered;
+            } else {
+                self.visit(far, far_part.0, far_part.1);
+                self.visit(near, near_part.0, near_part.1);
+            }
         }
         true
     }
+
+    /// The walk done, from the root cell.
+    fn walked(mut self) -> Self {
+        let (t_near, t_far) = root_part(self.nodes, &self.ray);
+        if t_near <= t_far {
+            self.visit(0, t_near, t_far);
+        }
+        self
+    }
+}
+
+/// The ray's part in the root cell.
+fn root_part(nodes: &[Value], ray: &Ray) -> (f64, f64) {
+    let root = numbers(&nodes[0]["cell"]);
+    let (near, far) = slab(&root, &ray.origin, &ray.direction);
+    (
+        near.iter().copied().fold(0.0, f64::max),
+        far.iter().copied().fold(f64::INFINITY, f64::min),
+    )
+}
+
+/// The lecture's quiz on a kD-tree: near first returns the closest hit, file order under the
+/// pseudo-code's rule stops at a farther one, and the variant that culls by the closest hit
+/// finds the closest again, entering the cells listed.
+fn check_lecture(question: &Value) {
+    let structure = question["structure"].as_str().unwrap();
+    assert!(structure.starts_with("kd:"), "{question}");
+    let nodes = question["nodes"].as_array().unwrap();
+    let shapes = question["shapes"].as_array().unwrap();
+    let ray = ray_of(question);
+    let walk = |near_first, first_in_cell| {
+        KdWalk {
+            nodes,
+            shapes,
+            ray,
+            near_first,
+            first_in_cell,
+            stopped: false,
+            visited: Vec::new(),
+            hit: None,
+            cells: Vec::new(),
+        }
+        .walked()
+    };
+    let (near, file, culled) = (walk(true, true), walk(false, true), walk(false, false));
+    let mut everything = None;
+    closest(
+        shapes,
+        &(0..shapes.len() as u64).collect::<Vec<_>>(),
+        &ray,
+        &mut everything,
+    );
+    let shape = |walk: &KdWalk| walk.hit.map(|hit| hit.0);
+    let answer = &question["answer"];
+    assert_eq!(shape(&near), everything.map(|hit| hit.0), "{question}");
+    assert_eq!(answer["shape"].as_u64(), shape(&near), "{question}");
+    assert_eq!(
+        answer["file_order_returns"].as_u64(),
+        shape(&file),
+        "{question}"
+    );
+    assert!(file.hit.unwrap().1 > near.hit.unwrap().1, "{question}");
+    assert!(
+        answer["file_order"]
+            .as_str()
+            .unwrap()
+            .contains("not the closest"),
+        "{question}"
+    );
+    assert_eq!(
+        indices(&answer["near_first_visited"]),
+        near.visited,
+        "{question}"
+    );
+    assert_eq!(
+        indices(&answer["file_order_visited"]),
+        file.visited,
+        "{question}"
+    );
+    assert_eq!(shape(&culled), shape(&near), "{question}");
+    assert_eq!(
+        indices(&answer["culled_file_order_visited"]),
+        culled.visited,
+        "{question}"
+    );
 }
 
 fn check_slab(question: &Value) {
@@ -337,13 +436,8 @@ fn check_near_vs_file(question: &Value) {
     let (file, file_hit) = traverse_bvh(nodes, shapes, &ray, false);
     assert_eq!(near_hit.map(|hit| hit.0), file_hit.map(|hit| hit.0));
     let answer = &question["answer"];
-    let key = if question["kind"] == "lecture" {
-        ("near_first_visited", "file_order_visited")
-    } else {
-        ("near_first", "file_order")
-    };
-    assert_eq!(indices(&answer[key.0]), near, "{question}");
-    assert_eq!(indices(&answer[key.1]), file, "{question}");
+    assert_eq!(indices(&answer["near_first"]), near, "{question}");
+    assert_eq!(indices(&answer["file_order"]), file, "{question}");
     assert_eq!(
         answer["shape"].as_u64(),
         near_hit.map(|hit| hit.0),
@@ -360,22 +454,18 @@ fn check_kd_traversal(question: &Value) {
     let nodes = question["nodes"].as_array().unwrap();
     let shapes = question["shapes"].as_array().unwrap();
     let ray = ray_of(question);
-    let mut walk = KdWalk {
+    let walk = KdWalk {
         nodes,
         shapes,
         ray,
+        near_first: true,
+        first_in_cell: false,
+        stopped: false,
         visited: Vec::new(),
         hit: None,
         cells: Vec::new(),
-    };
-    let mut root = numbers(&nodes[0]["cell"]);
-    let (near, far) = slab(&root, &ray.origin, &ray.direction);
-    let t_near = near.iter().copied().fold(0.0, f64::max);
-    let t_far = far.iter().copied().fold(f64::INFINITY, f64::min);
-    if t_near <= t_far {
-        walk.visit(0, t_near, t_far);
     }
-    root.clear();
+    .walked();
     let answer = &question["answer"];
     assert_eq!(indices(&answer["visited"]), walk.visited, "{question}");
     assert_eq!(
@@ -644,7 +734,8 @@ fn every_kind_is_right_for_hundreds_of_seeds() {
                     "slab" => check_slab(&question),
                     "first-hit" => check_first_hit(&question),
                     "visit-order" => check_visit_order(&question),
-                    "near-vs-file" | "lecture" => check_near_vs_file(&question),
+                    "near-vs-file" => check_near_vs_file(&question),
+                    "lecture" => check_lecture(&question),
                     "kd-traversal" => check_kd_traversal(&question),
                     "sah-split" => check_sah_split(&question),
                     "leaf-or-split" => check_leaf_or_split(&question),
