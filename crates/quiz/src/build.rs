@@ -338,6 +338,7 @@ impl BuildExercise {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: Vec::new(),
         })
     }
 }

@@ -401,6 +401,26 @@ pub(crate) fn traversal_question(
     (fields, scene)
 }
 
+/// A shape's numbers as [`describe_shape`] writes them: a disc's centre and radius, a box's
+/// corners, a segment's ends.
+pub(crate) fn shape_numbers(shape: &Shape<DVec2>) -> Vec<f64> {
+    match shape {
+        Shape::Sphere(disc) => vec![disc.center.x, disc.center.y, disc.radius],
+        Shape::Box(bounds) => vec![bounds.min.x, bounds.min.y, bounds.max.x, bounds.max.y],
+        Shape::Segment([a, b]) => vec![a.x, a.y, b.x, b.y],
+    }
+}
+
+/// A ray's origin and direction.
+pub(crate) fn ray_numbers(ray: &Ray<DVec2>) -> Vec<f64> {
+    vec![ray.origin.x, ray.origin.y, ray.direction.x, ray.direction.y]
+}
+
+/// A box's corners.
+pub(crate) fn box_numbers(bounds: &Aabb<DVec2>) -> Vec<f64> {
+    vec![bounds.min.x, bounds.min.y, bounds.max.x, bounds.max.y]
+}
+
 /// A shape in words, for print.
 pub(crate) fn describe_shape(shape: &Shape<DVec2>) -> String {
     let number = num;

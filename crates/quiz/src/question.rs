@@ -68,6 +68,15 @@ impl Question {
     }
 }
 
+impl Question {
+    /// The figure's numbers as they stand while step `step` is asked (before its answer): see
+    /// [`Figure::numbers`].
+    pub fn numbers(&self, step: usize) -> Vec<String> {
+        self.figure
+            .numbers(Some(self.asks.get(step).map_or(0, |ask| ask.frame)))
+    }
+}
+
 /// The letter of a choice: `a`, `b`, … (the keys that pick it in the app).
 pub fn option_letter(index: usize) -> char {
     char::from(b'a' + (index % 26) as u8)
@@ -127,6 +136,21 @@ impl SceneFigure {
         }
     }
 
+    /// How many of the node's shapes go to each side of candidate `index` (a shape goes left
+    /// when its box's centre is below the position).
+    pub fn candidate_counts(&self, index: usize) -> [usize; 2] {
+        let mut counts = [0, 0];
+        if let (Some((axis, position)), Some((_, members))) =
+            (self.candidates.get(index), &self.node)
+        {
+            for member in members {
+                let centre = self.shapes.shapes[*member as usize].bounds().center()[*axis];
+                counts[usize::from(centre >= *position)] += 1;
+            }
+        }
+        counts
+    }
+
     /// Sets the candidate splits of the node's shapes, with each one's children's boxes (a
     /// shape goes left when its box's centre is below the position).
     pub fn with_candidates(mut self, candidates: Vec<(usize, f64)>) -> Self {
@@ -166,91 +190,155 @@ pub struct TreeFigure {
     pub reveal_as_reached: bool,
 }
 
+impl TreeFigure {
+    /// The nodes a student has seen after the first `frame` recorded steps: every node, or
+    /// with [`reveal_as_reached`](Self::reveal_as_reached) the root and the children of every
+    /// node entered so far.
+    pub fn visible(&self, frame: usize) -> Vec<u32> {
+        let facts = &self.built.facts;
+        if !self.reveal_as_reached {
+            return (0..facts.node_count() as u32).collect();
+        }
+        let mut seen = vec![0];
+        for step in &self.steps[..frame.min(self.steps.len())] {
+            if let Step::NodeEntered { node } | Step::CellEntered { node, .. } = step
+                && let Some(children) = facts.children[*node as usize]
+            {
+                seen.extend(children);
+            }
+        }
+        seen
+    }
+}
+
 impl Figure {
-    fn describe(&self) -> String {
+    /// The figure's numbers as a student sees them after the first `frame` recorded steps
+    /// (`None`: all of them), one line each: the box and the ray; the shapes, the ray and the
+    /// nodes seen so far; the node asked about and its candidate splits with their boxes,
+    /// perimeters and counts. What the student works an answer out from.
+    pub fn numbers(&self, frame: Option<usize>) -> Vec<String> {
+        use crate::generate::{AXES, describe_box, describe_node, describe_shape, num};
         let list = |values: &[f64]| {
             values
                 .iter()
-                .map(|value| crate::generate::num(*value))
+                .map(|v| num(*v))
                 .collect::<Vec<_>>()
                 .join(", ")
         };
+        let mut lines = Vec::new();
         match self {
             Figure::Slab {
                 min,
                 max,
                 origin,
                 direction,
-            } => format!(
-                "Box from ({}) to ({}); ray from ({}) in direction ({}).\n",
-                list(min),
-                list(max),
-                list(origin),
-                list(direction)
-            ),
+            } => {
+                lines.push(format!("box from ({}) to ({})", list(min), list(max)));
+                lines.push(format!(
+                    "ray from ({}) in direction ({})",
+                    list(origin),
+                    list(direction)
+                ));
+            }
             Figure::Scene(scene) => {
-                let mut text = String::new();
                 for (index, shape) in scene.shapes.shapes.iter().enumerate() {
-                    text.push_str(&format!(
-                        "  shape {index}: {}\n",
-                        crate::generate::describe_shape(shape)
-                    ));
+                    lines.push(format!("shape {index}: {}", describe_shape(shape)));
                 }
                 if let Some(ray) = &scene.ray {
-                    text.push_str(&format!(
-                        "  ray from ({}) in direction ({})\n",
+                    lines.push(format!(
+                        "ray from ({}) in direction ({})",
                         list(&ray.origin.to_array()),
                         list(&ray.direction.to_array())
                     ));
                 }
                 if let Some(tree) = &scene.tree {
                     let facts = &tree.built.facts;
-                    for node in 0..facts.node_count() as u32 {
-                        text.push_str(&format!(
-                            "  node {}: {}\n",
+                    for node in tree.visible(frame.unwrap_or(usize::MAX)) {
+                        lines.push(format!(
+                            "node {}: {}",
                             node_label(facts, node),
-                            crate::generate::describe_node(&tree.built, node)
+                            describe_node(&tree.built, node)
                         ));
                     }
                 }
-                text
-            }
-            Figure::Build(exercise) => {
-                let mut text = String::new();
-                for (index, shape) in exercise.shapes().shapes.iter().enumerate() {
-                    text.push_str(&format!(
-                        "  shape {index}: {}\n",
-                        crate::generate::describe_shape(shape)
+                if let Some((bounds, members)) = &scene.node {
+                    lines.push(format!(
+                        "the node: {} shapes, box {}, perimeter {}",
+                        members.len(),
+                        describe_box(bounds),
+                        num(bounds.area())
                     ));
                 }
-                // The model answer for print: the builder's pick at every node.
-                let mut model = (**exercise).clone();
-                while let Some(choice) = model.next_choice() {
-                    model.pick(choice.builder);
+                if scene.candidates_before_answer {
+                    for (index, ((axis, position), sides)) in scene
+                        .candidates
+                        .iter()
+                        .zip(&scene.candidate_boxes)
+                        .enumerate()
+                    {
+                        let counts = scene.candidate_counts(index);
+                        let side = |bounds: &Aabb<DVec2>, count: usize| {
+                            format!(
+                                "{count} {}, box {}, perimeter {}",
+                                if count == 1 { "shape" } else { "shapes" },
+                                describe_box(bounds),
+                                num(bounds.area())
+                            )
+                        };
+                        lines.push(format!(
+                            "({}) {} = {}: left {}; right {}",
+                            option_letter(index),
+                            AXES[*axis],
+                            num(*position),
+                            side(&sides[0], counts[0]),
+                            side(&sides[1], counts[1])
+                        ));
+                    }
                 }
-                text.push_str(&format!(
-                    "  The SAH builder's tree (SAH cost {}):\n",
-                    crate::generate::num(model.score().builder_cost)
-                ));
-                for (choice, index) in model.decided() {
-                    let node = if choice.path.is_empty() {
-                        "root"
-                    } else {
-                        &choice.path
-                    };
-                    let pick = match choice.picks[*index] {
-                        crate::build::Pick::Leaf => format!("leaf {:?}", choice.shapes),
-                        crate::build::Pick::Split { axis, position } => format!(
-                            "split at {} = {}",
-                            crate::generate::AXES[axis],
-                            crate::generate::num(position)
-                        ),
-                    };
-                    text.push_str(&format!("    {node}: {pick}\n"));
+            }
+            Figure::Build(exercise) => {
+                for (index, shape) in exercise.shapes().shapes.iter().enumerate() {
+                    lines.push(format!("shape {index}: {}", describe_shape(shape)));
                 }
-                text
             }
         }
+        lines
+    }
+
+    fn describe(&self) -> String {
+        let mut text: String = self
+            .numbers(None)
+            .iter()
+            .map(|line| format!("  {line}\n"))
+            .collect();
+        if let Figure::Build(exercise) = self {
+            // The model answer for print: the builder's pick at every node.
+            let mut model = (**exercise).clone();
+            while let Some(choice) = model.next_choice() {
+                model.pick(choice.builder);
+            }
+            text.push_str(&format!(
+                "  The SAH builder's tree (SAH cost {}):\n",
+                crate::generate::num(model.score().builder_cost)
+            ));
+            for (choice, index) in model.decided() {
+                let node = if choice.path.is_empty() {
+                    "root"
+                } else {
+                    &choice.path
+                };
+                let pick = match choice.picks[*index] {
+                    crate::build::Pick::Leaf => format!("leaf {:?}", choice.shapes),
+                    crate::build::Pick::Split { axis, position } => format!(
+                        "split at {} = {}",
+                        crate::generate::AXES[axis],
+                        crate::generate::num(position)
+                    ),
+                };
+                text.push_str(&format!("    {node}: {pick}\n"));
+            }
+        }
+        text
     }
 }
 
@@ -274,6 +362,9 @@ pub struct Ask {
     /// How many of the traversal's recorded steps the canvas shows while asking (0 without a
     /// traversal): the animation pauses just before the step asked about.
     pub frame: usize,
+    /// The numbers the answer is worked out from (coordinates, costs): each is shown before
+    /// the step is asked, in the prompt or in [`Question::numbers`] (tested for every kind).
+    pub needs: Vec<f64>,
 }
 
 /// What an answer must be.

@@ -506,6 +506,15 @@ impl Lecture {
                         return;
                     };
                     ui.label(RichText::new(&ask.prompt).strong().size(24.0));
+                    if let Expected::Number { tolerance, .. } = ask.expected {
+                        ui.label(
+                            RichText::new(format!(
+                                "A number, {}",
+                                crate::quiz::tolerance_text(tolerance)
+                            ))
+                            .size(18.0),
+                        );
+                    }
                     ui.add_space(8.0);
                     let correct = ask.expected.correct_option();
                     for (index, option) in ask.expected.options().iter().enumerate() {
@@ -519,6 +528,9 @@ impl Lecture {
                         };
                         ui.label(text);
                     }
+                    ui.add_space(8.0);
+                    let step = session.step().min(question.asks.len().saturating_sub(1));
+                    crate::quiz::numbers_ui(ui, &question.numbers(step), Some(18.0));
                     if revealed {
                         ui.add_space(10.0);
                         if let Expected::Number { .. } = ask.expected {

@@ -470,6 +470,7 @@ impl QuizMode {
         ui.add_space(4.0);
         ui.label(&question.prompt);
         ui.add_space(6.0);
+        numbers_ui(ui, &question.numbers(session.step()), None);
         let Some(ask) = session.ask().cloned() else {
             return;
         };
@@ -482,8 +483,9 @@ impl QuizMode {
             return;
         }
         match &ask.expected {
-            Expected::Number { .. } => {
+            Expected::Number { tolerance, .. } => {
                 let mut submit = false;
+                let within = *tolerance;
                 ui.horizontal(|ui| {
                     let label = ui.label("Your answer:");
                     let field = ui
@@ -500,6 +502,8 @@ impl QuizMode {
                     if field.lost_focus() && ui.input(|input| input.key_pressed(Key::Enter)) {
                         submit = true;
                     }
+                    ui.label(tolerance_text(within))
+                        .on_hover_text("How far from the exact value an answer may be");
                     if ui.button("Check").clicked() {
                         submit = true;
                     }
@@ -881,4 +885,35 @@ fn finished_canvas_ui(ui: &mut Ui, session: &Session) {
             }),
         );
     });
+}
+
+/// How close a typed number must be, said by its field: `± 0.02`, or `exactly` for a count.
+pub fn tolerance_text(tolerance: f64) -> String {
+    if tolerance == 0.0 {
+        "exactly".to_owned()
+    } else {
+        format!("± {}", accelviz_quiz::num(tolerance))
+    }
+}
+
+/// The figure's numbers for the step asked (coordinates, boxes, perimeters: what an answer is
+/// worked out from, as [`accelviz_quiz::Question::numbers`] lists them), in a section open by
+/// default; `size` sets the text size (lecture mode's is larger).
+pub fn numbers_ui(ui: &mut Ui, lines: &[String], size: Option<f32>) {
+    if lines.is_empty() {
+        return;
+    }
+    egui::CollapsingHeader::new(RichText::new("The numbers").size(size.unwrap_or(14.0)))
+        .id_salt("the numbers")
+        .default_open(true)
+        .show(ui, |ui| {
+            for line in lines {
+                let text = RichText::new(line).monospace();
+                ui.label(match size {
+                    Some(size) => text.size(size),
+                    None => text,
+                });
+            }
+        });
+    ui.add_space(4.0);
 }

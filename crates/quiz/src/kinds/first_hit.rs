@@ -6,7 +6,7 @@ use glam::DVec2;
 use serde_json::{Map, json};
 
 use super::{Draft, tolerance};
-use crate::generate::{Gen, num, ray_json, shapes_json};
+use crate::generate::{Gen, num, ray_json, ray_numbers, shape_numbers, shapes_json};
 use crate::question::{Ask, Choice, Expected, Figure, Highlight, SceneFigure};
 
 /// Where `ray` first meets each shape, by shape number (`None`: it misses).
@@ -113,6 +113,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             ..Highlight::default()
         },
         frame: 0,
+        needs: Vec::new(),
     }];
     if let Some(hit) = hit {
         asks.push(Ask {
@@ -134,6 +135,11 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: [
+                ray_numbers(&ray),
+                shape_numbers(&shapes.shapes[hit.primitive as usize]),
+            ]
+            .concat(),
         });
     }
     let mut fields = Map::new();

@@ -8,7 +8,8 @@ use serde_json::json;
 use super::Draft;
 use super::first_hit::scene_and_ray;
 use crate::generate::{
-    AXES, Gen, Level, build, clear_steps, entered, final_hit, num, record, traversal_question,
+    AXES, Gen, Level, build, clear_steps, entered, final_hit, num, ray_numbers, record,
+    traversal_question,
 };
 use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node_label};
 
@@ -141,6 +142,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: at + 1,
+            needs: Vec::new(),
         });
         let mut order = [0, 1, 2, 3];
         generator.shuffle(&mut order);
@@ -179,12 +181,18 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 frame: Some(decided_at),
                 ..Highlight::default()
             },
-            frame: at + 1,
+            // Asked when the traversal comes to decide it, as the lecture's recursion does:
+            // once the near subtree is done, just before the far child's fate is shown.
+            frame: decided_at - 1,
+            needs: [ray_numbers(&ray), vec![split, t_near, t_far]].concat(),
         });
     }
     if asks.is_empty() {
         return None;
     }
+    // In traversal order: a cell's near child, its near subtree's questions, then its far
+    // child (a stable sort keeps each cell's near question before its far one).
+    asks.sort_by_key(|ask| ask.frame);
     let visited = entered(&steps);
     let hit = final_hit(&steps);
     let (fields, scene) = traversal_question(

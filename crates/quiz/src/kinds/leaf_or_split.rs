@@ -8,7 +8,7 @@ use accelviz_core::{Built, NoBuildObserver, SahCost, Structure, Width};
 use serde_json::{Map, json};
 
 use super::{Draft, tolerance, yes_no};
-use crate::generate::{AXES, Gen, Level, box_json, num, shapes_json};
+use crate::generate::{AXES, Gen, Level, box_json, num, shape_numbers, shapes_json};
 use crate::question::{Ask, Expected, Figure, Highlight, SceneFigure};
 
 pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
@@ -18,9 +18,11 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         Level::Hard => 4 + generator.index(5),
     };
     let shapes = generator.shapes(count);
+    // A shape's test costs other than 1, so the leaf's cost is worked out, not read off the
+    // shape count.
     let cost = SahCost {
         traversal_cost: [0.5, 1.0, 2.0, 3.0][generator.index(4)],
-        intersection_cost: 1.0,
+        intersection_cost: [0.5, 1.5, 2.0][generator.index(3)],
         ..SahCost::default()
     };
     let boxes: Vec<_> = shapes.shapes.iter().map(|shape| shape.bounds()).collect();
@@ -79,6 +81,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             ),
             highlight: Highlight::default(),
             frame: 0,
+            needs: vec![count as f64, cost.intersection_cost],
         },
         Ask {
             prompt: format!(
@@ -100,6 +103,10 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: [cost.traversal_cost, cost.intersection_cost]
+                .into_iter()
+                .chain(shapes.shapes.iter().flat_map(shape_numbers))
+                .collect(),
         },
         Ask {
             prompt: "Does the SAH builder keep this node a leaf?".into(),
@@ -113,6 +120,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: Vec::new(),
         },
     ];
     let mut fields = Map::new();

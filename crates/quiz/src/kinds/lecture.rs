@@ -124,6 +124,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             explanation: "Along the ray, the near child's part comes before the far child's. A hit found there lies before anything on the far side, so the pseudo-code's `If(no intersection)` can skip the far side: near first finds the closest hit and does the least work.".into(),
             highlight: Highlight::default(),
             frame: 0,
+            needs: Vec::new(),
         },
         Ask {
             prompt: "What happens if we just traverse in file order (the order nodes happen to be in memory), keeping the pseudo-code's `If(no intersection)`?".into(),
@@ -131,6 +132,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             explanation: "The far child is searched only if the near one gave no intersection. In file order the child searched first may be the far one along the ray: a hit there ends the search, though a nearer hit waits in the other child.".into(),
             highlight: Highlight::default(),
             frame: 0,
+            needs: Vec::new(),
         },
         Ask {
             prompt: "Here is that traversal on this kD-tree, children in file order (the one below the plane first). Which shape does it return?".into(),
@@ -158,6 +160,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: Vec::new(),
         },
         Ask {
             prompt: "A variant keeps file order but, instead of the `If(no intersection)` rule, searches every side and skips a waiting one only when it starts beyond the closest hit found so far. What does it return here?".into(),
@@ -178,6 +181,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: file_steps.len(),
+            needs: Vec::new(),
         },
     ];
     let (fields, scene) = traversal_question(

@@ -9,7 +9,8 @@ use super::Draft;
 use super::first_hit::scene_and_ray;
 use super::visit_order::bvh_structure;
 use crate::generate::{
-    Gen, Level, build, clear_steps, entered, final_hit, num, record, traversal_question,
+    Gen, Level, box_numbers, build, clear_steps, entered, final_hit, num, ray_numbers, record,
+    traversal_question,
 };
 use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node_label};
 
@@ -72,6 +73,11 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             .join(", ")
     };
     // Which node is skipped, and why, before the counts: their explanations list the nodes.
+    // What the counts are worked out from: the ray and every node's box.
+    let needs: Vec<f64> = ray_numbers(&ray)
+        .into_iter()
+        .chain((0..facts.node_count()).flat_map(|node| box_numbers(&facts.bounds[node])))
+        .collect();
     let asks = vec![
         Ask {
             prompt: "Which of these nodes does file order enter but near first skip?".into(),
@@ -86,15 +92,17 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                     .collect(),
                 correct,
             },
+            // Only the node asked about: which others each order enters is for the counts.
             explanation: format!(
-                "Near first skips {} (of the nodes file order enters); the others listed are entered by both.",
-                list(&skipped)
+                "File order enters node {label}, near first does not: why comes next.",
+                label = node_label(facts, asked)
             ),
             highlight: Highlight {
-                nodes: skipped.clone(),
+                nodes: vec![asked],
                 ..Highlight::default()
             },
             frame: 0,
+            needs: Vec::new(),
         },
         Ask {
             prompt: format!(
@@ -130,6 +138,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: Vec::new(),
         },
         Ask {
             prompt: "How many nodes does near-first traversal enter (the root included)?".into(),
@@ -144,6 +153,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: needs.clone(),
         },
         Ask {
             prompt: "How many nodes does file-order traversal enter?".into(),
@@ -163,6 +173,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs,
         },
     ];
     let (fields, scene) = traversal_question(

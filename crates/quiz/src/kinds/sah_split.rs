@@ -130,6 +130,15 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: vec![
+                cost.traversal_cost,
+                cost.intersection_cost,
+                candidates[asked].area_left,
+                candidates[asked].area_right,
+                curve.area,
+                candidates[asked].count_left as f64,
+                candidates[asked].count_right as f64,
+            ],
         },
         Ask {
             prompt: "Which candidate split does the SAH builder choose?".into(),
@@ -148,6 +157,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: Vec::new(),
         },
         Ask {
             prompt: "Which split does the middle rule choose?".into(),
@@ -165,6 +175,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: Vec::new(),
         },
         Ask {
             prompt: "Which split does the median rule choose?".into(),
@@ -181,6 +192,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: Vec::new(),
         },
     ];
     let mut fields = Map::new();

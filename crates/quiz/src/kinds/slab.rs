@@ -74,7 +74,14 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     let mut sorted = slabs.t_near.clone();
     sorted.sort_by(f64::total_cmp);
     let clear_winner = sorted[dimensions - 1] - sorted[dimensions - 2] > 0.1;
-    if inside || slabs.t_enter < 0.0 || !clear_winner || (slabs.t_exit - slabs.t_enter).abs() < 0.1
+    // And t_exit is not one of the t_near values t_enter's explanation lists (it would read as
+    // given away).
+    let exit_listed = slabs.t_near.iter().any(|t| num(*t) == num(slabs.t_exit));
+    if inside
+        || slabs.t_enter < 0.0
+        || !clear_winner
+        || (slabs.t_exit - slabs.t_enter).abs() < 0.1
+        || exit_listed
     {
         return None;
     }
@@ -125,6 +132,12 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         .iter()
         .map(|name| Choice::text(*name))
         .collect();
+    // What the intervals are worked out from: the box and the ray.
+    let needs: Vec<f64> = [&min, &max, &origin, &direction]
+        .into_iter()
+        .flatten()
+        .copied()
+        .collect();
     // In this order each explanation gives away no later step's answer: the axis (in words),
     // then t_enter (with every t_near), t_exit (with every t_far), and the verdict.
     let asks = vec![
@@ -144,6 +157,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: Vec::new(),
         },
         Ask {
             prompt: "What is t_enter?".into(),
@@ -162,6 +176,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: needs.clone(),
         },
         Ask {
             prompt: "What is t_exit?".into(),
@@ -187,6 +202,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: needs.clone(),
         },
         Ask {
             prompt: "Does the ray hit the box?".into(),
@@ -204,6 +220,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 ..Highlight::default()
             },
             frame: 0,
+            needs: Vec::new(),
         },
     ];
     let mut fields = Map::new();

@@ -8,7 +8,8 @@ use serde_json::json;
 use super::Draft;
 use super::first_hit::{scene_and_ray, shape_options};
 use crate::generate::{
-    Gen, Level, build, clear_steps, entered, final_hit, num, record, traversal_question,
+    Gen, Level, box_numbers, build, clear_steps, entered, final_hit, num, ray_numbers, record,
+    traversal_question,
 };
 use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node_label};
 
@@ -162,6 +163,12 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 previous = Some(node);
                 continue;
             }
+            // The figure as it stands before this step's own tests: the box tests (and culls)
+            // that decide which node comes next are not drawn, or they would paint the answer.
+            let asked_at = steps[..at]
+                .iter()
+                .rposition(|step| !matches!(step, Step::BoxTested { .. } | Step::NodeCulled { .. }))
+                .map_or(0, |before| before + 1);
             asks.push(Ask {
                 prompt: format!(
                     "Which node does the traversal ({}) enter next?",
@@ -184,7 +191,15 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                     frame: Some(at + 1),
                     ..Highlight::default()
                 },
-                frame: at,
+                frame: asked_at,
+                needs: ray_numbers(&ray)
+                    .into_iter()
+                    .chain(
+                        options
+                            .iter()
+                            .flat_map(|option| box_numbers(&facts.bounds[*option as usize])),
+                    )
+                    .collect(),
             });
         }
         entered_so_far.push(node);
@@ -216,6 +231,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             .iter()
             .rposition(|step| matches!(step, Step::NodeEntered { .. }))
             .map_or(0, |at| at + 1),
+        needs: Vec::new(),
     });
     let order_value = json!(order_name(order));
     let (mut fields, scene) = traversal_question(shapes, ray, figure);

@@ -1,0 +1,180 @@
+//! A quiz is only as fair as what it shows. For every kind over hundreds of seeds: every number
+//! a step's answer is worked out from is on screen before the step is asked (in the figure's
+//! numbers as they stand at that step, the question's prompt or a prompt so far), and nothing
+//! said before a step (the prompts so far, the explanations of the steps before it) holds a
+//! numeric answer.
+
+use accelviz_quiz::{Expected, KINDS, Level, generate, num};
+
+const SEEDS_PER_LEVEL: u64 = 120;
+
+/// The numbers written in `text`, as `num` writes them (`−1.5`, `0.375`, `12`), leaving out
+/// labels (a shape's or a node's number, the lists of a leaf's shapes) and words (`2D`).
+fn numbers_in(text: &str) -> Vec<String> {
+    let mut found = Vec::new();
+    let mut current = String::new();
+    let mut in_list = false;
+    let mut label = false;
+    let chars: Vec<char> = text.chars().collect();
+    for (at, &c) in chars.iter().enumerate() {
+        let starts_number = (c == '−' || c == '-')
+            && chars.get(at + 1).is_some_and(|next| next.is_ascii_digit())
+            && current.is_empty();
+        if c.is_ascii_digit() || (c == '.' && !current.is_empty()) || starts_number {
+            if current.is_empty() {
+                let before: String = chars[..at].iter().collect();
+                label = before.ends_with("shape ") || before.ends_with("node ");
+            }
+            current.push(c);
+            continue;
+        }
+        if !current.is_empty() {
+            let number = current.trim_end_matches('.').replace('-', "−");
+            if !label && !in_list && !c.is_alphabetic() {
+                found.push(number);
+            }
+            current.clear();
+        }
+        if c == '[' {
+            let before: String = chars[..at].iter().collect();
+            in_list = before.ends_with("shapes ");
+        } else if c == ']' {
+            in_list = false;
+        }
+    }
+    if !current.is_empty() && !label && !in_list {
+        found.push(current.trim_end_matches('.').replace('-', "−"));
+    }
+    found
+}
+
+#[test]
+fn numbers_are_read_as_written() {
+    assert_eq!(
+        numbers_in("in 2D, t in [0.3, −1.5]; shape 4 at t = 2. shapes [0, 4], node 7 (x = -2)"),
+        ["0.3", "−1.5", "2", "−2"]
+    );
+}
+
+#[test]
+fn every_number_a_step_needs_is_shown_before_it() {
+    for entry in KINDS {
+        for level in Level::ALL {
+            for seed in 0..SEEDS_PER_LEVEL {
+                let question = generate(entry.name, seed, level).unwrap_or_else(|error| {
+                    panic!("{}: {error}", entry.name);
+                });
+                for (step, ask) in question.asks.iter().enumerate() {
+                    if matches!(ask.expected, Expected::Number { .. }) {
+                        assert!(
+                            !ask.needs.is_empty(),
+                            "{} seed {seed} {level:?} step {}: a number asked with nothing it is worked out from",
+                            entry.name,
+                            step + 1
+                        );
+                    }
+                    let mut shown = question.numbers(step).join("\n");
+                    shown.push('\n');
+                    shown.push_str(&question.prompt);
+                    for earlier in &question.asks[..=step] {
+                        shown.push('\n');
+                        shown.push_str(&earlier.prompt);
+                    }
+                    let on_screen = numbers_in(&shown);
+                    for need in &ask.needs {
+                        assert!(
+                            on_screen.contains(&num(*need)),
+                            "{} seed {seed} {level:?} step {} needs {} but it is not shown:\n{shown}",
+                            entry.name,
+                            step + 1,
+                            num(*need)
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn nothing_said_before_a_step_holds_its_answer() {
+    for entry in KINDS {
+        for level in Level::ALL {
+            for seed in 0..SEEDS_PER_LEVEL {
+                let question = generate(entry.name, seed, level).unwrap();
+                for (step, ask) in question.asks.iter().enumerate() {
+                    let Expected::Number { value, .. } = ask.expected else {
+                        continue;
+                    };
+                    let mut said = question.prompt.clone();
+                    for earlier in &question.asks[..step] {
+                        said.push('\n');
+                        said.push_str(&earlier.prompt);
+                        said.push('\n');
+                        said.push_str(&earlier.explanation);
+                    }
+                    said.push('\n');
+                    said.push_str(&ask.prompt);
+                    assert!(
+                        !numbers_in(&said).contains(&num(value)),
+                        "{} seed {seed} {level:?} step {}: its answer {} is said before it is asked:\n{said}",
+                        entry.name,
+                        step + 1,
+                        num(value)
+                    );
+                }
+            }
+        }
+    }
+}
+
+/// While a step that names nodes is asked, the figure stops before the tests that decide
+/// between them: no box test, cull or missed cell of an option's node since the last node
+/// entered is drawn (it would paint the answer red or green).
+#[test]
+fn no_figure_shows_a_steps_own_tests_before_it_is_asked() {
+    use accelviz_core::Step;
+    use accelviz_quiz::Figure;
+    for entry in KINDS {
+        for level in Level::ALL {
+            for seed in 0..SEEDS_PER_LEVEL {
+                let question = generate(entry.name, seed, level).unwrap();
+                let Figure::Scene(scene) = &question.figure else {
+                    continue;
+                };
+                let Some(tree) = &scene.tree else {
+                    continue;
+                };
+                for (step, ask) in question.asks.iter().enumerate() {
+                    let nodes: Vec<u32> = ask
+                        .expected
+                        .options()
+                        .iter()
+                        .filter_map(|option| option.node)
+                        .collect();
+                    let shown = &tree.steps[..ask.frame];
+                    let since_entered = shown
+                        .iter()
+                        .rposition(|step| {
+                            matches!(step, Step::NodeEntered { .. } | Step::CellEntered { .. })
+                        })
+                        .map_or(shown, |at| &shown[at + 1..]);
+                    for shown_step in since_entered {
+                        let tested = match *shown_step {
+                            Step::BoxTested { node, .. }
+                            | Step::NodeCulled { node, .. }
+                            | Step::CellMissed { node } => node,
+                            _ => continue,
+                        };
+                        assert!(
+                            !nodes.contains(&tested),
+                            "{} seed {seed} {level:?} step {}: {shown_step:?} is drawn before it is asked",
+                            entry.name,
+                            step + 1
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
