@@ -5,6 +5,10 @@ use accelviz_core::{Aabb, Shape};
 use egui::{Align2, Color32, FontId, Pos2, Rect, Response, Sense, Stroke, StrokeKind, Vec2};
 use glam::DVec2;
 
+/// The plate under canvas text: dark enough that a label's colour reads at 4.5:1 or better
+/// whatever is drawn below (a green label over a green hit shape included).
+pub const PLATE: Color32 = Color32::from_black_alpha(215);
+
 /// Where the world sits on screen: the world point at the canvas's centre and the zoom.
 /// World y points up, screen y down.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -212,8 +216,7 @@ impl Canvas {
         );
         let pos = self.rect.right_bottom() - Vec2::new(10.0, 8.0) - galley.size();
         let backing = Rect::from_min_size(pos, galley.size()).expand(3.0);
-        self.painter
-            .rect_filled(backing, 3.0, Color32::from_black_alpha(150));
+        self.painter.rect_filled(backing, 3.0, PLATE);
         self.painter.galley(pos, galley, Color32::from_gray(220));
     }
 
@@ -460,7 +463,7 @@ impl Canvas {
                 -first + tangent * 30.0,
                 -first - tangent * 30.0,
             ],
-            Some(Color32::from_black_alpha(150)),
+            Some(PLATE),
         )
     }
 
@@ -493,8 +496,7 @@ impl Canvas {
                 self.painter
                     .layout(text.clone(), font(self.painter.ctx(), 14.0), *color, width);
             let backing = Rect::from_min_size(pos, galley.size()).expand(3.0);
-            self.painter
-                .rect_filled(backing, 3.0, Color32::from_black_alpha(150));
+            self.painter.rect_filled(backing, 3.0, PLATE);
             let height = galley.size().y;
             self.painter.galley(pos, galley, *color);
             pos.y += height + 6.0;

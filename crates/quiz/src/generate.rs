@@ -296,6 +296,31 @@ pub(crate) fn clear_steps(steps: &[Step<f64>]) -> bool {
     true
 }
 
+/// How near a ray may pass a kD cell's corner (where a split line ends) and still be drawn: a
+/// few pixels of the quiz figure at its default size (the scene's 23 units across about
+/// 700 pixels). Nearer, which child the ray enters first turns on a sliver the figure cannot
+/// show.
+pub(crate) const CORNER_CLEARANCE: f64 = 0.1;
+
+/// True when `ray` (from its origin on) passes within [`CORNER_CLEARANCE`] of a corner of any
+/// cell of `built` (a kD-tree's cells; a BVH's boxes).
+pub(crate) fn grazes_a_corner(built: &Built<DVec2>, ray: &Ray<DVec2>) -> bool {
+    let direction = ray.direction.normalize();
+    built.facts.bounds.iter().any(|cell| {
+        [
+            cell.min,
+            cell.max,
+            DVec2::new(cell.min.x, cell.max.y),
+            DVec2::new(cell.max.x, cell.min.y),
+        ]
+        .into_iter()
+        .any(|corner| {
+            let along = (corner - ray.origin).dot(direction).max(0.0);
+            (ray.origin + direction * along).distance(corner) < CORNER_CLEARANCE
+        })
+    })
+}
+
 /// The closest hit at the end of the steps: (shape, t).
 pub(crate) fn final_hit(steps: &[Step<f64>]) -> Option<(u32, f64)> {
     steps.iter().rev().find_map(|step| match step {

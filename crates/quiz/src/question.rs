@@ -1,7 +1,7 @@
 //! What a generated question holds: its figure, its steps with their answers and
 //! explanations, and its JSON for the CLI.
 
-use accelviz_core::{Aabb, Built, Order, Ray, ShapeSet, Step};
+use accelviz_core::{Aabb, Built, Order, Query, Ray, ShapeSet, Step};
 use glam::DVec2;
 use serde_json::{Map, Value};
 
@@ -183,6 +183,8 @@ pub struct TreeFigure {
     pub built: Built<DVec2>,
     /// The order the recorded traversal used.
     pub order: Order,
+    /// What it searched for: the closest hit, or by the lecture's pseudo-code's rule.
+    pub query: Query,
     /// The traversal's steps, as the core's `Recorder` recorded them.
     pub steps: Vec<Step<f64>>,
     /// Whether nodes are shown only once the traversal has reached them (their parent was
@@ -502,6 +504,8 @@ pub struct Highlight {
     pub axis: Option<usize>,
     /// A point on the ray, by its `t`.
     pub t: Option<f64>,
+    /// What that point is, as the figure labels it (`plane, t = 1.125`; empty: `t = …`).
+    pub t_label: String,
     /// A candidate split to mark (its index in [`SceneFigure::candidates`]).
     pub candidate: Option<usize>,
     /// How many traversal steps to show with the explanation (the step just asked about

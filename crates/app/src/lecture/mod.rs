@@ -559,6 +559,7 @@ impl Lecture {
             frame,
             exercise: session.exercise(),
             tree: self.tree.as_ref(),
+            picked: None,
         };
         egui::CentralPanel::default().show(ui, |ui| {
             figure_ui(ui, &mut self.view, &mut self.view3d, &state);

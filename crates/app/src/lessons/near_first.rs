@@ -39,7 +39,7 @@ const QUESTIONS: [(&str, &str); 2] = [
     ),
     (
         "What happens if we just traverse in file order?",
-        "The order in memory has nothing to do with the ray: file order opens the far side first whenever the ray runs against it. Its hits are found, then beaten by a nearer one, and the far side's work was wasted. Both orders give the same answer; only the cost differs, and near first never depends on luck.",
+        "The order in memory has nothing to do with the ray: file order opens the far side first whenever the ray runs against it. With the slide's `If(no intersection)`, a hit there ends the search, so file order can return a hit that is not the closest (the quiz shows one). These panes cull by the closest hit instead: every waiting side is still searched unless it starts beyond the hit, so both orders find the same hit, and file order pays for it in wasted work. Near first never depends on luck.",
     ),
 ];
 

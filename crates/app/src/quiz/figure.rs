@@ -14,7 +14,7 @@ use glam::{DVec2, DVec3};
 use crate::canvas::{Canvas, View2d, depth_color, faded, palette};
 use crate::stage::SceneTree;
 use crate::views::number_lines::{IntervalRow, number_lines_height, number_lines_ui};
-use crate::views::scene_view::{draw_ray, draw_tested_shapes};
+use crate::views::scene_view::{draw_ray_colored, draw_tested_shapes};
 use crate::views::tree_view::{TreeLook, draw_tree, light, node_outline};
 
 /// What the figure shows this frame.
@@ -32,6 +32,8 @@ pub struct FigureState<'a> {
     pub exercise: Option<&'a BuildExercise>,
     /// The question's tree, wrapped for the shared tree drawing.
     pub tree: Option<&'a SceneTree>,
+    /// The option the student picked, once answered (a wrong one is marked in the figure).
+    pub picked: Option<usize>,
 }
 
 /// The question's tree as the shared drawing wants it.
@@ -90,11 +92,14 @@ pub fn figure_ui(
     }
 }
 
+/// The step's highlight, once answered, and only once the traversal shown has reached what it
+/// marks (in the review of a mistake, stepping back hides it again).
 fn highlight<'a>(state: &'a FigureState) -> Option<&'a Highlight> {
     state
         .revealed
         .then(|| state.ask.map(|ask| &ask.highlight))
         .flatten()
+        .filter(|lit| lit.frame.is_none_or(|frame| state.frame >= frame))
 }
 
 /// The option whose node, shape or split lies under a click.
@@ -323,15 +328,81 @@ fn scene_ui(
         };
         canvas.label(end, &format!("({})", option_letter(index)), color);
     }
-    // The ray: solid up to the closest hit so far.
+    // The ray: solid up to the hit so far, labelled for what it is; the point the answer
+    // marks, labelled for what it is (a plane crossing is no hit).
     if let Some(ray) = &scene.ray {
         let closest = crate::trace::closest_so_far(steps).map(|(_, t)| t);
-        draw_ray(canvas, ray, lit.and_then(|lit| lit.t).or(closest));
-        if let Some(t) = lit.and_then(|lit| lit.t) {
-            canvas.ray_mark(ray.origin, ray.direction, t, palette::HIT, "", 0.0);
+        let finished = figure_tree.is_some_and(|tree| steps.len() == tree.steps.len());
+        let hit_label = match figure_tree.map(|tree| tree.query) {
+            Some(accelviz_core::Query::FirstInCell) => "hit found",
+            _ if finished => "closest",
+            _ => "closest so far",
+        };
+        let lit_point = lit.and_then(|lit| {
+            let t = lit.t?;
+            let label = if lit.t_label.is_empty() {
+                format!("t = {}", accelviz_quiz::num(t))
+            } else {
+                lit.t_label.clone()
+            };
+            Some((t, label))
+        });
+        match lit_point {
+            // The marked point is the hit so far: one mark, with the answer's words.
+            Some((t, label)) if Some(t) == closest => {
+                draw_ray_colored(canvas, ray, closest, palette::RAY, &label);
+            }
+            _ => {
+                draw_ray_colored(canvas, ray, closest, palette::RAY, hit_label);
+                if let Some((t, label)) = lit_point {
+                    canvas.ray_mark_labeled(
+                        ray.origin,
+                        ray.direction,
+                        t,
+                        palette::CURRENT,
+                        &label,
+                        -1.0,
+                    );
+                }
+            }
         }
     }
+    wrong_pick_ui(canvas, state, scene);
     clicked_option(canvas, state, &scene.shapes, &scene.candidates, &cell)
+}
+
+/// A wrong pick, once answered, marked where it is in the figure (its node, shape or split)
+/// beside the right answer's highlight, so the student sees what they chose.
+fn wrong_pick_ui(canvas: &Canvas, state: &FigureState, scene: &accelviz_quiz::SceneFigure) {
+    let (Some(ask), Some(chosen), true) = (state.ask, state.picked, state.revealed) else {
+        return;
+    };
+    if ask
+        .expected
+        .accepts(&accelviz_quiz::Response::Choice(chosen))
+    {
+        return;
+    }
+    let Some(option) = ask.expected.options().get(chosen) else {
+        return;
+    };
+    let stroke = Stroke::new(3.0, palette::MISS);
+    if let (Some(node), Some(tree)) = (option.node, state.tree) {
+        node_outline(canvas, tree, node, stroke, None);
+        let bounds = &tree.built.facts.bounds[node as usize];
+        canvas.label(bounds.max, "your pick", palette::MISS);
+    } else if let Some(shape) = option
+        .shape
+        .and_then(|shape| scene.shapes.shapes.get(shape as usize))
+    {
+        canvas.shape(shape, faded(palette::MISS, 60), stroke);
+        canvas.label(shape.bounds().max, "your pick", palette::MISS);
+    } else if scene.candidates.len() == ask.expected.options().len()
+        && let (Some((axis, position)), Some((cell, _))) =
+            (scene.candidates.get(chosen), &scene.node)
+    {
+        canvas.split_line(cell, *axis, *position, stroke);
+    }
 }
 
 fn build_ui(
@@ -650,4 +721,31 @@ fn list(values: &[f64]) -> String {
         .map(|value| accelviz_quiz::num(*value))
         .collect::<Vec<_>>()
         .join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    #[allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
+    fn a_review_lights_the_answer_only_once_the_traversal_reaches_it() {
+        let question =
+            accelviz_quiz::generate("visit-order", 1, accelviz_quiz::Level::Easy).unwrap();
+        // The last step: the closest hit, lit at the traversal's end.
+        let ask = question.asks.last().unwrap();
+        let lit_at = ask.highlight.frame.unwrap();
+        let state = |frame| FigureState {
+            question: &question,
+            ask: Some(ask),
+            revealed: true,
+            frame,
+            exercise: None,
+            tree: None,
+            picked: None,
+        };
+        assert!(highlight(&state(0)).is_none());
+        assert!(highlight(&state(lit_at - 1)).is_none());
+        assert!(highlight(&state(lit_at)).is_some());
+    }
 }

@@ -330,11 +330,11 @@ impl QuizMode {
             return;
         };
         let question = &session.questions()[index];
-        let (ask, revealed, frame, exercise) = match self.review {
+        let (ask, revealed, frame, exercise, response) = match self.review {
             Some(review) => {
                 let mistake = session.mistakes()[review.mistake];
                 let ask = session.asks_of(mistake.question).get(mistake.step);
-                (ask, true, review.frame, None)
+                (ask, true, review.frame, None, Some(mistake.response))
             }
             None => {
                 let ask = session.ask();
@@ -346,7 +346,8 @@ impl QuizMode {
                         ask.frame
                     }
                 });
-                (ask, revealed, frame, session.exercise())
+                let response = session.verdict().map(|verdict| verdict.response);
+                (ask, revealed, frame, session.exercise(), response)
             }
         };
         let state = FigureState {
@@ -356,6 +357,10 @@ impl QuizMode {
             frame,
             exercise,
             tree: self.tree.as_ref(),
+            picked: match response {
+                Some(Response::Choice(chosen)) => Some(chosen),
+                _ => None,
+            },
         };
         let picked = figure_ui(ui, &mut self.view, &mut self.view3d, &state);
         if let Some(option) = picked {

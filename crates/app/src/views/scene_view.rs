@@ -95,7 +95,8 @@ pub fn draw_ray_colored(
             Stroke::new(1.5, faded(color, 70)),
         );
         canvas.ray(ray.origin, ray.direction, t, Stroke::new(2.5, color));
-        canvas.ray_mark(ray.origin, ray.direction, t, palette::HIT, hit_label, 2.0);
+        // Beside the ray on a dark plate, not on the hit shape (green on green).
+        canvas.ray_mark_labeled(ray.origin, ray.direction, t, palette::HIT, hit_label, 1.0);
     } else {
         canvas.ray(ray.origin, ray.direction, t_end, Stroke::new(2.5, color));
     }

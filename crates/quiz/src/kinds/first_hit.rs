@@ -110,6 +110,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         highlight: Highlight {
             shapes: hit.map(|hit| vec![hit.primitive]).unwrap_or_default(),
             t: hit.map(|hit| hit.t),
+            t_label: hit.map_or_else(String::new, |hit| format!("closest, t = {}", num(hit.t))),
             ..Highlight::default()
         },
         frame: 0,
@@ -132,6 +133,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             highlight: Highlight {
                 shapes: vec![hit.primitive],
                 t: Some(hit.t),
+                t_label: format!("shape {}, t = {}", hit.primitive, num(hit.t)),
                 ..Highlight::default()
             },
             frame: 0,

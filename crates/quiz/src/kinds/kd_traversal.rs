@@ -2,14 +2,14 @@
 //! far child visited (the ray reaches the plane inside the cell, and no hit was found before
 //! it)? The steps are the core's kD traversal, recorded.
 
-use accelviz_core::{Order, Step, Structure};
+use accelviz_core::{Order, Query, Step, Structure};
 use serde_json::json;
 
 use super::Draft;
 use super::first_hit::scene_and_ray;
 use crate::generate::{
-    AXES, Gen, Level, build, clear_steps, entered, final_hit, num, ray_numbers, record,
-    traversal_question,
+    AXES, Gen, Level, build, clear_steps, entered, final_hit, grazes_a_corner, num, ray_numbers,
+    record, traversal_question,
 };
 use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node_label};
 
@@ -34,7 +34,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     let leaf_size = if generator.level == Level::Easy { 1 } else { 2 };
     let built = build(structure, &shapes, leaf_size);
     let steps = record(&built, &shapes, &ray, Order::NearFirst);
-    if !clear_steps(&steps) {
+    if !clear_steps(&steps) || grazes_a_corner(&built, &ray) {
         return None;
     }
     let facts = &built.facts;
@@ -178,6 +178,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             highlight: Highlight {
                 nodes: vec![far],
                 t: Some(t_plane),
+                t_label: format!("plane, t = {}", num(t_plane)),
                 frame: Some(decided_at),
                 ..Highlight::default()
             },
@@ -201,6 +202,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         TreeFigure {
             built,
             order: Order::NearFirst,
+            query: Query::Closest,
             steps,
             reveal_as_reached: false,
         },

@@ -12,7 +12,7 @@ use serde_json::json;
 use super::Draft;
 use super::first_hit::{scene_and_ray, shape_name, shape_options};
 use crate::generate::{
-    Gen, Level, build, clear_steps, entered, final_hit, num, record, record_query,
+    Gen, Level, build, clear_steps, entered, final_hit, grazes_a_corner, num, record, record_query,
     traversal_question,
 };
 use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node_label};
@@ -65,6 +65,9 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     };
     let leaf_size = if generator.level == Level::Easy { 1 } else { 2 };
     let built = build(structure, &shapes, leaf_size);
+    if grazes_a_corner(&built, &ray) {
+        return None;
+    }
     // A ray starting in a split plane visits both sides there: a case for another question.
     let origin = ray.origin.to_array();
     if (0..built.facts.node_count() as u32)
@@ -156,6 +159,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 nodes: file.clone(),
                 shapes: vec![stopped_at],
                 t: Some(t_stopped),
+                t_label: format!("file order stops, t = {}", num(t_stopped)),
                 frame: Some(file_steps.len()),
                 ..Highlight::default()
             },
@@ -177,6 +181,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             highlight: Highlight {
                 shapes: vec![closest],
                 t: Some(t_closest),
+                t_label: format!("closest, t = {}", num(t_closest)),
                 frame: Some(file_steps.len()),
                 ..Highlight::default()
             },
@@ -190,6 +195,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         TreeFigure {
             built,
             order: Order::FileOrder,
+            query: Query::FirstInCell,
             steps: file_steps,
             reveal_as_reached: false,
         },

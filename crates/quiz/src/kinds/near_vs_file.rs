@@ -2,7 +2,7 @@
 //! skips and why. Both traversals are the core's, recorded; near first's saving is the
 //! lecture's answer to "why first do the near side?".
 
-use accelviz_core::{Order, Step};
+use accelviz_core::{Order, Query, Step};
 use serde_json::json;
 
 use super::Draft;
@@ -134,6 +134,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 nodes: vec![asked],
                 shapes: vec![hit.0],
                 t: Some(hit.1),
+                t_label: format!("closest, t = {}", num(hit.1)),
                 frame: Some(near_frames),
                 ..Highlight::default()
             },
@@ -182,6 +183,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         TreeFigure {
             built,
             order: Order::NearFirst,
+            query: Query::Closest,
             steps: near_steps,
             reveal_as_reached: false,
         },

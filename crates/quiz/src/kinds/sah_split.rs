@@ -178,7 +178,16 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             needs: Vec::new(),
         },
         Ask {
-            prompt: "Which split does the median rule choose?".into(),
+            // With an odd count two splits are "half and half": say which one the rule takes.
+            prompt: if curve.count % 2 == 1 {
+                format!(
+                    "Which split does the median rule choose? ({} shapes: the left side takes {}, the extra one goes right.)",
+                    curve.count,
+                    curve.count / 2
+                )
+            } else {
+                "Which split does the median rule choose?".into()
+            },
             expected: Expected::Choice {
                 options,
                 correct: median_index,

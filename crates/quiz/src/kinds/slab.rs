@@ -172,6 +172,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             highlight: Highlight {
                 axis: Some(enter_axis),
                 t: Some(slabs.t_enter),
+                t_label: format!("t_enter = {}", num(slabs.t_enter)),
                 marks: slabs.t_near.clone(),
                 ..Highlight::default()
             },
@@ -198,6 +199,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             highlight: Highlight {
                 axis: Some(exit_axis),
                 t: Some(slabs.t_exit),
+                t_label: format!("t_exit = {}", num(slabs.t_exit)),
                 marks: slabs.t_near.iter().chain(&slabs.t_far).copied().collect(),
                 ..Highlight::default()
             },
@@ -215,6 +217,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             ),
             highlight: Highlight {
                 t: Some(slabs.t_enter),
+                t_label: format!("t_enter = {}", num(slabs.t_enter)),
                 marks: slabs.t_near.iter().chain(&slabs.t_far).copied().collect(),
                 intervals: true,
                 ..Highlight::default()

@@ -2,7 +2,7 @@
 //! which one comes next (OpenDSA's order-reproduction exercises, with child boxes revealed
 //! only once the traversal reaches them). The steps are the core's traversal, recorded.
 
-use accelviz_core::{Order, Step, Structure, Width};
+use accelviz_core::{Order, Query, Step, Structure, Width};
 use serde_json::json;
 
 use super::Draft;
@@ -135,6 +135,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     let figure = TreeFigure {
         built,
         order,
+        query: Query::Closest,
         steps: steps.clone(),
         reveal_as_reached: true,
     };
@@ -223,6 +224,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         highlight: Highlight {
             shapes: hit.map(|(shape, _)| vec![shape]).unwrap_or_default(),
             t: hit.map(|(_, t)| t),
+            t_label: hit.map_or_else(String::new, |(_, t)| format!("closest, t = {}", num(t))),
             frame: Some(steps.len()),
             ..Highlight::default()
         },

@@ -178,3 +178,87 @@ fn no_figure_shows_a_steps_own_tests_before_it_is_asked() {
         }
     }
 }
+
+/// A kD question's ray passes no cell corner (where a split line ends) within a few pixels of
+/// the figure at its default size: which child it enters first must be visible.
+#[test]
+fn kd_rays_pass_clear_of_cell_corners() {
+    use accelviz_quiz::Figure;
+    for kind in ["kd-traversal", "lecture"] {
+        for level in Level::ALL {
+            for seed in 0..SEEDS_PER_LEVEL {
+                let question = generate(kind, seed, level).unwrap();
+                let Figure::Scene(scene) = &question.figure else {
+                    panic!("{kind}: a scene")
+                };
+                let (Some(tree), Some(ray)) = (&scene.tree, &scene.ray) else {
+                    panic!("{kind}: a tree and a ray")
+                };
+                let (origin, direction) = (ray.origin, ray.direction / ray.direction.length());
+                for cell in &tree.built.facts.bounds {
+                    for (x, y) in [
+                        (cell.min.x, cell.min.y),
+                        (cell.min.x, cell.max.y),
+                        (cell.max.x, cell.min.y),
+                        (cell.max.x, cell.max.y),
+                    ] {
+                        let (dx, dy) = (x - origin.x, y - origin.y);
+                        let along = (dx * direction.x + dy * direction.y).max(0.0);
+                        let (px, py) = (dx - along * direction.x, dy - along * direction.y);
+                        assert!(
+                            (px * px + py * py).sqrt() >= 0.1,
+                            "{kind} seed {seed} {level:?}: the ray passes ({x}, {y}) within {}",
+                            (px * px + py * py).sqrt()
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// A point the figure lights with an answer is labelled for what it is: "closest" only where
+/// the ray's closest hit is, a plane crossing as a plane.
+#[test]
+fn lit_points_are_labelled_for_what_they_are() {
+    use accelviz_quiz::Figure;
+    for entry in KINDS {
+        for level in Level::ALL {
+            for seed in 0..SEEDS_PER_LEVEL {
+                let question = generate(entry.name, seed, level).unwrap();
+                let Figure::Scene(scene) = &question.figure else {
+                    continue;
+                };
+                let Some(ray) = &scene.ray else {
+                    continue;
+                };
+                let closest = scene
+                    .shapes
+                    .shapes
+                    .iter()
+                    .filter_map(|shape| shape.intersect(ray, 0.0, f64::INFINITY))
+                    .fold(f64::INFINITY, f64::min);
+                for ask in &question.asks {
+                    let lit = &ask.highlight;
+                    let Some(t) = lit.t else { continue };
+                    if lit.t_label.starts_with("closest") {
+                        assert_eq!(t, closest, "{} seed {seed}: {}", entry.name, lit.t_label);
+                    }
+                    if entry.name == "kd-traversal" && ask.expected.correct_option().is_some() {
+                        let hit_here = scene
+                            .shapes
+                            .shapes
+                            .iter()
+                            .any(|shape| shape.intersect(ray, t, t) == Some(t));
+                        assert!(
+                            hit_here || lit.t_label.starts_with("plane"),
+                            "{} seed {seed}: t = {t} labelled '{}'",
+                            entry.name,
+                            lit.t_label
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
