@@ -278,6 +278,19 @@ impl Lecture {
         self.question.as_ref()
     }
 
+    /// On a question slide, the step shown (from 1) and how many the question has: the last
+    /// once every step is done (after End, or coming back from the next slide).
+    pub fn question_step(&self) -> Option<(usize, usize)> {
+        let session = self.question.as_ref()?;
+        let count = session.asks_of(0).len();
+        let shown = if session.is_finished() {
+            count
+        } else {
+            session.step() + 1
+        };
+        Some((shown.min(count), count))
+    }
+
     /// Whether the question's answer is shown.
     pub fn revealed(&self) -> bool {
         self.question.as_ref().is_some_and(Session::is_revealed)

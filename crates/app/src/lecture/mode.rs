@@ -25,10 +25,10 @@ impl AccelvizApp {
                 } else {
                     ""
                 };
+                let (step, count) = lecture.question_step().unwrap_or((1, 1));
                 let place = format!(
-                    "{slide}: question {}, step {}{revealed}{blank}",
+                    "{slide}: question {}, step {step} of {count}{revealed}{blank}",
                     session.questions()[0].kind,
-                    session.step() + 1,
                 );
                 Position {
                     line: format!("accelviz: {place}"),
@@ -211,11 +211,14 @@ impl AccelvizApp {
                     }
                 }
                 Slide::Question { kind, .. } => {
-                    let step = lecture
-                        .question()
-                        .map(|session| session.step() + 1)
-                        .unwrap_or(1);
-                    format!("Question: {kind} · step {step}")
+                    let title = accelviz_quiz::KINDS
+                        .iter()
+                        .find(|entry| entry.name == *kind)
+                        .map_or(*kind, |entry| entry.title);
+                    match lecture.question_step() {
+                        Some((step, count)) => format!("{title} · step {step} of {count}"),
+                        None => title.to_owned(),
+                    }
                 }
             };
             ui.label(

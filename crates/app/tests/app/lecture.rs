@@ -13,6 +13,7 @@ use accelviz_app::lecture::script::{LectureScript, Slide};
 use accelviz_app::lecture::{Action, LECTURE_KEYS, key_table};
 use egui::Key;
 use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
 
 /// The whole app on a 1920×1080 screen (one pixel a point before the lecture's zoom).
 fn projector() -> Harness<'static, AccelvizApp> {
@@ -317,4 +318,40 @@ fn every_slide_of_the_default_script_opens_what_it_names() {
             }
         }
     }
+}
+
+/// A question slide's bar says which step of how many is shown, and stays right after End,
+/// Home, and coming back from the next slide with Page Up.
+#[test]
+fn a_question_slides_step_counter_follows_home_end_and_page_up() {
+    let mut harness = lecturing();
+    let index = first_question(&mut harness);
+    let counter = |harness: &Harness<'_, AccelvizApp>| {
+        harness
+            .state()
+            .lecture
+            .as_ref()
+            .unwrap()
+            .question_step()
+            .unwrap()
+    };
+    let count = counter(&harness).1;
+    assert!(count >= 2, "a question of several steps");
+    assert_eq!(counter(&harness), (1, count));
+    let bar = format!("step 1 of {count}");
+    assert!(harness.query_by_label_contains(&bar).is_some(), "{bar}");
+    press(&mut harness, Key::End);
+    assert_eq!(counter(&harness), (count, count));
+    let bar = format!("step {count} of {count}");
+    assert!(harness.query_by_label_contains(&bar).is_some(), "{bar}");
+    press(&mut harness, Key::Home);
+    assert_eq!(counter(&harness), (1, count));
+    // Past the last step to the next slide, then back: the question at its last step.
+    press(&mut harness, Key::End);
+    while place(&harness).0 == index {
+        press(&mut harness, Key::PageDown);
+    }
+    press(&mut harness, Key::PageUp);
+    assert_eq!(place(&harness).0, index);
+    assert_eq!(counter(&harness), (count, count));
 }
