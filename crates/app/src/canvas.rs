@@ -19,6 +19,9 @@ pub struct View2d {
     pub points_per_unit: f64,
     /// Whether the view was set (fitted to a scene or moved by the user).
     pub placed: bool,
+    /// The canvas size the view was fitted to, while the user has not moved it: a canvas of
+    /// another size (a window resized, a lecture slide opened at another scale) fits again.
+    pub fitted_size: Option<Vec2>,
 }
 
 impl Default for View2d {
@@ -27,6 +30,7 @@ impl Default for View2d {
             center: DVec2::splat(50.0),
             points_per_unit: 4.0,
             placed: false,
+            fitted_size: None,
         }
     }
 }
@@ -47,6 +51,7 @@ impl View2d {
             center: bounds.center(),
             points_per_unit,
             placed: true,
+            fitted_size: Some(rect.size()),
         }
     }
 }
@@ -151,7 +156,10 @@ impl Canvas {
     ) -> Self {
         let (response, painter) = ui.allocate_painter(size, Sense::click_and_drag());
         let rect = response.rect;
-        if !view.placed {
+        let resized = view
+            .fitted_size
+            .is_some_and(|size| (size - rect.size()).length() > 0.5);
+        if !view.placed || resized {
             *view = View2d::fitted(fit_bounds, rect);
         }
         painter.rect_filled(rect, 0.0, ui.visuals().extreme_bg_color);
@@ -162,6 +170,7 @@ impl Canvas {
                 ui.input(|input| (input.smooth_scroll_delta.y, input.zoom_delta()));
             let factor = (scroll as f64 * 0.002).exp() * zoom as f64;
             if factor != 1.0 {
+                view.fitted_size = None;
                 let before = to_world(view, rect, hover);
                 view.points_per_unit = (view.points_per_unit * factor).clamp(1e-6, 1e9);
                 let after = to_world(view, rect, hover);
@@ -173,6 +182,9 @@ impl Canvas {
             || (pan_with_primary && response.dragged_by(egui::PointerButton::Primary));
         if panning {
             let delta = response.drag_delta();
+            if delta != Vec2::ZERO {
+                view.fitted_size = None;
+            }
             view.center -= DVec2::new(delta.x as f64, -delta.y as f64) / view.points_per_unit;
         }
         Self {

@@ -211,6 +211,11 @@ impl EditableScene {
         )
     }
 
+    /// Where the canvas was on screen in the last frame.
+    pub fn last_canvas_rect(&self) -> Option<egui::Rect> {
+        self.last_canvas.map(|(rect, _)| rect)
+    }
+
     /// Where a world point was on screen in the last frame (for tests and tooltips).
     pub fn screen_position(&self, world: DVec2) -> Option<egui::Pos2> {
         let (rect, view) = self.last_canvas?;
@@ -493,6 +498,7 @@ impl EditableScene {
             }
             Drag::Pan => {
                 let delta = canvas.response.drag_delta();
+                self.view.fitted_size = None;
                 self.view.center -=
                     DVec2::new(delta.x as f64, -delta.y as f64) / self.view.points_per_unit;
                 return;

@@ -81,9 +81,17 @@ impl AccelvizApp {
         let Some((lesson, show)) = lecture.open(index, at_end) else {
             return;
         };
-        self.selected = lesson.min(self.lessons.len().saturating_sub(1));
         let slide = lecture.slide + 1;
         let path = lecture.script.path.clone();
+        self.selected = lesson.min(self.lessons.len().saturating_sub(1));
+        // A slide opens on its whole scene (the view fits again whenever the canvas changes
+        // size, unless the lecturer moves it).
+        if let Some(scene) = self
+            .lesson_mut()
+            .and_then(|lesson| lesson.stage_mut().scene.as_flat())
+        {
+            scene.view.placed = false;
+        }
         let mut problem = None;
         if let Some(name) = show
             && let Some(lesson) = self.lesson_mut()

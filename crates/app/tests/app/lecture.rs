@@ -355,3 +355,71 @@ fn a_question_slides_step_counter_follows_home_end_and_page_up() {
     assert_eq!(place(&harness).0, index);
     assert_eq!(counter(&harness), (count, count));
 }
+
+/// Whether the scene of the lesson shown (every shape, the ray's origin and head) lies on its
+/// canvas, as the last frame drew it; `None` for a slide without a 2D scene.
+fn whole_scene_shown(harness: &Harness<'_, AccelvizApp>) -> Option<bool> {
+    let app = harness.state();
+    let scene = app.lesson()?.stage().scene.flat()?;
+    let canvas = scene.last_canvas_rect()?;
+    let bounds = scene.bounds();
+    let corners = [
+        bounds.min,
+        bounds.max,
+        glam::DVec2::new(bounds.min.x, bounds.max.y),
+        glam::DVec2::new(bounds.max.x, bounds.min.y),
+    ];
+    Some(corners.iter().all(|corner| {
+        scene
+            .screen_position(*corner)
+            .is_some_and(|at| canvas.expand(1.0).contains(at))
+    }))
+}
+
+/// Every lesson slide of the default script opens on its whole scene at 1920×1080 and at the
+/// app's 1400×860, and fits again when the window changes size.
+#[test]
+fn every_lesson_slide_opens_on_its_whole_scene_and_fits_a_new_size() {
+    for (size, other) in [
+        ((1920.0, 1080.0), (1400.0, 860.0)),
+        ((1400.0, 860.0), (1920.0, 1080.0)),
+    ] {
+        let mut harness = common::app_harness_sized(egui::vec2(size.0, size.1));
+        harness.state_mut().start_lecture();
+        harness.run();
+        let count = harness
+            .state()
+            .lecture
+            .as_ref()
+            .unwrap()
+            .script
+            .slides
+            .len();
+        let mut checked = 0;
+        for index in 0..count {
+            harness.state_mut().open_slide(index, false);
+            harness.run();
+            harness.run();
+            if let Some(whole) = whole_scene_shown(&harness) {
+                assert!(
+                    whole,
+                    "slide {} at {size:?}: the scene is cut off",
+                    index + 1
+                );
+                checked += 1;
+            }
+        }
+        assert!(checked >= 8, "{checked} slides with a 2D scene");
+        // The window changes size on the last 2D slide shown: the view fits again.
+        harness.state_mut().open_slide(0, false);
+        harness.run();
+        harness.set_size(egui::vec2(other.0, other.1));
+        harness.run();
+        harness.run();
+        assert_eq!(
+            whole_scene_shown(&harness),
+            Some(true),
+            "slide 1 after a resize from {size:?} to {other:?}"
+        );
+    }
+}
