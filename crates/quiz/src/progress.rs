@@ -41,9 +41,14 @@ pub enum ProgressError {
     /// Not JSON, or JSON of another shape.
     #[error("not a quiz progress file: {0}")]
     Foreign(String),
-    /// A progress file with a field missing or wrong.
+    /// A progress file with a field missing or wrong, or cut off.
     #[error("a damaged quiz progress file: {0}")]
     Corrupt(String),
+    /// A progress file a newer accelviz wrote, in a format this one does not know.
+    #[error(
+        "a quiz progress file from a newer accelviz (format version {0}; this one reads version {VERSION}): it is kept for that version"
+    )]
+    Newer(u64),
 }
 
 impl Progress {
@@ -77,8 +82,14 @@ impl Progress {
 
     /// Reads saved progress.
     pub fn parse(text: &str) -> Result<Self, ProgressError> {
-        let value: Value = serde_json::from_str(text)
-            .map_err(|error| ProgressError::Foreign(error.to_string()))?;
+        let value: Value = serde_json::from_str(text).map_err(|error| {
+            if error.is_eof() && !text.trim().is_empty() {
+                // JSON that stops mid-way was progress being written when it was cut off.
+                ProgressError::Corrupt(format!("it ends early ({error})"))
+            } else {
+                ProgressError::Foreign(error.to_string())
+            }
+        })?;
         let Some(object) = value.as_object() else {
             return Err(ProgressError::Foreign("not a JSON object".into()));
         };
@@ -99,6 +110,9 @@ impl Progress {
                 .ok_or_else(|| corrupt(&format!("\"{key}\" is not a whole number")))
         };
         let version = unsigned("version")?;
+        if version > VERSION {
+            return Err(ProgressError::Newer(version));
+        }
         if version != VERSION {
             return Err(corrupt(&format!(
                 "version {version}; this accelviz reads version {VERSION}"

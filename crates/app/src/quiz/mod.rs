@@ -47,6 +47,8 @@ pub struct QuizMode {
     focused_step: Option<(usize, usize)>,
     /// The step whose "Next" button has been given focus.
     next_focused: Option<(usize, usize)>,
+    /// "New quiz" was pressed while a quiz with answers was under way: it asks first.
+    pub confirm_new: bool,
     /// The last message: text and whether it reports a problem.
     pub message: Option<(String, bool)>,
     view: View2d,
@@ -74,6 +76,7 @@ impl QuizMode {
             count: DEFAULT_COUNT,
             number_text: String::new(),
             focused_step: None,
+            confirm_new: false,
             next_focused: None,
             message: None,
             view: View2d::default(),
@@ -165,6 +168,20 @@ impl QuizMode {
         self.start_quiz(true);
     }
 
+    /// Starts the quiz the fields describe, or, while a quiz with answers is under way, asks
+    /// first (see [`confirm_new`](Self::confirm_new)).
+    pub fn start_or_ask(&mut self) {
+        let under_way = self
+            .session
+            .as_ref()
+            .is_some_and(|session| session.answered() > 0 && !session.is_finished());
+        if under_way {
+            self.confirm_new = true;
+        } else {
+            self.start();
+        }
+    }
+
     fn start_quiz(&mut self, say_so: bool) {
         self.loaded = true;
         let Ok(seed) = self.seed_text.trim().parse::<u64>() else {
@@ -182,8 +199,11 @@ impl QuizMode {
             Ok(session) => {
                 self.session = Some(session);
                 self.review = None;
-                // The canvas makes its view and tree again for the new questions.
+                // The canvas makes its view and tree again for the new questions, and the
+                // first step's answer takes the focus again.
                 self.shown = None;
+                self.focused_step = None;
+                self.next_focused = None;
                 self.number_text.clear();
                 if say_so {
                     self.message = Some((
@@ -418,7 +438,7 @@ impl QuizMode {
                     .labelled_by(label.id)
                     .on_hover_text("The quiz's seed: type the one your lecturer gives");
                 if seed.lost_focus() && ui.input(|input| input.key_pressed(Key::Enter)) {
-                    self.start();
+                    self.start_or_ask();
                 }
                 ui.end_row();
                 ui.label("Level");
@@ -433,14 +453,37 @@ impl QuizMode {
                     .labelled_by(label.id);
                 ui.end_row();
             });
-        if ui
+        if self.confirm_new {
+            // A quiz with answers is not thrown away by one click.
+            let progress = self.session.as_ref().map_or_else(String::new, |session| {
+                format!(
+                    " (question {} of {}, {})",
+                    (session.position() + 1).min(session.questions().len()),
+                    session.questions().len(),
+                    Self::score_line(session).to_lowercase()
+                )
+            });
+            ui.colored_label(
+                palette::RAY,
+                format!("A new quiz replaces the one under way{progress}."),
+            );
+            ui.horizontal(|ui| {
+                if ui.button("Replace it").clicked() {
+                    self.confirm_new = false;
+                    self.start();
+                }
+                if ui.button("Keep it").clicked() {
+                    self.confirm_new = false;
+                }
+            });
+        } else if ui
             .button("New quiz")
             .on_hover_text(
-                "Start the quiz of this seed and level (your saved progress is replaced)",
+                "Start the quiz of this seed and level (asks first if a quiz is under way)",
             )
             .clicked()
         {
-            self.start();
+            self.start_or_ask();
         }
     }
 
@@ -541,7 +584,21 @@ impl QuizMode {
                 ui.with_layout(egui::Layout::top_down_justified(egui::Align::LEFT), |ui| {
                     for (index, option) in options.iter().enumerate() {
                         let text = format!("({}) {}", option_letter(index), option.label);
-                        if ui.add(egui::Button::new(text).wrap()).clicked() {
+                        // An id of its own, so the focus given stays on it as the panel
+                        // above changes from frame to frame.
+                        let button = ui
+                            .push_id(("quiz answer", place, index), |ui| {
+                                ui.add(egui::Button::new(text).wrap())
+                            })
+                            .inner;
+                        // The first answer takes the focus once per step, so Tab goes on to
+                        // the next answer and Space picks one (not a lesson of the list).
+                        if index == 0 && self.focused_step != Some(place) {
+                            self.focused_step = Some(place);
+                            button.request_focus();
+                            button.scroll_to_me(None);
+                        }
+                        if button.clicked() {
                             self.answer(Response::Choice(index));
                         }
                     }

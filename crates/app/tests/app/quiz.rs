@@ -282,3 +282,68 @@ fn a_question_and_an_explanation_match_their_snapshots() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// After Next, a choice step's first answer has the focus: Space picks it, and one Tab goes
+/// on to the second answer (not back through the lesson list, where Space would leave).
+#[test]
+fn after_next_the_first_answer_has_the_focus() {
+    let path = progress_file("focus");
+    let mut harness = quiz_app(&path);
+    {
+        let quiz = &mut harness.state_mut().quiz;
+        quiz.seed_text = "3".into();
+        quiz.count = 9;
+        quiz.start();
+    }
+    harness.run();
+    let mut choice_steps = 0;
+    while !session(&harness).is_finished() && choice_steps < 3 {
+        let ask = session(&harness).ask().unwrap().clone();
+        let options = ask.expected.options();
+        if options.len() >= 2 && !matches!(ask.expected, Expected::Costed { .. }) {
+            harness.run();
+            let first = format!("(a) {}", options[0].label);
+            assert!(
+                harness.get_by_label(&first).is_focused(),
+                "{first} has the focus"
+            );
+            press(&mut harness, Key::Tab);
+            let second = format!("(b) {}", options[1].label);
+            assert!(harness.get_by_label(&second).is_focused(), "Tab: {second}");
+            press(&mut harness, Key::Space);
+            assert_eq!(harness.state().mode, Mode::Quiz, "Space stays in the quiz");
+            assert!(session(&harness).is_revealed(), "Space picked (b)");
+            choice_steps += 1;
+        } else {
+            answer_by_keyboard(&mut harness, true);
+        }
+        press(&mut harness, Key::Enter);
+    }
+    assert_eq!(choice_steps, 3);
+}
+
+/// "New quiz" does not throw away a quiz under way: it asks, and "Keep it" keeps it.
+#[test]
+fn a_new_quiz_asks_before_it_replaces_one_under_way() {
+    let path = progress_file("replace");
+    let mut harness = quiz_app(&path);
+    {
+        let quiz = &mut harness.state_mut().quiz;
+        quiz.seed_text = "4".into();
+        quiz.start();
+    }
+    harness.run();
+    answer_by_keyboard(&mut harness, true);
+    let before = session(&harness);
+    harness.get_by_label("New quiz").click();
+    harness.run();
+    harness.get_by_label_contains("replaces the one under way");
+    harness.get_by_label("Keep it").click();
+    harness.run();
+    assert_eq!(session(&harness).verdicts(), before.verdicts());
+    harness.get_by_label("New quiz").click();
+    harness.run();
+    harness.get_by_label("Replace it").click();
+    harness.run();
+    assert_eq!(session(&harness).answered(), 0);
+}

@@ -151,9 +151,16 @@ fn foreign_and_corrupt_progress_is_refused_with_a_reason() {
     let mut session = Session::new(3, Level::Easy, 2, &[]).unwrap();
     session.answer(right(&session));
     let good = session.progress().to_text();
+    // A newer version's file is said to be newer, not damaged; a cut-off one is damaged.
+    let newer = Progress::parse(&good.replace("\"version\": 1", "\"version\": 999")).unwrap_err();
+    assert_eq!(newer, ProgressError::Newer(999));
+    assert!(newer.to_string().contains("newer accelviz"), "{newer}");
+    let cut = Progress::parse(&good[..200]).unwrap_err();
+    assert!(matches!(cut, ProgressError::Corrupt(_)), "{cut}");
+    assert!(cut.to_string().contains("ends early"), "{cut}");
     let broken = [
         good.replace("\"level\": \"easy\"", "\"level\": \"expert\""),
-        good.replace("\"version\": 1", "\"version\": 7"),
+        good.replace("\"version\": 1", "\"version\": 0"),
         good.replace("\"seed\": 3", "\"seed\": -3"),
         good.replace("\"revealed\": true", "\"revealed\": 1"),
     ];
