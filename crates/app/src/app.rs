@@ -103,12 +103,31 @@ impl AccelvizApp {
         let on_disk = assets_dir.join("lecture.txt");
         if on_disk.is_file() {
             let shown = on_disk.display().to_string();
-            app.script = accelviz_scene::error::read_text(&shown)
-                .map_err(|error| error.to_string())
-                .and_then(|text| {
-                    LectureScript::parse(&text, &shown, app.lessons.len())
-                        .map_err(|error| error.to_string())
+            // Every bad line is skipped and reported; a file with no slide left (or none to
+            // read) leaves the built-in lecture, with the reason shown in lecture mode.
+            let problem = match accelviz_scene::error::read_text(&shown) {
+                Ok(text) => match LectureScript::parse(&text, &shown, app.lessons.len()) {
+                    Ok(script) => {
+                        app.script = Ok(script);
+                        None
+                    }
+                    Err(error) => Some(error),
+                },
+                Err(error) => Some(crate::lecture::script::ScriptError {
+                    path: shown.clone(),
+                    line: 0,
+                    problem: error.to_string(),
+                }),
+            };
+            if let (Some(problem), Ok(script)) = (problem, &mut app.script) {
+                script.problems.push(crate::lecture::script::ScriptError {
+                    problem: format!(
+                        "{} (the built-in lecture is given instead)",
+                        problem.problem
+                    ),
+                    ..problem
                 });
+            }
         }
         app
     }

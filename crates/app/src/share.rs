@@ -7,6 +7,34 @@
 
 use crate::app::{AccelvizApp, Mode};
 
+/// The key of a named ray or preset of the lesson file (`show=r2`).
+pub const SHOW: &str = "show";
+
+/// The name of the lesson file's named ray or preset that makes `scene`, if one does: the
+/// lesson's scene with that ray, or that preset's scene.
+pub fn named_scene(
+    text: &crate::lesson_file::LessonText,
+    scene: &accelviz_scene::document::Scene2d,
+) -> Option<String> {
+    let ray = text.file.named_rays.iter().find(|named| {
+        let mut with_ray = text.scene.clone();
+        with_ray.ray_origin = glam::DVec2::new(named.ray.origin.0, named.ray.origin.1);
+        with_ray.ray_toward = glam::DVec2::new(named.ray.toward.0, named.ray.toward.1);
+        with_ray == *scene
+    });
+    if let Some(named) = ray {
+        return Some(named.name.clone());
+    }
+    text.file
+        .presets
+        .iter()
+        .find(|preset| {
+            accelviz_scene::document::Scene2d::from_document(preset.scene.clone(), &preset.name)
+                .is_ok_and(|preset_scene| preset_scene == *scene)
+        })
+        .map(|preset| preset.name.clone())
+}
+
 /// The state string's version; a link of another version is refused, not misread.
 pub const VERSION: &str = "1";
 
@@ -122,7 +150,11 @@ impl AccelvizApp {
         if let Some(flat) = stage.scene.flat()
             && flat.scene != lesson.text().scene
         {
-            state.scene = Some(flat.scene.to_ron());
+            // A named ray or preset of the lesson file goes by its name, not as a scene.
+            match named_scene(lesson.text(), &flat.scene) {
+                Some(name) => state.values.insert(0, (SHOW.to_owned(), name)),
+                None => state.scene = Some(flat.scene.to_ron()),
+            }
         }
         let is_3d = stage.scene.flat().is_none() && stage.scene.noun() == "mesh";
         if is_3d && !state.values.iter().any(|(key, _)| key == "mesh") {
@@ -177,7 +209,16 @@ impl AccelvizApp {
             lesson.stage_mut().scene.open("the link's scene", scene)?;
         }
         for (key, value) in &state.values {
-            lesson.restore(key, value)?;
+            if key == SHOW {
+                if !lesson.show_named(value) {
+                    return Err(format!(
+                        "this lesson has no ray or preset \"{value}\"; it has: {}",
+                        lesson.named().join(", ")
+                    ));
+                }
+            } else {
+                lesson.restore(key, value)?;
+            }
         }
         lesson.stage_mut().timeline.playing = false;
         self.pending_step = Some(state.step);

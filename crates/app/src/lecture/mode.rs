@@ -263,6 +263,9 @@ impl AccelvizApp {
                     self.theme = theme;
                 }
             }
+            if let Some(skipped) = lecture.script.problems_line() {
+                ui.colored_label(crate::canvas::palette::MISS, skipped);
+            }
             if let Some((message, problem)) = &lecture.message {
                 let color = if *problem {
                     crate::canvas::palette::MISS

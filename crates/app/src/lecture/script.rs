@@ -53,6 +53,9 @@ pub struct LectureScript {
     pub path: String,
     /// The slides, in order.
     pub slides: Vec<Slide>,
+    /// The lines that could not be read, each with its place: skipped, so one bad line does
+    /// not stop a lecture (lecture mode reports them).
+    pub problems: Vec<ScriptError>,
 }
 
 /// A problem in a script, with its place.
@@ -74,41 +77,63 @@ pub const DEFAULT_SCRIPT: &str = include_str!("../../../../assets/lecture.txt");
 pub const DEFAULT_SCRIPT_PATH: &str = "assets/lecture.txt";
 
 impl LectureScript {
-    /// Reads a script for an app with `lesson_count` lessons.
+    /// Reads a script for an app with `lesson_count` lessons. A line that cannot be read is
+    /// skipped and kept in [`problems`](Self::problems) with its place; the error is for a
+    /// script with no slide left (its first bad line, or "no slides").
     pub fn parse(text: &str, path: &str, lesson_count: usize) -> Result<Self, ScriptError> {
         let mut slides = Vec::new();
+        let mut problems = Vec::new();
         for (number, line) in text.lines().enumerate() {
             let fail = |problem: String| ScriptError {
                 path: path.to_owned(),
                 line: number + 1,
                 problem,
             };
-            let words = tokens(line).map_err(fail)?;
-            let words: Vec<&str> = words.iter().map(String::as_str).collect();
-            let Some((first, rest)) = words.split_first() else {
-                continue;
-            };
-            let slide = match *first {
-                "lesson" => lesson_slide(rest, lesson_count).map_err(fail)?,
-                "question" => question_slide(rest).map_err(fail)?,
-                other => {
-                    return Err(fail(format!(
+            let slide = tokens(line).and_then(|words| {
+                let words: Vec<&str> = words.iter().map(String::as_str).collect();
+                let Some((first, rest)) = words.split_first() else {
+                    return Ok(None);
+                };
+                match *first {
+                    "lesson" => lesson_slide(rest, lesson_count).map(Some),
+                    "question" => question_slide(rest).map(Some),
+                    other => Err(format!(
                         "'{other}' is not a slide; a line starts with 'lesson' or 'question'"
-                    )));
+                    )),
                 }
-            };
-            slides.push(slide);
+            });
+            match slide {
+                Ok(Some(slide)) => slides.push(slide),
+                Ok(None) => {}
+                Err(problem) => problems.push(fail(problem)),
+            }
         }
         if slides.is_empty() {
-            return Err(ScriptError {
+            return Err(problems.into_iter().next().unwrap_or_else(|| ScriptError {
                 path: path.to_owned(),
                 line: 0,
                 problem: "the script has no slides".into(),
-            });
+            }));
         }
         Ok(Self {
             path: path.to_owned(),
             slides,
+            problems,
+        })
+    }
+
+    /// What lecture mode says of the skipped lines: how many, and each with its place.
+    pub fn problems_line(&self) -> Option<String> {
+        let first = self.problems.first()?;
+        let count = self.problems.len();
+        let all: Vec<String> = self.problems.iter().map(ToString::to_string).collect();
+        Some(if count == 1 {
+            format!("A line of the script was skipped: {first}")
+        } else {
+            format!(
+                "{count} lines of the script were skipped: {}",
+                all.join("; ")
+            )
         })
     }
 

@@ -269,7 +269,11 @@ fn script_errors_name_file_and_line() {
         ("# only comments\n", 0, "the script has no slides"),
     ];
     for (text, line, problem) in cases {
-        let error = LectureScript::parse(text, "my-lecture.txt", 14).unwrap_err();
+        // A script with no slide left is refused; otherwise the bad line is skipped and kept.
+        let error = match LectureScript::parse(text, "my-lecture.txt", 14) {
+            Err(error) => error,
+            Ok(script) => script.problems[0].clone(),
+        };
         assert_eq!(error.line, line, "{text:?}: {error}");
         let message = error.to_string();
         assert!(
@@ -422,4 +426,34 @@ fn every_lesson_slide_opens_on_its_whole_scene_and_fits_a_new_size() {
             "slide 1 after a resize from {size:?} to {other:?}"
         );
     }
+}
+
+/// A bad line does not stop a lecture: every one is skipped and reported with its file and
+/// line, and the rest of the script runs; lecture mode says so in its bar.
+#[test]
+fn bad_script_lines_are_skipped_and_each_reported() {
+    let script = LectureScript::parse(
+        "lesson 1\nlesson 4 step banana\nquestion slab\nquestion sah-spilt\nlesson 99\n",
+        "my-lecture.txt",
+        14,
+    )
+    .unwrap();
+    assert_eq!(script.slides.len(), 2);
+    let lines: Vec<usize> = script.problems.iter().map(|problem| problem.line).collect();
+    assert_eq!(lines, [2, 4, 5]);
+    let said = script.problems_line().unwrap();
+    for place in [
+        "my-lecture.txt:2:",
+        "my-lecture.txt:4:",
+        "my-lecture.txt:5:",
+    ] {
+        assert!(said.contains(place), "{said}");
+    }
+    let mut harness = projector();
+    harness.state_mut().script = Ok(script);
+    harness.state_mut().start_lecture();
+    harness.run();
+    harness.run();
+    assert_eq!(harness.state().mode, Mode::Lecture);
+    harness.get_by_label_contains("3 lines of the script were skipped");
 }

@@ -100,3 +100,27 @@ fn a_link_keeps_the_lesson_s_own_scene_out() {
     assert!(text.len() < 200, "{text}");
     assert_eq!(ViewState::decode(&text).unwrap().lesson, 3);
 }
+
+/// A named ray of the lesson file (lesson 4's r2, as a lecture script shows it) goes in a
+/// link by its name, not as a whole scene, and opens the same view.
+#[test]
+fn a_named_ray_is_shared_by_its_name() {
+    let mut harness = common::app_harness();
+    let titles = harness.state().titles();
+    harness.state_mut().selected = titles
+        .iter()
+        .position(|title| title.contains("Bounding volume hierarchy"))
+        .unwrap();
+    harness.run_steps(2);
+    assert!(harness.state_mut().lesson_mut().unwrap().show_named("r2"));
+    harness.run_steps(2);
+    let before = view_of(harness.state());
+    let link = harness.state().share_state().unwrap().encode();
+    assert!(link.contains("show=r2"), "{link}");
+    assert!(!link.contains("scene="), "{link}");
+    assert!(link.len() < 120, "{} characters: {link}", link.len());
+    let mut other = common::app_harness();
+    other.state_mut().open_state(&link).unwrap();
+    other.run_steps(3);
+    assert_eq!(view_of(other.state()), before);
+}
