@@ -586,7 +586,12 @@ impl Lesson for HeatLesson {
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
         self.controls_ui(ui);
-        loading_ui(ui, &mut self.stage.scene, &mut self.tree);
+        loading_ui(
+            ui,
+            &mut self.stage.scene,
+            &mut self.tree,
+            &mut self.structure,
+        );
         let Some(tree) = self.tree.get().cloned() else {
             ui.label("Building…");
             return;

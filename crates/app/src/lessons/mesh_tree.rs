@@ -508,7 +508,12 @@ impl Lesson for MeshTreeLesson {
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
         self.controls_ui(ui);
-        loading_ui(ui, &mut self.stage.scene, &mut self.tree);
+        loading_ui(
+            ui,
+            &mut self.stage.scene,
+            &mut self.tree,
+            &mut self.structure,
+        );
         let Some(tree) = self.tree.get().cloned() else {
             ui.label("Building…");
             return;

@@ -53,12 +53,14 @@ pub fn mesh_and_structure_ui(
 }
 
 /// While a large mesh is read or its structure built: a progress line with a cancel button
-/// that goes back to the mesh shown before (the UI keeps drawing meanwhile). Also says why the
-/// last file read aside could not be opened.
+/// that goes back to exactly what is on screen (the UI keeps drawing meanwhile): a read
+/// stops and the mesh shown stays; a build stops and the mesh and `structure` go back to the
+/// tree shown. Also says why the last file read aside could not be opened.
 pub fn loading_ui(
     ui: &mut egui::Ui,
     scene: &mut MeshScene,
     tree: &mut Derived<(u64, Structure), MeshTree>,
+    structure: &mut Structure,
 ) {
     if let Some(problem) = &scene.problem {
         ui.colored_label(crate::canvas::palette::MISS, problem);
@@ -84,11 +86,20 @@ pub fn loading_ui(
         // The button first, so it stays where it is when reading turns into building.
         if ui
             .button("cancel")
-            .on_hover_text("Stop, and go back to the mesh shown before")
+            .on_hover_text("Stop, and keep what is on screen: its mesh and its structure")
             .clicked()
         {
             tree.cancel();
-            scene.go_back();
+            if scene.loading.is_some() {
+                // A file being read: the mesh on screen is still the one before it.
+                scene.loading = None;
+            } else if let Some(&(revision, shown)) = tree.key() {
+                // A build: back to the tree on screen, over its mesh.
+                if revision != scene.revision {
+                    scene.go_back();
+                }
+                *structure = shown;
+            }
         }
         match progress {
             Some(progress) => ui.add(

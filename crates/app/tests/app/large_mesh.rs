@@ -73,4 +73,27 @@ fn a_large_mesh_loads_aside_with_progress_and_cancel() {
     assert!(frames > 2, "frames kept coming while it loaded ({frames})");
     let tree = harness.state().tree().expect("built");
     assert!(tree.mesh.triangles.len() > 100_000);
+
+    // A slow structure asked for over it, then cancelled: the same mesh and the structure
+    // on screen stay (not the mesh before, nor the new structure).
+    let structure = |lesson: &MeshTreeLesson| {
+        lesson
+            .share()
+            .into_iter()
+            .find(|(key, _)| key == "structure")
+            .map(|(_, value)| value)
+    };
+    let shown = structure(harness.state());
+    harness
+        .state_mut()
+        .restore("structure", "kd:sah-perfect")
+        .expect("a structure");
+    harness.run_steps(1);
+    harness.get_by_label("cancel").click();
+    harness.run_steps(2);
+    assert!(harness.query_by_label("cancel").is_none(), "nothing builds");
+    assert_eq!(structure(harness.state()), shown);
+    assert_eq!(harness.state().stage().scene.noun(), "mesh");
+    let tree = harness.state().tree().expect("still built");
+    assert_eq!(tree.mesh.name, "large.obj", "the mesh opened stays");
 }
