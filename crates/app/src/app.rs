@@ -9,6 +9,7 @@ use crate::files::{
 use crate::lecture::script::LectureScript;
 use crate::lecture::{Lecture, Theme};
 use crate::lesson::Lesson;
+use crate::position::Position;
 use crate::registry::{self, BrokenLesson};
 
 /// The inspector's widths: it may be widened by hand, but content never pushes it.
@@ -659,16 +660,6 @@ impl AccelvizApp {
             title: format!("{title}, step {shown} of {len}"),
         }
     }
-}
-
-/// Where the app is, as one line for the log (`accelviz: lesson 4 (…), step 3 of 12`) and as
-/// the window's or the page's title.
-#[derive(Clone, Debug, PartialEq, Eq)]
-pub struct Position {
-    /// The log's line.
-    pub line: String,
-    /// The title (the desktop's window keeps what comes before ", step").
-    pub title: String,
 }
 
 impl AccelvizApp {

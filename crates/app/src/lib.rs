@@ -18,6 +18,7 @@ pub mod lesson;
 pub mod lesson_file;
 pub mod lessons;
 pub mod mesh;
+pub mod position;
 pub mod quiz;
 pub mod registry;
 pub mod share;

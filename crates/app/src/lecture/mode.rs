@@ -5,8 +5,9 @@ use egui::{RichText, Ui};
 
 use super::script::{Slide, StartStep};
 use super::{Action, Lecture, Outcome, Theme};
-use crate::app::{AccelvizApp, INSPECTOR_WIDTH, Mode, Position, text_ui};
+use crate::app::{AccelvizApp, INSPECTOR_WIDTH, Mode, text_ui};
 use crate::lesson::Lesson;
+use crate::position::Position;
 
 impl AccelvizApp {
     /// Where lecture mode is: the slide and, on a question slide, the question's step; on a

@@ -95,7 +95,7 @@ impl QuizMode {
     /// Where the quiz is, for the log and the title: the seed, question, step, what the step
     /// wants (so a test driving the page by keys knows what to press: a letter for a choice,
     /// digits for a number) and the score.
-    pub fn position(&self) -> crate::app::Position {
+    pub fn position(&self) -> crate::position::Position {
         let line = self.session().map_or_else(
             || "accelviz: quiz".to_owned(),
             |session| {
@@ -116,7 +116,7 @@ impl QuizMode {
                 )
             },
         );
-        crate::app::Position {
+        crate::position::Position {
             title: line.trim_start_matches("accelviz: ").to_owned(),
             line,
         }
