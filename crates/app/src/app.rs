@@ -224,7 +224,6 @@ impl AccelvizApp {
         }
         self.apply_pending_step();
         egui::Panel::top("top bar").show(ui, |ui| self.top_bar_ui(ui));
-        let selected = self.selected;
         let caption = self.lesson().and_then(|lesson| lesson.caption());
         if let (Some(caption), Some(lesson)) = (caption, self.lesson_mut()) {
             let timeline = &mut lesson.stage_mut().timeline;
@@ -234,6 +233,16 @@ impl AccelvizApp {
                 ui.add_space(2.0);
             });
         }
+        self.side_panels_ui(ui, |app, ui| app.lesson_inspector_ui(ui));
+        self.lesson_canvas_ui(ui);
+        self.file_panel_ui(ui.ctx());
+        self.share_window_ui(ui.ctx());
+        self.report_position(ui);
+    }
+
+    /// The lesson list on the left and the inspector on the right, at their shares of the
+    /// window (every mode but lecture mode has them); `inspector` fills the inspector.
+    fn side_panels_ui(&mut self, ui: &mut Ui, inspector: impl FnOnce(&mut Self, &mut Ui)) {
         let (list_width, inspector_width, inspector_min, inspector_max) =
             panel_widths(ui.ctx().content_rect().width());
         egui::Panel::left("lessons")
@@ -246,23 +255,33 @@ impl AccelvizApp {
             .min_size(inspector_min)
             .max_size(inspector_max)
             .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| match &mut self.lessons[selected] {
-                    Ok(lesson) => {
-                        if let Some(notice) = &lesson.stage().notice {
-                            ui.colored_label(crate::canvas::palette::RAY, notice);
-                            ui.separator();
-                        }
-                        text_ui(ui, lesson.text());
-                        ui.separator();
-                        lesson.inspector_ui(ui);
-                    }
-                    Err(broken) => {
-                        ui.colored_label(crate::canvas::palette::MISS, broken.message.as_str());
-                    }
-                });
+                egui::ScrollArea::vertical().show(ui, |ui| inspector(self, ui));
             })
             .response
             .rect;
+    }
+
+    /// The selected lesson's inspector: a notice, its text, its own part; or why it did not
+    /// load.
+    pub(crate) fn lesson_inspector_ui(&mut self, ui: &mut Ui) {
+        match &mut self.lessons[self.selected] {
+            Ok(lesson) => {
+                if let Some(notice) = &lesson.stage().notice {
+                    ui.colored_label(crate::canvas::palette::RAY, notice);
+                    ui.separator();
+                }
+                text_ui(ui, lesson.text());
+                ui.separator();
+                lesson.inspector_ui(ui);
+            }
+            Err(broken) => {
+                ui.colored_label(crate::canvas::palette::MISS, broken.message.as_str());
+            }
+        }
+    }
+
+    /// The selected lesson's canvas, filling what the panels leave.
+    pub(crate) fn lesson_canvas_ui(&mut self, ui: &mut Ui) {
         self.last_layout.canvas = egui::CentralPanel::default()
             .show(ui, |ui| {
                 if let Some(lesson) = self.lesson_mut() {
@@ -271,9 +290,6 @@ impl AccelvizApp {
             })
             .response
             .rect;
-        self.file_panel_ui(ui.ctx());
-        self.share_window_ui(ui.ctx());
-        self.report_position(ui);
     }
 
     /// Sets the theme's colours and, in lecture mode, the lecture's text sizes and zoom; only
@@ -312,23 +328,8 @@ impl AccelvizApp {
                 ui.label(RichText::new("Quiz").size(16.0));
             });
         });
-        let (list_width, inspector_width, inspector_min, inspector_max) =
-            panel_widths(ui.ctx().content_rect().width());
-        egui::Panel::left("lessons")
-            .resizable(false)
-            .exact_size(list_width)
-            .show(ui, |ui| self.lesson_list_ui(ui));
         self.quiz.handle_keys(ui);
-        self.last_layout.inspector = egui::Panel::right("inspector")
-            .resizable(true)
-            .default_size(inspector_width)
-            .min_size(inspector_min)
-            .max_size(inspector_max)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| self.quiz.panel_ui(ui));
-            })
-            .response
-            .rect;
+        self.side_panels_ui(ui, |app, ui| app.quiz.panel_ui(ui));
         self.last_layout.canvas = egui::CentralPanel::default()
             .show(ui, |ui| self.quiz.canvas_ui(ui))
             .response

@@ -5,7 +5,7 @@ use egui::{RichText, Ui};
 
 use super::script::{Slide, StartStep};
 use super::{Action, Lecture, Outcome, Theme};
-use crate::app::{AccelvizApp, INSPECTOR_WIDTH, Mode, text_ui};
+use crate::app::{AccelvizApp, INSPECTOR_WIDTH, Mode};
 use crate::lesson::Lesson;
 use crate::position::Position;
 
@@ -158,29 +158,15 @@ impl AccelvizApp {
         }
         let panels = self.lecture.as_ref().is_some_and(|lecture| lecture.panels);
         if on_lesson {
-            let selected = self.selected;
             if panels {
                 egui::Panel::right("inspector")
                     .resizable(true)
                     .default_size(INSPECTOR_WIDTH.1)
                     .show(ui, |ui| {
-                        egui::ScrollArea::vertical().show(ui, |ui| {
-                            if let Ok(lesson) = &mut self.lessons[selected] {
-                                text_ui(ui, lesson.text());
-                                ui.separator();
-                                lesson.inspector_ui(ui);
-                            }
-                        });
+                        egui::ScrollArea::vertical().show(ui, |ui| self.lesson_inspector_ui(ui));
                     });
             }
-            self.last_layout.canvas = egui::CentralPanel::default()
-                .show(ui, |ui| {
-                    if let Some(lesson) = self.lesson_mut() {
-                        lesson.canvas_ui(ui);
-                    }
-                })
-                .response
-                .rect;
+            self.lesson_canvas_ui(ui);
         } else if let Some(lecture) = &mut self.lecture {
             self.last_layout.canvas = egui::CentralPanel::default()
                 .show(ui, |ui| lecture.question_ui(ui))

@@ -15,6 +15,16 @@ fn obj_text(triangles: usize) -> String {
     accelviz_scene::obj::obj_text(&accelviz_scene::builtin::lumpy_grid_sphere(triangles))
 }
 
+/// Opens `text` as `large.obj` in the lesson: it starts being read aside.
+fn open_large(harness: &mut egui_kittest::Harness<'_, MeshTreeLesson>, text: &str) {
+    harness
+        .state_mut()
+        .stage_mut()
+        .scene
+        .open("large.obj", text)
+        .expect("starts reading");
+}
+
 #[test]
 fn a_large_mesh_loads_aside_with_progress_and_cancel() {
     set_background(true);
@@ -24,12 +34,7 @@ fn a_large_mesh_loads_aside_with_progress_and_cancel() {
     // Cancelled: back to the teapot.
     let mut harness = lesson_harness_3d(MeshTreeLesson::new(lesson_text("12-mesh-bvh.ron")));
     harness.run_steps(2);
-    harness
-        .state_mut()
-        .stage_mut()
-        .scene
-        .open("large.obj", &text)
-        .expect("starts reading");
+    open_large(&mut harness, &text);
     harness.run_steps(1);
     assert!(
         harness
@@ -52,12 +57,7 @@ fn a_large_mesh_loads_aside_with_progress_and_cancel() {
     );
 
     // Let through: read, built, shown, while frames keep coming.
-    harness
-        .state_mut()
-        .stage_mut()
-        .scene
-        .open("large.obj", &text)
-        .expect("starts reading");
+    open_large(&mut harness, &text);
     let mut frames = 0;
     let arrived = |lesson: &MeshTreeLesson| {
         lesson
