@@ -43,6 +43,13 @@ impl Question {
         Value::Object(object).to_string()
     }
 
+    /// The figure's numbers as they stand while step `step` is asked (before its answer): see
+    /// [`Figure::numbers`].
+    pub fn numbers(&self, step: usize) -> Vec<String> {
+        self.figure
+            .numbers(Some(self.asks.get(step).map_or(0, |ask| ask.frame)))
+    }
+
     /// The question for print: the prompt, the figure's numbers, each step with its answer
     /// and explanation.
     pub fn to_text(&self) -> String {
@@ -65,15 +72,6 @@ impl Question {
             text.push_str(&format!("   Why: {}\n", ask.explanation));
         }
         text
-    }
-}
-
-impl Question {
-    /// The figure's numbers as they stand while step `step` is asked (before its answer): see
-    /// [`Figure::numbers`].
-    pub fn numbers(&self, step: usize) -> Vec<String> {
-        self.figure
-            .numbers(Some(self.asks.get(step).map_or(0, |ask| ask.frame)))
     }
 }
 
@@ -136,16 +134,20 @@ impl SceneFigure {
         }
     }
 
-    /// How many of the node's shapes go to each side of candidate `index` (a shape goes left
-    /// when its box's centre is below the position).
+    /// The side (0 left, 1 right) shape `member` goes to at a split at `position` on `axis`:
+    /// left when its box's centre is below the position.
+    fn side_of(&self, member: u32, axis: usize, position: f64) -> usize {
+        usize::from(self.shapes.shapes[member as usize].bounds().center()[axis] >= position)
+    }
+
+    /// How many of the node's shapes go to each side of candidate `index`.
     pub fn candidate_counts(&self, index: usize) -> [usize; 2] {
         let mut counts = [0, 0];
         if let (Some((axis, position)), Some((_, members))) =
             (self.candidates.get(index), &self.node)
         {
             for member in members {
-                let centre = self.shapes.shapes[*member as usize].bounds().center()[*axis];
-                counts[usize::from(centre >= *position)] += 1;
+                counts[self.side_of(*member, *axis, *position)] += 1;
             }
         }
         counts
@@ -164,9 +166,8 @@ impl SceneFigure {
             .map(|(axis, position)| {
                 let mut sides = [Aabb::empty(), Aabb::empty()];
                 for member in &members {
-                    let bounds = self.shapes.shapes[*member as usize].bounds();
-                    let side = usize::from(bounds.center()[*axis] >= *position);
-                    sides[side] = sides[side].union(bounds);
+                    let side = self.side_of(*member, *axis, *position);
+                    sides[side] = sides[side].union(self.shapes.shapes[*member as usize].bounds());
                 }
                 sides
             })

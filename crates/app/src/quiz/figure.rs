@@ -159,19 +159,6 @@ fn clicked_option(
         .map(|(index, _)| index)
 }
 
-/// The nodes a student has seen: the root and the children of every node entered so far.
-fn reached(facts: &TreeFacts<DVec2>, steps: &[Step<f64>]) -> Vec<u32> {
-    let mut seen = vec![0];
-    for step in steps {
-        if let Step::NodeEntered { node } | Step::CellEntered { node, .. } = step
-            && let Some(children) = facts.children[*node as usize]
-        {
-            seen.extend(children);
-        }
-    }
-    seen
-}
-
 fn scene_ui(
     ui: &Ui,
     canvas: &Canvas,
@@ -198,11 +185,8 @@ fn scene_ui(
     let mut node_labels = Vec::new();
     if let (Some(tree), Some(figure_tree)) = (state.tree, figure_tree) {
         let facts = &tree.built.facts;
-        let visible: Vec<u32> = if figure_tree.reveal_as_reached {
-            reached(facts, steps)
-        } else {
-            (0..facts.node_count() as u32).collect()
-        };
+        // The nodes seen so far, as the step's numbers list them.
+        let visible = figure_tree.visible(state.frame);
         if figure_tree.reveal_as_reached {
             for &node in &visible {
                 let color = depth_color(facts.depth[node as usize] as usize);
