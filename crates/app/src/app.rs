@@ -81,6 +81,10 @@ pub struct FrameLayout {
     pub inspector: egui::Rect,
     /// The middle, where the lesson draws its canvas.
     pub canvas: egui::Rect,
+    /// The window's width (points) in that frame.
+    pub window_width: Option<f32>,
+    /// The inspector's width the user dragged it to, kept across window resizes.
+    pub inspector_choice: Option<f32>,
 }
 
 impl Default for AccelvizApp {
@@ -146,6 +150,8 @@ impl AccelvizApp {
             last_layout: FrameLayout {
                 inspector: egui::Rect::NOTHING,
                 canvas: egui::Rect::NOTHING,
+                window_width: None,
+                inspector_choice: None,
             },
             mode: Mode::Lessons,
             quiz: crate::quiz::QuizMode::new(),
@@ -223,6 +229,7 @@ impl AccelvizApp {
             lesson.update();
         }
         self.apply_pending_step();
+        self.take_read_outcome();
         egui::Panel::top("top bar").show(ui, |ui| self.top_bar_ui(ui));
         let caption = self.lesson().and_then(|lesson| lesson.caption());
         if let (Some(caption), Some(lesson)) = (caption, self.lesson_mut()) {
@@ -243,8 +250,31 @@ impl AccelvizApp {
     /// The lesson list on the left and the inspector on the right, at their shares of the
     /// window (every mode but lecture mode has them); `inspector` fills the inspector.
     fn side_panels_ui(&mut self, ui: &mut Ui, inspector: impl FnOnce(&mut Self, &mut Ui)) {
-        let (list_width, inspector_width, inspector_min, inspector_max) =
-            panel_widths(ui.ctx().content_rect().width());
+        let window = ui.ctx().content_rect().width();
+        let (list_width, inspector_width, inspector_min, inspector_max) = panel_widths(window);
+        // egui keeps a panel's width in points: a window made small and large again would
+        // keep the small window's inspector. On a resize it takes the width the user chose
+        // (or its default) again, within the new window's range.
+        // The key egui keeps the panel's state under (its `Panel::id`).
+        let inspector_id = ui.scope_id().with_salt(egui::IdSalt::new("inspector"));
+        let resized = self
+            .last_layout
+            .window_width
+            .is_some_and(|before| (before - window).abs() > 0.5);
+        if resized
+            && let Some(mut state) =
+                egui::containers::panel::PanelState::load(ui.ctx(), inspector_id)
+        {
+            let wanted = self
+                .last_layout
+                .inspector_choice
+                .unwrap_or(inspector_width)
+                .clamp(inspector_min, inspector_max);
+            state.outer_rect.min.x = state.outer_rect.max.x - wanted;
+            ui.ctx()
+                .data_mut(|data| data.insert_persisted(inspector_id, state));
+        }
+        let inspector_before = self.last_layout.inspector.width();
         egui::Panel::left("lessons")
             .resizable(false)
             .exact_size(list_width)
@@ -259,23 +289,50 @@ impl AccelvizApp {
             })
             .response
             .rect;
+        // A width that changed with the window the same size was dragged there by the user.
+        let width = self.last_layout.inspector.width();
+        if !resized
+            && self.last_layout.window_width.is_some()
+            && (width - inspector_before).abs() > 0.5
+        {
+            self.last_layout.inspector_choice = Some(width);
+        }
+        self.last_layout.window_width = Some(window);
     }
 
     /// The selected lesson's inspector: a notice, its text, its own part; or why it did not
     /// load.
     pub(crate) fn lesson_inspector_ui(&mut self, ui: &mut Ui) {
+        self.lesson_side_ui(ui, true);
+    }
+
+    /// The selected lesson's panels (its inspector) without its text, as lecture mode shows
+    /// them.
+    pub(crate) fn lesson_panels_ui(&mut self, ui: &mut Ui) {
+        self.lesson_side_ui(ui, false);
+    }
+
+    fn lesson_side_ui(&mut self, ui: &mut Ui, with_text: bool) {
         match &mut self.lessons[self.selected] {
             Ok(lesson) => {
                 if let Some(notice) = &lesson.stage().notice {
-                    ui.colored_label(crate::canvas::palette::RAY, notice);
+                    ui.colored_label(
+                        crate::canvas::readable(ui, crate::canvas::palette::RAY),
+                        notice,
+                    );
                     ui.separator();
                 }
-                text_ui(ui, lesson.text());
-                ui.separator();
+                if with_text {
+                    text_ui(ui, lesson.text());
+                    ui.separator();
+                }
                 lesson.inspector_ui(ui);
             }
             Err(broken) => {
-                ui.colored_label(crate::canvas::palette::MISS, broken.message.as_str());
+                ui.colored_label(
+                    crate::canvas::readable(ui, crate::canvas::palette::MISS),
+                    broken.message.as_str(),
+                );
             }
         }
     }
@@ -310,6 +367,10 @@ impl AccelvizApp {
             } else {
                 style.text_styles = defaults.text_styles.clone();
                 style.spacing = defaults.spacing.clone();
+                // Hints and footnotes at 11 points, not egui's 9: nobody reads 9-point grey.
+                if let Some(small) = style.text_styles.get_mut(&egui::TextStyle::Small) {
+                    small.size = small.size.max(SMALL_TEXT_POINTS);
+                }
             }
         });
         if let Some(lecture) = self.lecture.as_ref().filter(|_| lecturing) {
@@ -392,7 +453,7 @@ impl AccelvizApp {
             }
             if let Some((message, problem)) = &self.status {
                 let color = if *problem {
-                    crate::canvas::palette::MISS
+                    crate::canvas::readable(ui, crate::canvas::palette::MISS)
                 } else {
                     ui.visuals().weak_text_color()
                 };
@@ -522,23 +583,37 @@ impl AccelvizApp {
         };
     }
 
-    fn file_panel_ui(&mut self, ctx: &egui::Context) {
+    pub(crate) fn file_panel_ui(&mut self, ctx: &egui::Context) {
+        // A panel opening a file opens it into the lesson it was opened for: once the lesson
+        // shown reads other files (a 2D lesson, not an OBJ mesh), or none, it closes.
+        let wanted = self
+            .lesson()
+            .and_then(|lesson| lesson.stage().scene.filter());
+        let lecturing = self.mode == Mode::Lecture && self.lecture.is_some();
+        if self.file_panel.as_ref().is_some_and(|panel| {
+            let for_here = if panel.filter == SCRIPT_FILTER {
+                lecturing
+            } else {
+                self.mode == Mode::Lessons && wanted == Some(panel.filter)
+            };
+            panel.mode == PanelMode::Open && !for_here
+        }) {
+            self.file_panel = None;
+        }
         let Some(panel) = &mut self.file_panel else {
             return;
         };
         match panel.ui(ctx) {
             PanelAction::None => {}
             PanelAction::Close => self.file_panel = None,
-            PanelAction::Open(path) => {
-                match crate::files::read_scene_file(&path, panel.filter.max_bytes) {
-                    FileEvent::Opened { name, text } => {
-                        if self.open_scene_text(&name, &text) {
-                            self.file_panel = None;
-                        }
+            PanelAction::Open(path) => match crate::files::read_text_file(&path, panel.filter) {
+                FileEvent::Opened { name, text, filter } => {
+                    if self.open_text(filter, &name, &text) {
+                        self.file_panel = None;
                     }
-                    FileEvent::Failed(message) => self.status = Some((message, true)),
                 }
-            }
+                FileEvent::Failed(message) => self.status = Some((message, true)),
+            },
             PanelAction::Save(path) => match crate::files::write_file(&path, &panel.content) {
                 Ok(message) => {
                     self.status = Some((message, false));
@@ -576,17 +651,74 @@ impl AccelvizApp {
             return;
         };
         for file in dropped {
-            self.files.dropped(ctx, file, filter.max_bytes);
+            self.files.dropped(ctx, file, filter);
         }
     }
 
-    fn apply_file_events(&mut self) {
+    pub(crate) fn apply_file_events(&mut self) {
         for event in self.files.take_events() {
             match event {
-                FileEvent::Opened { name, text } => {
-                    self.open_scene_text(&name, &text);
+                FileEvent::Opened { name, text, filter } => {
+                    self.open_text(filter, &name, &text);
                 }
                 FileEvent::Failed(message) => self.status = Some((message, true)),
+            }
+        }
+    }
+
+    /// Opens a file's text as what it was opened as: a lecture script, or the lesson's scene.
+    fn open_text(&mut self, filter: FileFilter, name: &str, text: &str) -> bool {
+        if filter == SCRIPT_FILTER {
+            self.open_script_text(name, text)
+        } else {
+            self.open_scene_text(name, text)
+        }
+    }
+
+    /// Asks for a lecture script to open: the system's dialog (an upload in the browser), or
+    /// the in-app panel when there is none.
+    pub fn open_script(&mut self, ctx: &egui::Context) {
+        match self.files.open(ctx, SCRIPT_FILTER) {
+            DialogOutcome::Done | DialogOutcome::Cancelled => {}
+            DialogOutcome::Unavailable(reason) => {
+                log::warn!("accelviz: no file dialog: {reason}");
+                self.file_panel =
+                    Some(FilePanel::new(PanelMode::Open, SCRIPT_FILTER, Some(reason)));
+            }
+        }
+    }
+
+    /// Takes a lecture script's text as the lecture, from its first slide when lecture mode
+    /// is on: its bad lines are skipped and reported in the lecture bar (file and line); a
+    /// script with no slide keeps the lecture as it was and says why. Returns whether it
+    /// opened.
+    pub fn open_script_text(&mut self, name: &str, text: &str) -> bool {
+        match LectureScript::parse(text, name, self.lessons.len()) {
+            Ok(script) => {
+                let slides = script.slides.len();
+                log::info!("accelviz: opened the lecture script {name}: {slides} slides");
+                self.script = Ok(script);
+                if self.mode == Mode::Lecture && self.lecture.is_some() {
+                    self.start_lecture();
+                }
+                let message = format!(
+                    "opened the lecture script {name}: {}",
+                    accelviz_core::format::counted(slides, "slide", "slides")
+                );
+                if let Some(lecture) = &mut self.lecture {
+                    lecture.message = Some((message.clone(), false));
+                }
+                self.status = Some((message, false));
+                true
+            }
+            Err(error) => {
+                let message = format!("{error} (the lecture stays as it was)");
+                log::warn!("accelviz: {message}");
+                if let Some(lecture) = &mut self.lecture {
+                    lecture.message = Some((message.clone(), true));
+                }
+                self.status = Some((message, true));
+                false
             }
         }
     }
@@ -602,8 +734,14 @@ impl AccelvizApp {
         match stage.scene.open(name, text) {
             Ok(()) => {
                 stage.timeline.rewind();
-                log::info!("accelviz: opened {name}");
-                self.status = Some((format!("opened {name}"), false));
+                // A large file is read aside: how that ends comes later
+                // ([`AccelvizApp::take_read_outcome`]).
+                self.status = Some(if stage.scene.reading().is_some() {
+                    (format!("reading {name}…"), false)
+                } else {
+                    log::info!("accelviz: opened {name}");
+                    (format!("opened {name}"), false)
+                });
                 true
             }
             Err(message) => {
@@ -612,6 +750,27 @@ impl AccelvizApp {
                 false
             }
         }
+    }
+
+    /// Says in the status line how a file read aside ended (opened, or why not): one message
+    /// in one place, as for a file opened at once, replaced by the next.
+    pub(crate) fn take_read_outcome(&mut self) {
+        let Some(outcome) = self
+            .lesson_mut()
+            .and_then(|lesson| lesson.stage_mut().scene.take_read_outcome())
+        else {
+            return;
+        };
+        self.status = Some(match outcome {
+            Ok(name) => {
+                log::info!("accelviz: opened {name}");
+                (format!("opened {name}"), false)
+            }
+            Err(problem) => {
+                log::warn!("accelviz: {problem}");
+                (problem, true)
+            }
+        });
     }
 
     /// Logs each change of lesson or step once (the browser test reads these lines) and puts
@@ -687,6 +846,16 @@ impl eframe::App for AccelvizApp {
         self.contents_ui(ui);
     }
 }
+
+/// The smallest text outside lecture mode (hints, footnotes), in points.
+pub const SMALL_TEXT_POINTS: f32 = 11.0;
+
+/// Lecture scripts, opened from lecture mode ("Open script…").
+pub const SCRIPT_FILTER: FileFilter = FileFilter {
+    name: "lecture script",
+    extensions: &["txt"],
+    max_bytes: 1 << 20,
+};
 
 /// Pictures saved for slides.
 const PNG_FILTER: FileFilter = FileFilter {

@@ -6,8 +6,61 @@ use egui::{Align2, Color32, FontId, Pos2, Rect, Response, Sense, Stroke, StrokeK
 use glam::DVec2;
 
 /// The plate under canvas text: dark enough that a label's colour reads at 4.5:1 or better
-/// whatever is drawn below (a green label over a green hit shape included).
-pub const PLATE: Color32 = Color32::from_black_alpha(215);
+/// whatever is drawn below, white included (a green label over a green hit shape, a red one
+/// on the light theme's white canvas): the contrast test composites it over white.
+pub const PLATE: Color32 = Color32::from_black_alpha(235);
+
+/// WCAG's relative luminance of an sRGB colour (its alpha ignored).
+pub fn luminance(color: Color32) -> f32 {
+    let linear = |channel: u8| {
+        let c = f32::from(channel) / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    0.2126 * linear(color.r()) + 0.7152 * linear(color.g()) + 0.0722 * linear(color.b())
+}
+
+/// WCAG's contrast ratio of two opaque colours: 1 (the same) to 21 (black on white); text
+/// wants 4.5 or more.
+pub fn contrast_ratio(a: Color32, b: Color32) -> f32 {
+    let (la, lb) = (luminance(a), luminance(b));
+    (la.max(lb) + 0.05) / (la.min(lb) + 0.05)
+}
+
+/// `color`, made lighter (on a dark `background`) or darker (on a light one) just enough
+/// for text in it to read at 4.5:1: the palette's colours as panel text in every theme (red
+/// on the light theme's white is 3.7:1 as it is).
+pub fn readable_on(color: Color32, background: Color32) -> Color32 {
+    let toward = if luminance(background) < 0.18 {
+        Color32::WHITE
+    } else {
+        Color32::BLACK
+    };
+    let color = Color32::from_rgb(color.r(), color.g(), color.b());
+    (0..=20)
+        .map(|step| color.lerp_to_gamma(toward, step as f32 / 20.0))
+        .find(|candidate| contrast_ratio(*candidate, background) >= 4.5)
+        .unwrap_or(toward)
+}
+
+/// [`readable_on`] the panel `ui` draws on.
+pub fn readable(ui: &egui::Ui, color: Color32) -> Color32 {
+    readable_on(color, ui.visuals().panel_fill)
+}
+
+/// `top` (premultiplied, as egui keeps colours) painted over the opaque `bottom`.
+pub fn over(top: Color32, bottom: Color32) -> Color32 {
+    let keep = 1.0 - f32::from(top.a()) / 255.0;
+    let mix = |t: u8, b: u8| (f32::from(t) + f32::from(b) * keep).round().min(255.0) as u8;
+    Color32::from_rgb(
+        mix(top.r(), bottom.r()),
+        mix(top.g(), bottom.g()),
+        mix(top.b(), bottom.b()),
+    )
+}
 
 /// Where the world sits on screen: the world point at the canvas's centre and the zoom.
 /// World y points up, screen y down.
@@ -106,15 +159,21 @@ pub mod palette {
     pub const AXES: [Color32; 3] = [X_AXIS, Y_AXIS, Z_AXIS];
 }
 
-/// A colour per tree depth, cycling through hues so neighbouring depths differ.
-pub fn depth_color(depth: usize) -> Color32 {
+/// A colour per tree depth, cycling through hues so neighbouring depths differ; saturated and
+/// bright on a dark background, saturated and darker on a light one (pastels vanish on white).
+pub fn depth_color(depth: usize, dark_mode: bool) -> Color32 {
     // Converting a hue to sRGB takes a few `powf`s: a fifth of a frame that draws every node
     // of three 20k-shape trees, so the depths a tree reaches are converted once.
-    static TABLE: std::sync::LazyLock<Vec<Color32>> =
-        std::sync::LazyLock::new(|| (0..DEPTH_COLORS).map(hue_of_depth).collect());
-    match TABLE.get(depth) {
+    static TABLES: std::sync::LazyLock<[Vec<Color32>; 2]> = std::sync::LazyLock::new(|| {
+        [false, true].map(|dark_mode| {
+            (0..DEPTH_COLORS)
+                .map(|depth| hue_of_depth(depth, dark_mode))
+                .collect()
+        })
+    });
+    match TABLES[usize::from(dark_mode)].get(depth) {
         Some(&color) => color,
-        None => hue_of_depth(depth),
+        None => hue_of_depth(depth, dark_mode),
     }
 }
 
@@ -138,12 +197,28 @@ pub fn font(ctx: &egui::Context, points: f32) -> FontId {
 /// How many depths `depth_color` keeps converted: deeper than any kD-tree's depth limit.
 const DEPTH_COLORS: usize = 64;
 
-fn hue_of_depth(depth: usize) -> Color32 {
+fn hue_of_depth(depth: usize, dark_mode: bool) -> Color32 {
     let hue = (depth as f32 * 0.137 + 0.55).fract();
-    egui::ecolor::Hsva::new(hue, 0.75, 0.95, 1.0).into()
+    if dark_mode {
+        return egui::ecolor::Hsva::new(hue, 0.75, 0.95, 1.0).into();
+    }
+    // On white, as dark as the hue needs to stand out at 3.2:1 (WCAG asks 3 of lines): a
+    // yellow-green must be darker than a blue of the same value.
+    (0..=16)
+        .map(|step| {
+            let value = 0.6 - 0.03 * step as f32;
+            Color32::from(egui::ecolor::Hsva::new(hue, 0.95, value, 1.0))
+        })
+        .find(|color| contrast_ratio(*color, Color32::WHITE) >= 3.2)
+        .unwrap_or(Color32::from_gray(90))
 }
 
 impl Canvas {
+    /// [`depth_color`] for this canvas's background.
+    pub fn depth_color(&self, depth: usize) -> Color32 {
+        depth_color(depth, self.painter.ctx().global_style().visuals.dark_mode)
+    }
+
     /// Allocates a canvas of `size`, lets the user zoom (scroll, pinch) and pan (drag with the
     /// secondary or middle button, or with the primary button when `pan_with_primary`), and
     /// fits the view to `fit_bounds` the first time.
@@ -242,8 +317,7 @@ impl Canvas {
         );
         let pos = self.rect.left_bottom() + Vec2::new(10.0, -10.0 - galley.size().y);
         let backing = Rect::from_min_size(pos, galley.size()).expand(3.0);
-        self.painter
-            .rect_filled(backing, 3.0, Color32::from_black_alpha(170));
+        self.painter.rect_filled(backing, 3.0, PLATE);
         self.painter.galley(pos, galley, Color32::WHITE);
     }
 

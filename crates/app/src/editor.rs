@@ -336,8 +336,8 @@ impl EditableScene {
     /// The scene's shape count and where it came from, at the canvas's bottom right.
     pub fn draw_footer(&self, canvas: &Canvas) {
         canvas.note_right(&format!(
-            "{} shapes · {}",
-            accelviz_core::format::count(self.scene.shapes.shapes.len()),
+            "{} · {}",
+            accelviz_core::format::counted(self.scene.shapes.shapes.len(), "shape", "shapes"),
             self.origin_text()
         ));
     }

@@ -19,6 +19,8 @@ pub enum FileEvent {
         name: String,
         /// Its contents.
         text: String,
+        /// What it was opened as (a scene, a mesh, a lecture script).
+        filter: FileFilter,
     },
     /// Reading failed; the message says which file and why.
     Failed(String),
@@ -90,8 +92,10 @@ fn run_dialog<T>(dialog: impl FnOnce() -> Option<T>) -> Result<Option<T>, String
     }
 }
 
-/// Reads a file the lesson opens, refusing one larger than `max_bytes` before reading it.
-pub fn read_scene_file(path: &Path, max_bytes: u64) -> FileEvent {
+/// Reads a file opened as `filter` says, refusing one larger than its `max_bytes` before
+/// reading it.
+pub fn read_text_file(path: &Path, filter: FileFilter) -> FileEvent {
+    let max_bytes = filter.max_bytes;
     let name = path.display().to_string();
     let size = std::fs::metadata(path)
         .map(|metadata| metadata.len())
@@ -100,7 +104,7 @@ pub fn read_scene_file(path: &Path, max_bytes: u64) -> FileEvent {
         return too_large(&name, size, max_bytes);
     }
     match std::fs::read(path) {
-        Ok(bytes) => text_event(name, bytes),
+        Ok(bytes) => text_event(name, bytes, filter),
         Err(error) => FileEvent::Failed(format!("{name}: cannot read the file: {error}")),
     }
 }
@@ -115,9 +119,9 @@ fn too_large(name: &str, size: u64, max_bytes: u64) -> FileEvent {
 }
 
 /// A file's bytes as text, or why they are not.
-fn text_event(name: String, bytes: Vec<u8>) -> FileEvent {
+fn text_event(name: String, bytes: Vec<u8>, filter: FileFilter) -> FileEvent {
     match String::from_utf8(bytes) {
-        Ok(text) => FileEvent::Opened { name, text },
+        Ok(text) => FileEvent::Opened { name, text, filter },
         Err(_) => FileEvent::Failed(format!("{name}: the file is not UTF-8 text")),
     }
 }
@@ -167,10 +171,23 @@ pub enum PanelAction {
     Save(PathBuf),
 }
 
+/// The folder the file panel was last used in: the next panel starts there.
+static LAST_FOLDER: Mutex<Option<PathBuf>> = Mutex::new(None);
+
+/// Where a new panel starts: the folder last used, or the current one.
+fn start_folder() -> PathBuf {
+    LAST_FOLDER
+        .lock()
+        .ok()
+        .and_then(|folder| folder.clone())
+        .filter(|folder| folder.is_dir())
+        .unwrap_or_else(|| std::env::current_dir().unwrap_or_default())
+}
+
 impl FilePanel {
-    /// A panel for `mode`, starting in the current folder (and with `file_name` to save).
+    /// A panel for `mode`, starting in the folder last used (and with `file_name` to save).
     pub fn new(mode: PanelMode, filter: FileFilter, reason: Option<String>) -> Self {
-        let folder = std::env::current_dir().unwrap_or_default();
+        let folder = start_folder();
         Self {
             mode,
             path: folder.display().to_string(),
@@ -182,7 +199,7 @@ impl FilePanel {
 
     /// A panel that saves `content`, suggesting `name` in the current folder.
     pub fn saving(filter: FileFilter, name: &str, content: Vec<u8>, reason: String) -> Self {
-        let folder = std::env::current_dir().unwrap_or_default();
+        let folder = start_folder();
         Self {
             mode: PanelMode::Save,
             path: folder.join(name).display().to_string(),
@@ -244,20 +261,22 @@ impl FilePanel {
             .open(&mut open)
             .show(ctx, |ui| {
                 if let Some(reason) = &self.reason {
-                    ui.colored_label(
-                        crate::canvas::palette::RAY,
-                        format!(
-                            "The system's file dialog could not open ({reason}). Type or pick a path here instead."
-                        ),
-                    );
+                    // What the dialog library logged is for a bug report, not the message.
+                    ui.label(
+                        "The system's file dialog could not open here. Type or pick a path instead.",
+                    )
+                    .on_hover_text(format!("What the dialog reported: {reason}"));
                 }
+                let mut entered = false;
                 ui.horizontal(|ui| {
                     let label = ui.label("path");
-                    ui.add(
-                        egui::TextEdit::singleline(&mut self.path)
-                            .desired_width(ui.available_width() - 8.0),
-                    )
-                    .labelled_by(label.id);
+                    let field = ui
+                        .add(
+                            egui::TextEdit::singleline(&mut self.path)
+                                .desired_width(ui.available_width() - 8.0),
+                        )
+                        .labelled_by(label.id);
+                    entered = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
                 });
                 let folder = self.folder();
                 ui.horizontal(|ui| {
@@ -272,7 +291,9 @@ impl FilePanel {
                             .weak(),
                     );
                 });
+                // Always as tall, so the buttons below stay put while a path is typed.
                 egui::ScrollArea::vertical()
+                    .auto_shrink([false, false])
                     .max_height(220.0)
                     .show(ui, |ui| {
                         for (path, is_dir) in self.listing() {
@@ -293,7 +314,15 @@ impl FilePanel {
                         PanelMode::Open => "Open",
                         PanelMode::Save => "Save",
                     };
-                    if ui.button(verb).clicked() {
+                    // Enter in the path field presses the button, unless the path is a folder
+                    // (whose files the list then shows).
+                    let entered = entered && !path.is_dir();
+                    if ui.button(verb).clicked() || entered {
+                        if let Some(folder) = path.parent().filter(|_| !path.is_dir())
+                            && let Ok(mut last) = LAST_FOLDER.lock()
+                        {
+                            *last = Some(folder.to_path_buf());
+                        }
                         action = match self.mode {
                             PanelMode::Open => PanelAction::Open(path),
                             PanelMode::Save => PanelAction::Save(path),
@@ -318,7 +347,7 @@ pub struct FileChannel {
 }
 
 /// Which files a dialog offers: a name for the kind and its extensions.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct FileFilter {
     /// What the files are ("accelviz scene", "OBJ mesh").
     pub name: &'static str,
@@ -349,7 +378,8 @@ impl FileChannel {
 
     /// Reads a file dropped onto the window or the page (at once on the desktop; in the
     /// browser asynchronously, arriving as an event).
-    pub fn dropped(&self, ctx: &egui::Context, file: egui::DroppedFileHandle, max_bytes: u64) {
+    pub fn dropped(&self, ctx: &egui::Context, file: egui::DroppedFileHandle, filter: FileFilter) {
+        let max_bytes = filter.max_bytes;
         let name = file.path().file_name().map_or_else(
             || file.path().display().to_string(),
             |name| name.to_string_lossy().into_owned(),
@@ -361,7 +391,7 @@ impl FileChannel {
                 too_large(&name, size, max_bytes)
             } else {
                 match file.bytes() {
-                    Ok(bytes) => text_event(name, bytes),
+                    Ok(bytes) => text_event(name, bytes, filter),
                     Err(error) => {
                         FileEvent::Failed(format!("{name}: cannot read the file: {error}"))
                     }
@@ -378,7 +408,7 @@ impl FileChannel {
                     Ok(bytes) if bytes.len() as u64 > max_bytes => {
                         too_large(&name, bytes.len() as u64, max_bytes)
                     }
-                    Ok(bytes) => text_event(name, bytes),
+                    Ok(bytes) => text_event(name, bytes, filter),
                     Err(error) => {
                         FileEvent::Failed(format!("{name}: cannot read the file: {error}"))
                     }
@@ -407,7 +437,7 @@ impl FileChannel {
         });
         match picked {
             Ok(Some(path)) => {
-                self.push(ctx, read_scene_file(&path, filter.max_bytes));
+                self.push(ctx, read_text_file(&path, filter));
                 DialogOutcome::Done
             }
             Ok(None) => DialogOutcome::Cancelled,
@@ -434,7 +464,7 @@ impl FileChannel {
             let event = if bytes.len() as u64 > filter.max_bytes {
                 too_large(&name, bytes.len() as u64, filter.max_bytes)
             } else {
-                text_event(name, bytes)
+                text_event(name, bytes, filter)
             };
             channel.push(&ctx, event);
         });

@@ -96,7 +96,10 @@ impl ViewState {
                             .ok()
                             .filter(|number| *number >= 1)
                             .ok_or_else(|| {
-                                format!("lesson '{}' is not a number from 1", shorten(&value))
+                                format!(
+                                    "lesson '{}' is not a lesson number (1, 2, 3, …)",
+                                    shorten(&value)
+                                )
                             })?
                             - 1,
                     );
@@ -276,7 +279,7 @@ impl AccelvizApp {
                         }
                     }
                     Err(problem) => {
-                        ui.colored_label(crate::canvas::palette::MISS, problem);
+                        ui.colored_label(crate::canvas::readable(ui, crate::canvas::palette::MISS), problem);
                     }
                 }
                 ui.separator();
@@ -298,6 +301,29 @@ impl AccelvizApp {
             self.share_window = Some(typed);
         }
     }
+}
+
+/// The key of a traversal order.
+pub const ORDER: &str = "order";
+
+/// A traversal order as a value: its name (`near-first`, `file-order`).
+pub fn order_value(order: accelviz_core::Order) -> (String, String) {
+    (ORDER.into(), order.name().into())
+}
+
+/// An order from its value.
+pub fn parse_order(value: &str) -> Result<accelviz_core::Order, String> {
+    accelviz_core::Order::from_name(value).ok_or_else(|| {
+        let names: Vec<&str> = accelviz_core::Order::ALL
+            .iter()
+            .map(|order| order.name())
+            .collect();
+        format!(
+            "order '{}' is not one of {}",
+            shorten(value),
+            names.join(", ")
+        )
+    })
 }
 
 /// A structure as a value: its catalogue name.

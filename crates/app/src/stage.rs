@@ -62,6 +62,12 @@ pub trait SceneFile {
         None
     }
 
+    /// How a file read aside ended, once: `Ok(name)` opened, or why it could not be. The app
+    /// says it in its one status line (as for a file opened at once).
+    fn take_read_outcome(&mut self) -> Option<Result<String, String>> {
+        None
+    }
+
     /// The 2D scene, for what the app does with 2D scenes only (placing a generated ray).
     fn as_flat(&mut self) -> Option<&mut EditableScene> {
         None

@@ -8,7 +8,7 @@
 //! Whatever a lesson shows part-way through is [`Trace::state`] at that frame: the core's
 //! counters replayed, the closest hit so far, the step being taken.
 
-use accelviz_core::format::number;
+use accelviz_core::format::{counted, number};
 use accelviz_core::{
     Counters, Hit, LeafPrimitives, Order, Ray, Recorder, ShapeSet, Step, TraceOptions,
     TraversalStacks, Tree, Vector, brute_force, counters_of,
@@ -138,11 +138,21 @@ impl Trace {
         let counters = counters_of(&self.steps);
         let work = if counters.box_tests > 0 || counters.nodes_visited > 0 {
             format!(
-                "{} nodes visited, {} box tests, {} primitive tests",
-                counters.nodes_visited, counters.box_tests, counters.primitive_tests
+                "{} visited, {}, {}",
+                counted(counters.nodes_visited as usize, "node", "nodes"),
+                counted(counters.box_tests as usize, "box test", "box tests"),
+                counted(
+                    counters.primitive_tests as usize,
+                    "primitive test",
+                    "primitive tests"
+                )
             )
         } else {
-            format!("{} primitive tests", counters.primitive_tests)
+            counted(
+                counters.primitive_tests as usize,
+                "primitive test",
+                "primitive tests",
+            )
         };
         match self.hit {
             Some(hit) => format!(

@@ -16,11 +16,9 @@ use crate::{BuildArgs, Precision, TraceArgs, convert_rays, load_mesh};
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    /// The mesh: an OBJ file, or builtin:NAME (default: the built-in lumpy sphere).
-    #[arg(long, default_value = "builtin:lumpy-sphere")]
+    #[arg(long, default_value = "builtin:lumpy-sphere", help = crate::mesh_help())]
     mesh: String,
-    /// Comma-separated structures, e.g. bvh:sah-binned:8,bvh:sah-sweep.
-    #[arg(long)]
+    #[arg(long, help = crate::structure_help("Comma-separated structures (bvh:sah-binned:8,kd:sah)"))]
     accel: String,
     /// How many random rays (origins outside the mesh's box, aimed at random points in it).
     #[arg(long, default_value_t = 100_000, conflicts_with = "rays_file")]
@@ -92,14 +90,6 @@ impl BenchArgs {
             packet: "1".into(),
             json: false,
         }
-    }
-}
-
-/// The order as the command line spells it.
-fn order_name(order: accelviz_core::Order) -> &'static str {
-    match order {
-        accelviz_core::Order::NearFirst => "near-first",
-        accelviz_core::Order::FileOrder => "file-order",
     }
 }
 
@@ -215,7 +205,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
             mesh.name,
             mesh.triangles.len(),
             rays.len(),
-            order_name(options.order),
+            options.order.name(),
             precision_name(args.trace.precision),
             if args.trace.robust { "robust" } else { "fast" },
             args.repeat.max(1)
@@ -273,7 +263,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .number("avg_mailbox_skips", f.counters.mailbox_skips as f64 / rays)
                 .integer("hits", f.hits as u64)
                 .integer("misses", (f.rays - f.hits) as u64)
-                .string("order", order_name(options.order))
+                .string("order", options.order.name())
                 .string("precision", precision_name(args.trace.precision))
                 .boolean("robust", args.trace.robust)
                 .boolean("mailbox", args.trace.mailbox)

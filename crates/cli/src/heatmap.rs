@@ -39,11 +39,9 @@ impl CounterArg {
 
 #[derive(Args, Debug)]
 pub struct HeatmapArgs {
-    /// The mesh: an OBJ file, or builtin:NAME (default: the built-in lumpy sphere).
-    #[arg(long, default_value = "builtin:lumpy-sphere")]
+    #[arg(long, default_value = "builtin:lumpy-sphere", help = crate::mesh_help())]
     mesh: String,
-    /// The structure, e.g. bvh:sah-binned or kd:sah.
-    #[arg(long)]
+    #[arg(long, help = crate::structure_help("The structure"))]
     accel: String,
     /// The image size WIDTHxHEIGHT; the camera is `bench --camera`'s.
     #[arg(long, default_value = "512x512")]
@@ -113,10 +111,7 @@ pub fn run(args: &HeatmapArgs) -> Result<String> {
     }
     write_all_or_nothing(&files)?;
 
-    let order = match args.trace.options().order {
-        accelviz_core::Order::NearFirst => "near-first",
-        accelviz_core::Order::FileOrder => "file-order",
-    };
+    let order = args.trace.options().order.name();
     Ok(if args.json {
         let object = JsonObject::new()
             .string("accel", &spec.name())

@@ -165,12 +165,11 @@ impl TraceArgs {
 
 #[derive(Args, Debug)]
 struct QueryArgs {
-    /// The mesh: an OBJ file, or builtin:NAME (lumpy-sphere, icosphere, cube).
-    #[arg(long)]
+    // The help of `--mesh` and `--accel` is written from the built-in mesh table and the
+    // structure catalogue, so it lists every one there is.
+    #[arg(long, help = mesh_help())]
     mesh: String,
-    /// The structure: `brute`, `bvh:middle`, `bvh:median`, `bvh:sah-binned[:BINS]` (16 bins by
-    /// default), `bvh:sah-sweep`.
-    #[arg(long)]
+    #[arg(long, help = structure_help("The structure"))]
     accel: String,
     /// Ray file: `ox oy oz dx dy dz [tmin tmax]` per line, `#` starts a comment. Read twice,
     /// a line at a time: first every line is checked (a bad line is reported and nothing is
@@ -186,6 +185,26 @@ struct QueryArgs {
     trace: TraceArgs,
     #[command(flatten)]
     build: BuildArgs,
+}
+
+/// `--mesh`'s help: every built-in mesh, from the scene crate's table.
+pub fn mesh_help() -> String {
+    let names: Vec<&str> = accelviz_scene::builtin::BUILTINS
+        .iter()
+        .map(|builtin| builtin.name)
+        .collect();
+    format!(
+        "The mesh: an OBJ file, or builtin:NAME, NAME one of {}",
+        names.join(", ")
+    )
+}
+
+/// `--accel`'s help (`what` names it): every structure of the catalogue.
+pub fn structure_help(what: &str) -> String {
+    format!(
+        "{what}: brute (every triangle), or {}; a BVH of 4 or 8 children as bvh4:… or bvh8:… (bvh8:sah-binned)",
+        accelviz_core::structure::valid_names()
+    )
 }
 
 /// Loads `--mesh`: a path, or `builtin:NAME`.

@@ -19,8 +19,7 @@ use crate::{BuildArgs, convert_rays, load_mesh};
 
 #[derive(Args, Debug)]
 pub struct TradeoffArgs {
-    /// The mesh: an OBJ file, or builtin:NAME (default: the built-in lumpy sphere).
-    #[arg(long, default_value = "builtin:lumpy-sphere")]
+    #[arg(long, default_value = "builtin:lumpy-sphere", help = crate::mesh_help())]
     mesh: String,
     /// How many random rays (origins outside the mesh's box, aimed at random points in it).
     /// Every one is also traced by brute force in f64, which takes rays × triangles tests.
@@ -364,13 +363,6 @@ impl<V: Vector3> Prepared<V> {
     }
 }
 
-fn order_name(order: Order) -> &'static str {
-    match order {
-        Order::NearFirst => "near-first",
-        Order::FileOrder => "file-order",
-    }
-}
-
 impl Row {
     /// The table's cells: rounded for reading, or every digit (for CSV).
     fn cells(&self, params: &BuildParams, rounded: bool) -> [String; 13] {
@@ -383,7 +375,7 @@ impl Row {
         };
         [
             self.structure.clone(),
-            order_name(self.order).to_owned(),
+            self.order.name().to_owned(),
             (if self.f64 { "f64" } else { "f32" }).to_owned(),
             (if self.watertight {
                 "watertight"

@@ -54,17 +54,53 @@ pub fn point(coordinates: &[f64]) -> String {
     format!("({})", parts.join(", "))
 }
 
-/// A count with thousands separated by a thin space (`815 859`), the way SI writes them.
+/// A point in a scene of size `scale` (its bounding box's diagonal, say), each coordinate by
+/// [`number`], except that one a billion times smaller than the scene is written `0`: a box
+/// bound at 9.185e-18 on a mesh a metre wide is 0 up to rounding, and reads as such.
+///
+/// ```
+/// use accelviz_core::format::point_at_scale;
+/// assert_eq!(point_at_scale(&[9.185e-18, 1.837, -1.141], 3.0), "(0, 1.837, −1.141)");
+/// assert_eq!(point_at_scale(&[2.99e-4, 1.0], 3.0), "(2.99e-4, 1.000)");
+/// ```
+pub fn point_at_scale(coordinates: &[f64], scale: f64) -> String {
+    let negligible = scale.abs() * 1e-9;
+    let parts: Vec<String> = coordinates
+        .iter()
+        .map(|&value| number(if value.abs() < negligible { 0.0 } else { value }))
+        .collect();
+    format!("({})", parts.join(", "))
+}
+
+/// A count with its thousands apart (`815 859`), the way SI writes them; the space is a
+/// no-break space, so a number never wraps across two lines of a panel.
 pub fn count(value: usize) -> String {
     let digits = value.to_string();
     let mut grouped = String::with_capacity(digits.len() + digits.len() / 3 * 3);
     for (index, digit) in digits.chars().enumerate() {
         if index > 0 && (digits.len() - index).is_multiple_of(3) {
-            grouped.push('\u{2009}');
+            grouped.push(THOUSANDS);
         }
         grouped.push(digit);
     }
     grouped
+}
+
+/// The thousands separator of [`count`]: U+00A0, the no-break space (egui, like browsers,
+/// breaks lines at a thin space, even U+202F).
+pub const THOUSANDS: char = '\u{a0}';
+
+/// `value` things: `1 vertex`, `3 vertices`, `1 000 shapes` ([`count`], then the noun in the
+/// number it takes).
+///
+/// ```
+/// use accelviz_core::format::counted;
+/// assert_eq!(counted(1, "vertex", "vertices"), "1 vertex");
+/// assert_eq!(counted(3, "vertex", "vertices"), "3 vertices");
+/// assert_eq!(counted(0, "value", "values"), "0 values");
+/// ```
+pub fn counted(value: usize, one: &str, many: &str) -> String {
+    format!("{} {}", count(value), if value == 1 { one } else { many })
 }
 
 #[cfg(test)]
@@ -99,8 +135,8 @@ mod tests {
     #[test]
     fn points_and_counts() {
         assert_eq!(point(&[1.0, -2.5]), "(1.000, −2.500)");
-        assert_eq!(count(815_859), "815\u{2009}859");
+        assert_eq!(count(815_859), "815\u{a0}859");
         assert_eq!(count(42), "42");
-        assert_eq!(count(1_000_000), "1\u{2009}000\u{2009}000");
+        assert_eq!(count(1_000_000), "1\u{a0}000\u{a0}000");
     }
 }

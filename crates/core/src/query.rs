@@ -51,6 +51,24 @@ pub enum Order {
     FileOrder,
 }
 
+impl Order {
+    /// Both orders.
+    pub const ALL: [Order; 2] = [Order::NearFirst, Order::FileOrder];
+
+    /// Its name as the command line, JSON output and share links spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Order::NearFirst => "near-first",
+            Order::FileOrder => "file-order",
+        }
+    }
+
+    /// The order of that [`Order::name`].
+    pub fn from_name(name: &str) -> Option<Order> {
+        Order::ALL.into_iter().find(|order| order.name() == name)
+    }
+}
+
 /// Every switch of one traversal.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub struct TraceOptions {

@@ -33,6 +33,22 @@ pub enum Family {
 }
 
 impl Family {
+    /// Both families.
+    pub const ALL: [Family; 2] = [Family::Bvh, Family::Kd];
+
+    /// The name structures start with (`bvh:…`, `kd:…`), and share links use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Family::Bvh => "bvh",
+            Family::Kd => "kd",
+        }
+    }
+
+    /// The family of that [`Family::name`].
+    pub fn from_name(name: &str) -> Option<Family> {
+        Family::ALL.into_iter().find(|family| family.name() == name)
+    }
+
     /// The name for people: "BVH", "kD-tree".
     pub fn label(self) -> &'static str {
         match self {
@@ -65,10 +81,10 @@ impl SplitRule {
 }
 
 /// How many children a BVH node has: binary as built, or a binary BVH collapsed into 4 or 8
-/// children a node ([`bvh::collapse`]).
+/// children per node ([`bvh::collapse`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Width {
-    /// Two children a node: the tree the builders make.
+    /// Two children per node: the tree the builders make.
     #[default]
     Binary,
     /// Four: [`bvh::WideBvh`] with `W = 4`.
@@ -81,7 +97,7 @@ impl Width {
     /// Every width, narrowest first.
     pub const ALL: [Width; 3] = [Width::Binary, Width::Four, Width::Eight];
 
-    /// Children a node.
+    /// Children per node.
     pub fn children(self) -> usize {
         match self {
             Width::Binary => 2,
@@ -106,24 +122,24 @@ impl Width {
 pub enum Structure {
     /// [`MiddleSplit`].
     BvhMiddle {
-        /// Children a node.
+        /// Children per node.
         width: Width,
     },
     /// [`MedianSplit`].
     BvhMedian {
-        /// Children a node.
+        /// Children per node.
         width: Width,
     },
     /// [`SweepSah`]: every candidate.
     BvhSahSweep {
-        /// Children a node.
+        /// Children per node.
         width: Width,
     },
     /// [`BinnedSah`] with this many bins.
     BvhSahBinned {
         /// Bins per axis.
         bins: u16,
-        /// Children a node.
+        /// Children per node.
         width: Width,
     },
     /// [`KdMiddleSplit`].
@@ -386,7 +402,7 @@ impl Structure {
         }
     }
 
-    /// Children a node: [`Width::Binary`] for every kD-tree.
+    /// Children per node: [`Width::Binary`] for every kD-tree.
     pub fn width(&self) -> Width {
         match *self {
             Structure::BvhMiddle { width }
@@ -397,7 +413,7 @@ impl Structure {
         }
     }
 
-    /// The same BVH with `width` children a node (a kD-tree is unchanged: it is binary).
+    /// The same BVH with `width` children per node (a kD-tree is unchanged: it is binary).
     pub fn with_width(self, width: Width) -> Self {
         match self {
             Structure::BvhMiddle { .. } => Structure::BvhMiddle { width },
@@ -523,9 +539,9 @@ impl Structure {
 pub enum Tree<V: Vector> {
     /// A bounding volume hierarchy.
     Bvh(Bvh<V>),
-    /// A BVH of 4 children a node, with the binary tree it was collapsed from.
+    /// A BVH of 4 children per node, with the binary tree it was collapsed from.
     Bvh4(WideBvh<V, 4>),
-    /// A BVH of 8 children a node, with the binary tree it was collapsed from.
+    /// A BVH of 8 children per node, with the binary tree it was collapsed from.
     Bvh8(WideBvh<V, 8>),
     /// A kD-tree.
     Kd(KdTree<V>),
@@ -541,7 +557,7 @@ pub struct TraversalStacks<S: Real> {
 }
 
 impl<V: Vector> Tree<V> {
-    /// A binary BVH as it is, or collapsed to `width` children a node.
+    /// A binary BVH as it is, or collapsed to `width` children per node.
     pub fn from_binary(binary: Bvh<V>, width: Width, cost: &crate::sah::SahCost) -> Self {
         match width {
             Width::Binary => Tree::Bvh(binary),

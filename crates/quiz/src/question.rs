@@ -266,8 +266,8 @@ impl Figure {
                 }
                 if let Some((bounds, members)) = &scene.node {
                     lines.push(format!(
-                        "the node: {} shapes, box {}, perimeter {}",
-                        members.len(),
+                        "the node: {}, box {}, perimeter {}",
+                        accelviz_core::format::counted(members.len(), "shape", "shapes"),
                         describe_box(bounds),
                         num(bounds.area())
                     ));
@@ -282,8 +282,8 @@ impl Figure {
                         let counts = scene.candidate_counts(index);
                         let side = |bounds: &Aabb<DVec2>, count: usize| {
                             format!(
-                                "{count} {}, box {}, perimeter {}",
-                                if count == 1 { "shape" } else { "shapes" },
+                                "{}, box {}, perimeter {}",
+                                accelviz_core::format::counted(count, "shape", "shapes"),
                                 describe_box(bounds),
                                 num(bounds.area())
                             )

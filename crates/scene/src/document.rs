@@ -379,10 +379,23 @@ impl Scene2d {
             ));
         }
         let document: SceneDocument = ron::from_str(text).map_err(|error| {
+            // RON names the Rust types it expected; a reader knows the file's own words.
+            let problem = match &error.code {
+                ron::Error::ExpectedDifferentStructName {
+                    expected: "SceneDocument",
+                    found,
+                } => format!(
+                    "this is not an accelviz scene: a scene file starts with `SceneDocument(` or `(`, not `{found}`"
+                ),
+                ron::Error::ExpectedNamedStructLike("SceneDocument") => {
+                    "this is not an accelviz scene: a scene file starts with `SceneDocument(` or `(`".to_owned()
+                }
+                code => code.to_string(),
+            };
             LoadError::at_line(
                 path,
                 error.span.start.line,
-                format!("column {}: {}", error.span.start.col, error.code),
+                format!("column {}: {problem}", error.span.start.col),
             )
         })?;
         Self::from_document(document, path)
@@ -501,6 +514,18 @@ mod tests {
         );
         let again = Scene2d::parse(&scene.to_ron(), "saved.ron").unwrap();
         assert_eq!(again, scene);
+    }
+
+    #[test]
+    fn a_file_that_is_not_a_scene_is_named_so_without_rust_type_names() {
+        for text in ["v 0 0 0\nv 1 0 0\nf 1 2 3\n", "Mesh(shapes: [])"] {
+            let message = Scene2d::parse(text, "planar.obj").unwrap_err().to_string();
+            assert!(
+                message.starts_with("planar.obj:1: column 1: this is not an accelviz scene"),
+                "{message}"
+            );
+            assert!(!message.contains("struct"), "{message}");
+        }
     }
 
     #[test]

@@ -103,8 +103,8 @@ fn check_lines(text: &str, path: &str, done: &dyn Fn(usize)) -> Result<usize, Lo
                 counts[0] += 1;
                 if !matches!(values.len(), 3 | 4 | 6) {
                     return Err(fail(format!(
-                        "a vertex needs 3 coordinates (optionally w, or r g b), found {} values",
-                        values.len()
+                        "a vertex needs 3 coordinates (optionally w, or r g b), found {}",
+                        accelviz_core::format::counted(values.len(), "value", "values")
                     )));
                 }
                 let numbers = parse_numbers(&values, &fail)?;
@@ -236,7 +236,11 @@ fn check_face_vertex(
     total_positions: usize,
     fail: &impl Fn(String) -> LoadError,
 ) -> Result<(), LoadError> {
-    let names = ["vertex", "texture coordinate", "normal"];
+    let names = [
+        ("vertex", "vertices"),
+        ("texture coordinate", "texture coordinates"),
+        ("normal", "normals"),
+    ];
     for (slot, part) in vertex.split('/').enumerate() {
         if slot > 2 {
             return Err(fail(format!("'{vertex}' has more than three indices")));
@@ -259,8 +263,9 @@ fn check_face_vertex(
         };
         if !in_range {
             return Err(fail(format!(
-                "{} index {index} is out of range (the file has {available} {}s)",
-                names[slot], names[slot]
+                "{} index {index} is out of range (the file has {})",
+                names[slot].0,
+                accelviz_core::format::counted(available, names[slot].0, names[slot].1)
             )));
         }
     }

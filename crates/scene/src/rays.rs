@@ -78,6 +78,21 @@ pub fn parse_rays(text: &str, path: &str) -> Result<Vec<RaySpec>, LoadError> {
     Ok(rays)
 }
 
+/// `ray` as a ray-file line (`ox oy oz dx dy dz`, and `tmin tmax` when the interval is not
+/// `[0, inf)`), each number in the fewest digits that read back as the same f64, so the line
+/// names exactly this ray ([`parse_ray_line`] reads it back bit for bit).
+pub fn ray_line(ray: &RaySpec) -> String {
+    let numbers = ray.origin.iter().chain(&ray.direction);
+    let mut line = numbers
+        .map(|value| format!("{value:?}"))
+        .collect::<Vec<_>>()
+        .join(" ");
+    if ray.t_min != 0.0 || ray.t_max != f64::INFINITY {
+        line.push_str(&format!(" {:?} {:?}", ray.t_min, ray.t_max));
+    }
+    line
+}
+
 /// The longest line a ray file may have: a ray is eight numbers.
 pub const MAX_RAY_LINE_BYTES: usize = 4096;
 
@@ -102,7 +117,8 @@ pub fn parse_ray_line(
     }
     if word_count != 6 && word_count != 8 {
         return Err(fail(format!(
-            "a ray is 'ox oy oz dx dy dz [tmin tmax]', found {word_count} values"
+            "a ray is 'ox oy oz dx dy dz [tmin tmax]', found {}",
+            accelviz_core::format::counted(word_count, "value", "values")
         )));
     }
     let mut numbers = [0.0f64; 8];
@@ -464,6 +480,46 @@ pub fn surface_aim_rays(triangles: &[[[f64; 3]; 3]], seed: u64) -> Vec<RaySpec> 
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_ray_line_reads_back_as_the_same_ray_bit_for_bit() {
+        let mut rng = crate::rng::SplitMix64::new(7);
+        let value = |rng: &mut crate::rng::SplitMix64| {
+            // Scales f32 holds too (the line is checked in both precisions), both signs,
+            // values that print oddly (-0, 0.1).
+            let scale = 10f64.powi((rng.next_f64() * 60.0 - 30.0) as i32);
+            match rng.next_u64() % 8 {
+                0 => -0.0,
+                1 => 0.1,
+                _ => (rng.next_f64() - 0.5) * scale,
+            }
+        };
+        for case in 0..2000 {
+            let mut ray = super::RaySpec::generated(
+                glam::DVec3::new(value(&mut rng), value(&mut rng), value(&mut rng)),
+                glam::DVec3::new(
+                    value(&mut rng),
+                    value(&mut rng),
+                    1.0 + value(&mut rng).abs(),
+                ),
+            );
+            if case % 3 == 0 {
+                ray.t_min = 0.25;
+                ray.t_max = 1e9;
+            }
+            let line = super::ray_line(&ray);
+            let read = super::parse_ray_line(&line, 5, "clicked.rays")
+                .expect("reads")
+                .expect("a ray");
+            let bits = |ray: &super::RaySpec| {
+                (ray.origin.iter().chain(&ray.direction))
+                    .chain([&ray.t_min, &ray.t_max])
+                    .map(|v| v.to_bits())
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(bits(&read), bits(&ray), "{line}");
+        }
+    }
+
     use super::*;
 
     #[test]

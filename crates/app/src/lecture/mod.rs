@@ -165,9 +165,15 @@ impl Theme {
 
     /// Its visuals.
     pub fn visuals(self) -> egui::Visuals {
+        // Weak text (hints, footnotes) at 4.5:1 or more: egui's own is the text colour at 60 %,
+        // 2.7:1 on the dark panels.
+        let weak = |mut visuals: egui::Visuals, gray: u8| {
+            visuals.weak_text_color = Some(Color32::from_gray(gray));
+            visuals
+        };
         match self {
-            Theme::Dark => egui::Visuals::dark(),
-            Theme::Light => egui::Visuals::light(),
+            Theme::Dark => weak(egui::Visuals::dark(), 150),
+            Theme::Light => weak(egui::Visuals::light(), 100),
             Theme::HighContrast => {
                 let mut visuals = egui::Visuals::light();
                 visuals.override_text_color = Some(Color32::BLACK);
@@ -185,9 +191,11 @@ impl Theme {
                     widget.fg_stroke = egui::Stroke::new(2.0, Color32::BLACK);
                     widget.bg_stroke = egui::Stroke::new(1.5, Color32::BLACK);
                 }
-                visuals.selection.bg_fill = Color32::from_rgb(0, 70, 200);
-                visuals.selection.stroke = egui::Stroke::new(2.0, Color32::WHITE);
-                visuals
+                // Text is black everywhere (override_text_color), selected text too: a light
+                // blue behind it (13:1), not a dark one (black on dark blue was 2.7:1).
+                visuals.selection.bg_fill = Color32::from_rgb(160, 200, 255);
+                visuals.selection.stroke = egui::Stroke::new(2.0, Color32::BLACK);
+                weak(visuals, 70)
             }
         }
     }
@@ -316,8 +324,15 @@ impl Lecture {
         self.tree = None;
         self.view = View2d::default();
         match self.current().clone() {
-            Slide::Lesson { index, step, show } => {
+            Slide::Lesson {
+                index,
+                step,
+                show,
+                panels,
+            } => {
                 self.pending = Some(if at_end { StartStep::End } else { step });
+                // The panels the slide's point is in; I still turns them on or off.
+                self.panels = panels;
                 Some((index, show))
             }
             Slide::Question { kind, seed, level } => {

@@ -163,7 +163,9 @@ impl AccelvizApp {
                     .resizable(true)
                     .default_size(INSPECTOR_WIDTH.1)
                     .show(ui, |ui| {
-                        egui::ScrollArea::vertical().show(ui, |ui| self.lesson_inspector_ui(ui));
+                        // The lesson's panels without its text: the lecturer tells it, and
+                        // at lecture scale the text would push the panels off the screen.
+                        egui::ScrollArea::vertical().show(ui, |ui| self.lesson_panels_ui(ui));
                     });
             }
             self.lesson_canvas_ui(ui);
@@ -173,6 +175,8 @@ impl AccelvizApp {
                 .response
                 .rect;
         }
+        self.apply_file_events();
+        self.file_panel_ui(&ctx);
         if let Some(lecture) = &self.lecture {
             if lecture.pointer {
                 super::paint_pointer(&ctx);
@@ -195,31 +199,32 @@ impl AccelvizApp {
             return;
         };
         let mut outcome = None;
-        ui.horizontal_wrapped(|ui| {
-            let count = lecture.script.slides.len();
-            let what = match lecture.current() {
-                Slide::Lesson { index, .. } => {
-                    let title = titles.get(*index).cloned().unwrap_or_default();
-                    match step {
-                        Some((shown, len)) => format!("{title} · step {shown} of {len}"),
-                        None => title,
-                    }
+        let mut open_script = false;
+        let count = lecture.script.slides.len();
+        let what = match lecture.current() {
+            Slide::Lesson { index, .. } => {
+                let title = titles.get(*index).cloned().unwrap_or_default();
+                match step {
+                    Some((shown, len)) => format!("{title} · step {shown} of {len}"),
+                    None => title,
                 }
-                Slide::Question { kind, .. } => {
-                    let title = accelviz_quiz::KINDS
-                        .iter()
-                        .find(|entry| entry.name == *kind)
-                        .map_or(*kind, |entry| entry.title);
-                    match lecture.question_step() {
-                        Some((step, count)) => format!("{title} · step {step} of {count}"),
-                        None => title.to_owned(),
-                    }
+            }
+            Slide::Question { kind, .. } => {
+                let title = accelviz_quiz::KINDS
+                    .iter()
+                    .find(|entry| entry.name == *kind)
+                    .map_or(*kind, |entry| entry.title);
+                match lecture.question_step() {
+                    Some((step, count)) => format!("{title} · step {step} of {count}"),
+                    None => title.to_owned(),
                 }
-            };
-            ui.label(
-                RichText::new(format!("Slide {} of {count} · {what}", lecture.slide + 1)).strong(),
-            );
-            ui.separator();
+            }
+        };
+        let place = format!("Slide {} of {count} · {what}", lecture.slide + 1);
+        // One row that never wraps: the buttons first, where the lecturer's hand expects
+        // them on every slide, the setup in a menu, and the slide's place last, cut to what
+        // is left (the whole of it on hover), so no slide moves the bar or the canvas.
+        ui.horizontal(|ui| {
             for (label, action) in [
                 ("Back", Action::Previous),
                 ("Next", Action::Next),
@@ -234,34 +239,58 @@ impl AccelvizApp {
                 }
             }
             ui.separator();
-            ui.checkbox(&mut lecture.pointer, "Pointer");
-            let label = ui.label("Scale");
-            let scale = ui
-                .add(egui::Slider::new(&mut lecture.scale, 1.0..=2.5).step_by(0.1))
-                .labelled_by(label.id);
-            if scale.drag_stopped() || scale.lost_focus() {
-                ui.ctx().set_zoom_factor(lecture.scale);
-            }
-            for theme in Theme::ALL {
+            ui.menu_button("Setup", |ui| {
                 if ui
-                    .selectable_label(self.theme == theme, theme.name())
+                    .button("Open script…")
+                    .on_hover_text("A lecture script (a copy of assets/lecture.txt, edited): its slides replace these")
                     .clicked()
                 {
-                    self.theme = theme;
+                    open_script = true;
+                    ui.close();
                 }
-            }
-            if let Some(skipped) = lecture.script.problems_line() {
-                ui.colored_label(crate::canvas::palette::MISS, skipped);
-            }
-            if let Some((message, problem)) = &lecture.message {
-                let color = if *problem {
-                    crate::canvas::palette::MISS
-                } else {
-                    ui.visuals().weak_text_color()
-                };
-                ui.colored_label(color, message);
-            }
+                ui.separator();
+                ui.checkbox(&mut lecture.pointer, "Pointer");
+                ui.horizontal(|ui| {
+                    let label = ui.label("Scale");
+                    let scale = ui
+                        .add(egui::Slider::new(&mut lecture.scale, 1.0..=2.5).step_by(0.1))
+                        .labelled_by(label.id);
+                    if scale.drag_stopped() || scale.lost_focus() {
+                        ui.ctx().set_zoom_factor(lecture.scale);
+                    }
+                });
+                ui.horizontal(|ui| {
+                    for theme in Theme::ALL {
+                        if ui
+                            .selectable_label(self.theme == theme, theme.name())
+                            .clicked()
+                        {
+                            self.theme = theme;
+                        }
+                    }
+                });
+            });
+            ui.separator();
+            ui.add(egui::Label::new(RichText::new(&place).strong()).truncate())
+                .on_hover_text(&place);
         });
+        // What went wrong with the script or the slide, below, in full.
+        let notes = [
+            lecture.script.problems_line().map(|line| (line, true)),
+            lecture.message.clone(),
+        ];
+        for (note, problem) in notes.into_iter().flatten() {
+            let color = if problem {
+                crate::canvas::readable(ui, crate::canvas::palette::MISS)
+            } else {
+                ui.visuals().weak_text_color()
+            };
+            ui.add(egui::Label::new(RichText::new(&note).color(color)).truncate())
+                .on_hover_text(note);
+        }
+        if open_script {
+            self.open_script(&ui.ctx().clone());
+        }
         if let Some(action) = outcome {
             self.lecture_act(&ui.ctx().clone(), action);
         }

@@ -8,6 +8,7 @@
 //! lesson 4 step 5 show r2       the BVH lesson on its ray "r2", at step 5
 //! lesson 10 show "dust in a room"   a preset of the lesson, by its name
 //! lesson 6 step end             at the last step
+//! lesson 5 panels on            with the lesson's panels (its pseudo-code, costs, tree)
 //! question lecture seed 7       a quiz question (answers hidden until R)
 //! question slab seed 3 level hard
 //! ```
@@ -34,6 +35,9 @@ pub enum Slide {
         step: StartStep,
         /// A named ray or preset of the lesson file to show.
         show: Option<String>,
+        /// Whether the slide opens with the lesson's panels (its inspector: a kD-tree's
+        /// pseudo-code, a builder's costs, the tree) beside the canvas.
+        panels: bool,
     },
     /// A quiz question.
     Question {
@@ -200,6 +204,7 @@ fn lesson_slide(words: &[&str], lesson_count: usize) -> Result<Slide, String> {
         - 1;
     let mut step = StartStep::At(0);
     let mut show = None;
+    let mut panels = false;
     for (key, value) in options(rest)? {
         match key {
             "step" => {
@@ -213,14 +218,26 @@ fn lesson_slide(words: &[&str], lesson_count: usize) -> Result<Slide, String> {
                     };
             }
             "show" => show = Some(value.to_owned()),
+            "panels" => {
+                panels = match value {
+                    "on" => true,
+                    "off" => false,
+                    _ => return Err(format!("panels '{value}' is not 'on' or 'off'")),
+                };
+            }
             other => {
                 return Err(format!(
-                    "'{other}' is not an option of a lesson slide; they are: step, show"
+                    "'{other}' is not an option of a lesson slide; they are: step, show, panels"
                 ));
             }
         }
     }
-    Ok(Slide::Lesson { index, step, show })
+    Ok(Slide::Lesson {
+        index,
+        step,
+        show,
+        panels,
+    })
 }
 
 fn question_slide(words: &[&str]) -> Result<Slide, String> {

@@ -188,7 +188,10 @@ impl Lesson for BoundingVolumesLesson {
                             ui.label(format!("{:.0} %", void * 100.0));
                             ui.label(rejected.to_string());
                             ui.label(hit.to_string());
-                            ui.colored_label(palette::RAY, wasted.to_string());
+                            ui.colored_label(
+                                crate::canvas::readable(ui, palette::RAY),
+                                wasted.to_string(),
+                            );
                             ui.end_row();
                         }
                     });

@@ -6,14 +6,14 @@
 //! the builder gives. Each sweep is the core's cost curve of that node: the same sweep.
 
 use accelviz_core::curve::{CostCurve, kd_curve};
-use accelviz_core::format::{count, number};
+use accelviz_core::format::{count, counted, number};
 use accelviz_core::{BuildRecorder, BuildStep, PrimitiveSet, Structure};
 use egui::{Color32, RichText, Stroke, Vec2};
 use egui_plot::{HLine, Line, Plot, PlotPoints, VLine};
 use glam::DVec2;
 
 use crate::background::{Cached, Derived};
-use crate::canvas::{Labels, depth_color, faded, palette};
+use crate::canvas::{Labels, faded, palette};
 use crate::editor::Editing;
 use crate::lesson::Lesson;
 use crate::lesson_file::LessonText;
@@ -170,8 +170,8 @@ impl BuildStepsLesson {
                 depth,
                 primitive_count,
             } => format!(
-                "build node {node}: depth {depth}, {} primitives",
-                count(primitive_count)
+                "build node {node}: depth {depth}, {}",
+                counted(primitive_count, "primitive", "primitives")
             ),
             BuildStep::Sorted { node, axis } => {
                 let axis_name = AXES[axis.min(1)];
@@ -181,9 +181,13 @@ impl BuildStepsLesson {
                         axis_name.to_uppercase()
                     ),
                     Way::SortAtEachNode => format!(
-                        "node {node}: sort{}({} primitives) along {axis_name}",
+                        "node {node}: sort{}({}) along {axis_name}",
                         axis_name.to_uppercase(),
-                        tree.built.primitives_below(node).len()
+                        counted(
+                            tree.built.primitives_below(node).len(),
+                            "primitive",
+                            "primitives"
+                        )
                     ),
                 }
             }
@@ -286,7 +290,7 @@ impl Lesson for BuildStepsLesson {
             .inner_margin(6.0)
             .show(ui, |ui| {
                 for (index, line) in self.way.code().iter().enumerate() {
-                    let mut text = RichText::new(*line).monospace().size(11.5);
+                    let mut text = RichText::new(*line).monospace();
                     if lines.contains(&index) {
                         text = text.background_color(faded(palette::CURRENT, 110)).strong();
                     }
@@ -384,12 +388,15 @@ impl Lesson for BuildStepsLesson {
         });
         canvas.box_outline(
             &tree.built.root_bounds(),
-            Stroke::new(1.5, depth_color(0)),
+            Stroke::new(1.5, canvas.depth_color(0)),
             None,
         );
         canvas.split_lines(split.iter().filter_map(|&node| {
             let (axis, position) = tree.built.plane(node)?;
-            let stroke = Stroke::new(1.5, depth_color(facts.depth[node as usize] as usize + 1));
+            let stroke = Stroke::new(
+                1.5,
+                canvas.depth_color(facts.depth[node as usize] as usize + 1),
+            );
             Some((facts.bounds[node as usize], axis, position, stroke))
         }));
         let Some(step) = current else {

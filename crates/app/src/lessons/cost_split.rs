@@ -80,7 +80,10 @@ impl Lesson for CostSplitLesson {
                         ui.end_row();
                         for (pane, rule) in RULES.iter().enumerate() {
                             let stats = &comparison.trees[pane].stats;
-                            ui.colored_label(rule_color(*rule), rule.label());
+                            ui.colored_label(
+                                crate::canvas::readable(ui, rule_color(*rule)),
+                                rule.label(),
+                            );
                             ui.label(number(stats.sah_cost));
                             ui.label(stats.max_depth.to_string());
                             ui.label(format!(

@@ -7,9 +7,9 @@
 use std::sync::Arc;
 
 use accelviz_core::camera::Camera;
-use accelviz_core::format::{count, number};
+use accelviz_core::format::{count, counted, number};
 use accelviz_core::heatmap::{Counter, HeatMap, difference_colors, diverging, sequential};
-use accelviz_core::{CATALOGUE, Order, Ray, Structure};
+use accelviz_core::{CATALOGUE, Family, Order, Ray, Structure, Width};
 use egui::{Color32, ColorImage, Rect, Sense, TextureHandle, TextureOptions, Vec2};
 use glam::DVec3;
 
@@ -17,7 +17,9 @@ use crate::background::{Cached, Derived, worker_threads};
 use crate::lesson::Lesson;
 use crate::lesson_file::LessonText;
 use crate::mesh::heat::{HeatJob, HeatKey, HeatMaps, ORDERS, PACKET_TILE};
-use crate::mesh::{MeshScene, MeshTree, loading_ui, mesh_and_structure_ui, trace_overlay};
+use crate::mesh::{
+    MeshScene, MeshTree, loading_ui, mesh_and_structure_ui, trace_boxes, trace_overlay,
+};
 use crate::stage::Stage;
 use crate::trace::{Trace, options_in};
 use crate::view3d::{Content, HiddenEdges, View3d, revision_of};
@@ -26,6 +28,8 @@ use crate::view3d::{Content, HiddenEdges, View3d, revision_of};
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Picked {
     ray: Ray<DVec3>,
+    /// The maps' pixel it goes through.
+    pixel: [usize; 2],
     order: Order,
     revision: u64,
 }
@@ -125,6 +129,7 @@ impl HeatLesson {
             let revision = self.picked.map_or(1, |picked| picked.revision + 1);
             self.picked = Some(Picked {
                 ray,
+                pixel: [x, y],
                 order,
                 revision,
             });
@@ -239,6 +244,7 @@ impl HeatLesson {
         texture: &TextureHandle,
         map_size: [usize; 2],
         legend: Legend,
+        marked: Option<[usize; 2]>,
     ) -> (Option<[usize; 2]>, bool, bool) {
         let mut under = None;
         let mut clicked = false;
@@ -258,7 +264,7 @@ impl HeatLesson {
             let pixels_per_point = ui.ctx().pixels_per_point();
             let natural = Vec2::new(map_size[0] as f32, map_size[1] as f32) / pixels_per_point;
             let (fitted, response) = ui.allocate_exact_size(
-                fit_within(natural, size - Vec2::new(0.0, 44.0)),
+                fit_within(natural, size - Vec2::new(0.0, pane_text_height(ui))),
                 Sense::click(),
             );
             ui.painter().image(
@@ -267,6 +273,9 @@ impl HeatLesson {
                 Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
                 Color32::WHITE,
             );
+            if let Some(pixel) = marked {
+                mark_pixel(&ui.painter_at(fitted), fitted, map_size, pixel);
+            }
             if let Some(position) = response.hover_pos().filter(|p| fitted.contains(*p)) {
                 let x =
                     ((position.x - fitted.min.x) / fitted.width() * map_size[0] as f32) as usize;
@@ -304,8 +313,8 @@ impl HeatLesson {
                 ),
                 &textures.orders[which],
                 Legend::Sequential {
-                    max: textures.scale,
-                    mean: maps.maps[which].summary(counter).mean,
+                    scale: textures.scale,
+                    summary: maps.maps[which].summary(counter),
                     label: counter.label(),
                 },
             ),
@@ -318,7 +327,8 @@ impl HeatLesson {
                 },
             ),
         };
-        events[which.min(2)] = Self::map_ui(ui, pane, &title, texture, size, legend);
+        let marked = self.picked.map(|picked| picked.pixel);
+        events[which.min(2)] = Self::map_ui(ui, pane, &title, texture, size, legend, marked);
     }
 
     /// One of the maps as a PNG: near first (0), file order (1) or their difference (2), in
@@ -344,10 +354,10 @@ impl HeatLesson {
 
 /// A palette bar with its scale.
 enum Legend {
-    /// 0 to `max`, with the mean.
+    /// 0 to `scale` (both orders' maps share it), with this map's own largest value and mean.
     Sequential {
-        max: u32,
-        mean: f64,
+        scale: u32,
+        summary: accelviz_core::heatmap::Summary,
         label: &'static str,
     },
     /// −scale to +scale.
@@ -356,7 +366,8 @@ enum Legend {
 
 impl Legend {
     fn ui(&self, ui: &mut egui::Ui, width: f32) {
-        let (rect, _) = ui.allocate_exact_size(Vec2::new(width.min(320.0), 12.0), Sense::hover());
+        let (rect, _) =
+            ui.allocate_exact_size(Vec2::new(width.min(320.0), LEGEND_BAR), Sense::hover());
         let steps = 48;
         for step in 0..steps {
             let t = step as f64 / (steps - 1) as f64;
@@ -373,21 +384,25 @@ impl Legend {
             );
         }
         let text = match self {
-            Legend::Sequential { max, mean, label } => {
+            Legend::Sequential {
+                scale,
+                summary,
+                label,
+            } => {
                 format!(
-                    "0 … {} {label} (max {}, mean {})",
-                    count(*max as usize),
-                    count(*max as usize),
-                    number(*mean)
+                    "0 … {} {label}, the scale both maps share\nthis map: max {}, mean {}",
+                    count(*scale as usize),
+                    count(summary.max as usize),
+                    number(summary.mean)
                 )
             }
             Legend::Diverging { scale, label } => format!(
-                "−{} (near first fewer) … 0 … +{} {label} (near first more)",
+                "−{} … 0 … +{} {label}\nbelow 0 near first tests fewer, above 0 more",
                 count(*scale as usize),
                 count(*scale as usize)
             ),
         };
-        ui.label(egui::RichText::new(text).small());
+        ui.label(text);
     }
 }
 
@@ -547,24 +562,39 @@ impl Lesson for HeatLesson {
         egui::ScrollArea::horizontal()
             .id_salt("heat totals columns")
             .show(ui, |ui| {
-                egui::Grid::new("heat totals").striped(true).show(ui, |ui| {
-                    ui.label("per pixel");
-                    ui.label("near first");
-                    ui.label("file order");
-                    ui.end_row();
-                    for counter in Counter::ALL {
-                        ui.label(counter.label());
-                        for map in &maps.maps {
-                            let summary = map.summary(counter);
-                            ui.label(format!(
-                                "mean {}, max {}",
-                                number(summary.mean),
-                                count(summary.max as usize)
-                            ));
-                        }
+                // Columns as wide as their widest text can be, so they keep their places
+                // while the maps are traced and their numbers grow.
+                let widest = ui
+                    .painter()
+                    .layout_no_wrap(
+                        "mean 00.000".to_owned(),
+                        egui::TextStyle::Body.resolve(ui.style()),
+                        Color32::WHITE,
+                    )
+                    .size()
+                    .x;
+                egui::Grid::new("heat totals")
+                    .striped(true)
+                    .min_col_width(widest)
+                    .show(ui, |ui| {
+                        ui.label("per pixel");
+                        ui.label("near first");
+                        ui.label("file order");
                         ui.end_row();
-                    }
-                });
+                        for counter in Counter::ALL {
+                            ui.label(counter.label());
+                            for map in &maps.maps {
+                                let summary = map.summary(counter);
+                                // Two short lines: the columns fit a narrow inspector.
+                                ui.label(format!(
+                                    "mean {}\nmax {}",
+                                    number(summary.mean),
+                                    count(summary.max as usize)
+                                ));
+                            }
+                            ui.end_row();
+                        }
+                    });
             });
         let how = if self.packets {
             format!(", in {PACKET_TILE}×{PACKET_TILE} packets")
@@ -582,6 +612,21 @@ impl Lesson for HeatLesson {
             .unwrap_or_default();
         ui.label(egui::RichText::new(state).small())
             .on_hover_text(timing);
+        // What a switch does where the maps cannot show it.
+        let structure = tree.build.built.structure;
+        if self.packets {
+            let wide = structure.family() == Family::Bvh && structure.width() != Width::Binary;
+            ui.label(if wide {
+                "In packets each pixel still counts its own ray's tests, and a packet's rays are tested as each would be alone: what the 64 rays share is each node's fetch from memory. So the maps match one ray at a time; packets change the speed (accelviz-cli bench --packet 1,64 times both)."
+            } else {
+                "This structure traces a packet ray by ray (only a wide BVH traces one together), so the maps are those of one ray at a time."
+            });
+        }
+        if structure.family() == Family::Kd && self.counter == Counter::Boxes {
+            ui.label(
+                "A kD-tree tests one box per ray, the root's: below it the cells are found by comparing t with each split plane, not by box tests. So this map is 1 at every pixel.",
+            );
+        }
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
@@ -601,6 +646,17 @@ impl Lesson for HeatLesson {
         let (highlights, segments) = match self.picked {
             Some(picked) => trace_overlay(&tree, &picked.ray, steps),
             None => (Vec::new(), Vec::new()),
+        };
+        // The boxes the ray has met so far, the step's own in blue, as lesson 12 draws them.
+        let current = self
+            .trace
+            .get()
+            .and_then(|trace| trace.state(frame).current)
+            .and_then(|step| crate::trace::step_node(&step));
+        let boxes = if self.picked.is_some() {
+            trace_boxes(&tree, steps, current)
+        } else {
+            Vec::new()
         };
         let overlay = revision_of((
             self.tree.generation(),
@@ -642,7 +698,11 @@ impl Lesson for HeatLesson {
         let pixels_per_point = ui.ctx().pixels_per_point();
         // In steps of 8 pixels, so a layout that moves by a pixel does not start the maps again.
         let quantized = |points: f32| (((points * pixels_per_point) as usize) / 8 * 8).max(8);
-        self.pane_pixels = Some([quantized(pane.x), quantized((pane.y - 44.0).max(10.0))]);
+        let text_height = pane_text_height(ui);
+        self.pane_pixels = Some([
+            quantized(pane.x),
+            quantized((pane.y - text_height).max(10.0)),
+        ]);
 
         // Per map pane: the pixel under the pointer, a click on it, a click on "save PNG".
         let mut picked_pane = [(None, false, false); 3];
@@ -658,11 +718,11 @@ impl Lesson for HeatLesson {
                 let image = match sizes.or(self.pane_pixels) {
                     Some([w, h]) => fit_within(
                         Vec2::new(w as f32, h as f32) / pixels_per_point,
-                        Vec2::new(pane.x, pane.y - 44.0),
+                        Vec2::new(pane.x, pane.y - text_height),
                     ),
-                    None => Vec2::new(pane.x, pane.y - 44.0),
+                    None => Vec2::new(pane.x, pane.y - text_height),
                 };
-                self.view.ui(
+                let response = self.view.ui(
                     ui,
                     image,
                     &Content {
@@ -672,13 +732,18 @@ impl Lesson for HeatLesson {
                             &tree.build.drawn,
                         ),
                         highlights: (overlay, &highlights),
-                        boxes: (0, &[]),
+                        boxes: (overlay, &boxes),
                         segments: (overlay, &segments),
                         quads: (0, &[]),
                         hidden_edges: HiddenEdges::Dimmed,
                         wireframe: false,
                     },
                 );
+                // Seen from the camera the ray is a point: mark its pixel here as on the maps.
+                if let (Some(picked), Some(size)) = (self.picked, sizes) {
+                    let rect = response.response.rect;
+                    mark_pixel(&ui.painter_at(rect), rect, size, picked.pixel);
+                }
                 ui.label(
                     egui::RichText::new("Drag to orbit, right-drag to pan, scroll to zoom.")
                         .small()
@@ -720,13 +785,13 @@ impl Lesson for HeatLesson {
                     .zip(&maps.maps)
                     .filter_map(|(order, map)| {
                         let cost = map.at(x, y)?;
-                        let name = match order {
-                            Order::NearFirst => "near first",
-                            Order::FileOrder => "file order",
-                        };
+                        let name = order.name().replace('-', " ");
+                        let counted = |n: u32, one, many| counted(n as usize, one, many);
                         Some(format!(
-                            "{name} {} nodes, {} box tests, {} primitive tests",
-                            cost.nodes, cost.boxes, cost.prims
+                            "{name} {}, {}, {}",
+                            counted(cost.nodes, "node", "nodes"),
+                            counted(cost.boxes, "box test", "box tests"),
+                            counted(cost.prims, "primitive test", "primitive tests")
                         ))
                     })
                     .collect();
@@ -745,6 +810,36 @@ impl Lesson for HeatLesson {
         }
     }
 }
+
+/// Marks `pixel` of a `size` picture drawn in `rect`: the clicked pixel, whose ray the view
+/// steps through. A ring and four ticks around it, black under white, so it shows on every
+/// colour of a map and of the view, and leaves the pixel itself to be seen.
+fn mark_pixel(painter: &egui::Painter, rect: Rect, size: [usize; 2], [x, y]: [usize; 2]) {
+    let at = rect.min
+        + Vec2::new(
+            (x as f32 + 0.5) / size[0].max(1) as f32 * rect.width(),
+            (y as f32 + 0.5) / size[1].max(1) as f32 * rect.height(),
+        );
+    for (width, color) in [(4.0, Color32::BLACK), (2.0, Color32::WHITE)] {
+        let stroke = egui::Stroke::new(width, color);
+        painter.circle_stroke(at, 7.0, stroke);
+        for direction in [Vec2::X, -Vec2::X, Vec2::Y, -Vec2::Y] {
+            painter.line_segment([at + direction * 10.0, at + direction * 16.0], stroke);
+        }
+    }
+}
+
+/// The height a map pane keeps for its words: its title, the legend's bar and its two lines
+/// (at the text size of the moment: lecture mode's is larger, and a legend cut off at the
+/// bottom of a slide says nothing).
+fn pane_text_height(ui: &egui::Ui) -> f32 {
+    let line = ui.text_style_height(&egui::TextStyle::Body);
+    let button = ui.spacing().interact_size.y;
+    button + LEGEND_BAR + 2.0 * line + 5.0 * ui.spacing().item_spacing.y
+}
+
+/// The legend's colour bar, in points.
+const LEGEND_BAR: f32 = 14.0;
 
 /// `size` shrunk, keeping its shape, to fit in `room` (never grown).
 fn fit_within(size: Vec2, room: Vec2) -> Vec2 {

@@ -456,7 +456,7 @@ impl Lesson for KdLesson {
                     .id_salt("pseudo-code")
                     .show(ui, |ui| {
                         for (line, code) in PSEUDO_CODE.iter().enumerate() {
-                            let mut text = RichText::new(*code).monospace().size(11.5);
+                            let mut text = RichText::new(*code).monospace();
                             if lines.contains(&line) {
                                 text = text.background_color(faded(palette::CURRENT, 110)).strong();
                             }
@@ -477,7 +477,7 @@ impl Lesson for KdLesson {
             number(stats.sah_cost)
         ));
         if let Some(note) = tree.limits_note() {
-            ui.colored_label(palette::RAY, note);
+            ui.colored_label(crate::canvas::readable(ui, palette::RAY), note);
         }
         let frame = self.stage.timeline.shown;
         let shown = self.trace.get().map_or(&[][..], |trace| trace.shown(frame));

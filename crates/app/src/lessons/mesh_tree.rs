@@ -9,9 +9,9 @@
 use std::sync::Arc;
 
 use accelviz_core::bvh::BuildParams;
-use accelviz_core::camera::bounding_sphere_of_box;
-use accelviz_core::format::{count, number, point};
-use accelviz_core::{Aabb, CATALOGUE, Family, Order, Ray, Step, Structure, slab_record};
+use accelviz_core::camera::{Camera, bounding_sphere_of_box};
+use accelviz_core::format::{count, number, point_at_scale};
+use accelviz_core::{Aabb, CATALOGUE, Family, Order, Ray, Step, Structure, Width, slab_record};
 use egui::Color32;
 use glam::DVec3;
 
@@ -22,14 +22,43 @@ use crate::lesson_file::LessonText;
 use crate::mesh::{MeshScene, MeshTree, Overlay, loading_ui, mesh_and_structure_ui, trace_overlay};
 use crate::stage::Stage;
 use crate::trace::{Trace, TraceState, options_in, step_node};
-use crate::view3d::{Content, DrawTriangle, HiddenEdges, Instance, View3d, relative, revision_of};
+use crate::view3d::{
+    Content, DrawTriangle, HiddenEdges, Instance, Pixel, View3d, relative, revision_of,
+};
 use crate::views::tree_diagram::{depth_range_ui, diagram_ui, traversal_emphasis};
 
 /// The ray of a clicked pixel.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct PickedRay {
     ray: Ray<DVec3>,
+    /// The pixel it goes through (none for a ray given by its numbers).
+    pixel: Option<Pixel>,
     revision: u64,
+}
+
+/// The share key of the clicked pixel.
+const PIXEL: &str = "pixel";
+
+/// Trees up to this many nodes open with every depth shown.
+const SMALL_TREE_NODES: usize = 63;
+
+/// The depths a newly built tree opens on: every depth of a small tree; a big tree's first two
+/// levels, since a real mesh's boxes (or planes) all at once cover it like a blob (a scanned
+/// head's 126k boxes), while the root and its children show the first cut.
+fn opening_depths(node_count: usize) -> (usize, usize) {
+    if node_count <= SMALL_TREE_NODES {
+        (0, usize::MAX)
+    } else {
+        (0, 1)
+    }
+}
+
+/// A split plane as drawn: a flat box, filled as a quad or outlined (a box's edges).
+struct PlaneQuad {
+    a_world: DVec3,
+    b_world: DVec3,
+    color: [u8; 4],
+    instance: Instance,
 }
 
 /// The lesson.
@@ -46,6 +75,10 @@ pub struct MeshTreeLesson {
     trace: Cached<(u64, u64, Order), Trace>,
     /// The depths whose boxes are drawn (the deepest may be `usize::MAX`: all the way down).
     pub depth_range: (usize, usize),
+    /// The tree (its generation) the depth range was last opened for ([`opening_depths`]).
+    opened: Option<u64>,
+    /// A pixel from a shared link, traced once the tree (and so the camera) is there.
+    pending_pixel: Option<Pixel>,
     /// Whether inner nodes' boxes are drawn.
     pub show_inner: bool,
     /// Whether leaves' boxes are drawn.
@@ -82,12 +115,9 @@ impl MeshTreeLesson {
             order: Order::NearFirst,
             picked: None,
             trace: Cached::default(),
-            // A kD-tree opens on its first cuts: every plane at once hides the mesh.
-            depth_range: if structure.family() == Family::Kd {
-                (0, 4)
-            } else {
-                (0, usize::MAX)
-            },
+            depth_range: (0, usize::MAX),
+            opened: None,
+            pending_pixel: None,
             // A kD-tree is shown by its planes; its cells' outlines on request.
             show_inner: structure.family() == Family::Bvh,
             show_leaves: structure.family() == Family::Bvh,
@@ -115,11 +145,30 @@ impl MeshTreeLesson {
 
     /// Traces the ray from `origin` along `direction`, as a click on its pixel does.
     pub fn pick(&mut self, origin: DVec3, direction: DVec3) {
+        self.pick_ray(origin, direction, None);
+    }
+
+    /// Traces the ray through `pixel`'s centre for the camera now (a click on it).
+    pub fn pick_pixel(&mut self, pixel: Pixel, camera: &Camera) {
+        let (origin, direction) = pixel.ray(camera);
+        self.pick_ray(origin, direction, Some(pixel));
+    }
+
+    fn pick_ray(&mut self, origin: DVec3, direction: DVec3, pixel: Option<Pixel>) {
         if let Ok(ray) = Ray::try_new(origin, direction) {
             let revision = self.picked.map_or(1, |picked| picked.revision + 1);
-            self.picked = Some(PickedRay { ray, revision });
+            self.picked = Some(PickedRay {
+                ray,
+                pixel,
+                revision,
+            });
             self.stage.timeline.rewind();
         }
+    }
+
+    /// The clicked pixel's ray: (its pixel, if it was clicked, and the ray).
+    pub fn picked(&self) -> Option<(Option<Pixel>, Ray<DVec3>)> {
+        self.picked.map(|picked| (picked.pixel, picked.ray))
     }
 
     /// What the trace shows at the timeline's frame.
@@ -165,7 +214,13 @@ impl MeshTreeLesson {
     /// The box outlines: each shown node in its depth's colour; along a trace, entered nodes
     /// green, missed and skipped ones red, the current step's node bright, the rest faint;
     /// hovered and selected nodes lit.
-    fn boxes(&self, tree: &MeshTree, steps: &[Step<f64>], current: Option<u32>) -> Vec<Instance> {
+    fn boxes(
+        &self,
+        tree: &MeshTree,
+        steps: &[Step<f64>],
+        current: Option<u32>,
+        dark_mode: bool,
+    ) -> Vec<Instance> {
         let facts = &tree.build.built.facts;
         let emphasis = (!steps.is_empty()).then(|| traversal_emphasis(steps, facts.node_count()));
         let mut instances = Vec::new();
@@ -186,7 +241,7 @@ impl MeshTreeLesson {
             } else {
                 match &emphasis {
                     Some(emphasis) => emphasis[node as usize].unwrap_or(Color32::GRAY),
-                    None => depth_color(facts.depth[node as usize] as usize),
+                    None => depth_color(facts.depth[node as usize] as usize, dark_mode),
                 }
             };
             let bounds = facts.bounds[node as usize];
@@ -196,46 +251,67 @@ impl MeshTreeLesson {
                 color: [color.r(), color.g(), color.b(), color.a()],
             });
         }
+        // The selected kD node's plane outlined in its axis's colour, so it stands out of
+        // the planes around it.
+        if let Some(plane) = self.selected.and_then(|node| self.plane_of(tree, node)) {
+            instances.push(plane.instance);
+        }
         instances
     }
 
     /// A kD-tree's split planes in the depth range, each clipped to its node's cell and
-    /// coloured by axis (fainter deeper down), sorted back to front for `eye`.
+    /// coloured by axis (fainter deeper down), sorted back to front for `eye`; the selected
+    /// and the hovered node's plane drawn strong at any depth, planes shown or not.
     fn planes(&self, tree: &MeshTree, eye: DVec3) -> Vec<Instance> {
-        if !self.show_planes {
-            return Vec::new();
-        }
         let facts = &tree.build.built.facts;
         let mut planes: Vec<(f64, Instance)> = Vec::new();
         for node in 0..facts.node_count() as u32 {
             let depth = facts.depth[node as usize] as usize;
-            let Some((axis, position)) = tree.build.built.plane(node) else {
-                continue;
-            };
-            if !self.depths().contains(&depth) {
+            let lit = Some(node) == self.selected || Some(node) == self.hovered;
+            let in_range = self.show_planes && self.depths().contains(&depth);
+            if !(lit || in_range) {
                 continue;
             }
-            let cell = facts.bounds[node as usize];
-            let (mut low, mut high) = (cell.min, cell.max);
-            low[axis] = position;
-            high[axis] = position;
-            let color = palette::AXES[axis];
-            let alpha = if Some(node) == self.selected || Some(node) == self.hovered {
+            let Some(plane) = self.plane_of(tree, node) else {
+                continue;
+            };
+            let alpha = if lit {
                 150
             } else {
                 (90 - 8 * depth.min(8)) as u8
             };
+            let [r, g, b, _] = plane.color;
             planes.push((
-                ((low + high) / 2.0 - eye).length(),
+                ((plane.a_world + plane.b_world) / 2.0 - eye).length(),
                 Instance {
-                    a: relative(low, tree.build.sphere),
-                    b: relative(high, tree.build.sphere),
-                    color: [color.r(), color.g(), color.b(), alpha],
+                    color: [r, g, b, alpha],
+                    ..plane.instance
                 },
             ));
         }
         planes.sort_by(|a, b| b.0.total_cmp(&a.0));
         planes.into_iter().map(|(_, plane)| plane).collect()
+    }
+
+    /// `node`'s split plane clipped to its cell, in its axis's colour (kD inner nodes only).
+    fn plane_of(&self, tree: &MeshTree, node: u32) -> Option<PlaneQuad> {
+        let (axis, position) = tree.build.built.plane(node)?;
+        let cell = tree.build.built.facts.bounds[node as usize];
+        let (mut low, mut high) = (cell.min, cell.max);
+        low[axis] = position;
+        high[axis] = position;
+        let color = palette::AXES[axis];
+        let color = [color.r(), color.g(), color.b(), 255];
+        Some(PlaneQuad {
+            a_world: low,
+            b_world: high,
+            color,
+            instance: Instance {
+                a: relative(low, tree.build.sphere),
+                b: relative(high, tree.build.sphere),
+                color,
+            },
+        })
     }
 
     /// The selected node's triangles, drawn over the mesh (when no ray is traced).
@@ -329,8 +405,8 @@ impl MeshTreeLesson {
                 Family::Bvh => "box",
                 Family::Kd => "cell",
             },
-            point(&bounds.min.to_array()),
-            point(&bounds.max.to_array()),
+            point_at_scale(&bounds.min.to_array(), tree.build.sphere.1),
+            point_at_scale(&bounds.max.to_array(), tree.build.sphere.1),
             number(bounds.area())
         ));
         let (below, sah_cost) =
@@ -354,6 +430,59 @@ impl MeshTreeLesson {
     }
 
     /// The current step's box test, axis by axis: the slab intervals the inspector shows.
+    /// The clicked ray in numbers that read back exactly (f64's shortest form): its pixel,
+    /// origin, direction and the closest hit so far, and a button that copies it as a
+    /// ray-file line, which `accelviz-cli query --rays` traces to the same hit.
+    fn ray_ui(&self, ui: &mut egui::Ui, tree: &MeshTree) {
+        let Some(picked) = self.picked else {
+            return;
+        };
+        ui.separator();
+        let heading = match picked.pixel {
+            Some(pixel) => format!(
+                "Clicked ray: pixel {}, {} of {} × {}, {}",
+                pixel.column,
+                pixel.row,
+                pixel.width,
+                pixel.height,
+                self.order.name().replace('-', " ")
+            ),
+            None => format!("Ray, {}", self.order.name().replace('-', " ")),
+        };
+        ui.label(egui::RichText::new(heading).strong());
+        let exact = |v: DVec3| format!("({:?}, {:?}, {:?})", v.x, v.y, v.z);
+        ui.label(format!("origin {}", exact(picked.ray.origin)));
+        ui.label(format!("direction {}", exact(picked.ray.direction)));
+        if let Some(state) = self.shown_state() {
+            let so_far = if state.done {
+                "closest hit"
+            } else {
+                "closest hit so far"
+            };
+            ui.label(match state.closest {
+                Some((triangle, t)) => format!("{so_far}: triangle #{triangle}, t = {t:?}"),
+                None if state.done => "no hit".to_owned(),
+                None => format!("{so_far}: none yet"),
+            });
+        }
+        let line = accelviz_scene::rays::ray_line(&accelviz_scene::rays::RaySpec::generated(
+            picked.ray.origin,
+            picked.ray.direction,
+        ));
+        if ui
+            .button("copy as a ray-file line")
+            .on_hover_text(format!(
+                "{line}\n\nSaved as ray.txt, the same ray and hit from the command line:\naccelviz-cli query --mesh {} --accel {} --precision f64 --order {} --rays ray.txt",
+                tree.mesh.name,
+                self.structure.name(),
+                self.order.name(),
+            ))
+            .clicked()
+        {
+            ui.ctx().copy_text(line);
+        }
+    }
+
     fn slab_ui(&self, ui: &mut egui::Ui, tree: &MeshTree) {
         let (Some(picked), Some(state)) = (self.picked, self.shown_state()) else {
             return;
@@ -396,13 +525,34 @@ impl MeshTreeLesson {
 impl Lesson for MeshTreeLesson {
     crate::staged!(tree);
 
+    /// The mesh, structure and camera, the order, and the clicked pixel (its ray is the
+    /// camera's through that pixel; the step is the link's own).
     fn share(&self) -> Vec<(String, String)> {
-        crate::share::mesh_view_values(&self.stage.scene, &self.structure, &self.view.orbit)
+        let mut values =
+            crate::share::mesh_view_values(&self.stage.scene, &self.structure, &self.view.orbit);
+        values.push(crate::share::order_value(self.order));
+        if let Some(pixel) = self.picked.and_then(|picked| picked.pixel) {
+            values.push((PIXEL.to_owned(), pixel.to_text()));
+        }
+        values
     }
 
     fn restore(&mut self, key: &str, value: &str) -> Result<(), String> {
-        let (scene, structure) = (&mut self.stage.scene, &mut self.structure);
-        crate::share::restore_mesh_view(scene, structure, &mut self.view.orbit, key, value)
+        match key {
+            PIXEL => {
+                self.pending_pixel = Some(Pixel::parse(value)?);
+                self.picked = None;
+                Ok(())
+            }
+            crate::share::ORDER => {
+                self.order = crate::share::parse_order(value)?;
+                Ok(())
+            }
+            _ => {
+                let (scene, structure) = (&mut self.stage.scene, &mut self.structure);
+                crate::share::restore_mesh_view(scene, structure, &mut self.view.orbit, key, value)
+            }
+        }
     }
 
     fn update(&mut self) {
@@ -413,6 +563,17 @@ impl Lesson for MeshTreeLesson {
             return;
         };
         let nodes = tree.build.built.facts.node_count() as u32;
+        if let Some(pixel) = self.pending_pixel.take() {
+            let camera = self
+                .view
+                .orbit
+                .camera(tree.build.sphere.0, tree.build.sphere.1);
+            self.pick_pixel(pixel, &camera);
+        }
+        if self.opened != Some(self.tree.generation()) {
+            self.opened = Some(self.tree.generation());
+            self.depth_range = opening_depths(nodes as usize);
+        }
         if self.selected.is_some_and(|node| node >= nodes) {
             self.selected = Some(0);
         }
@@ -475,8 +636,15 @@ impl Lesson for MeshTreeLesson {
             .kd_limits()
             .filter(|limits| limits.reached())
         {
-            ui.colored_label(palette::MISS, format!("kD budget: {limits}"));
+            ui.colored_label(
+                crate::canvas::readable(ui, palette::MISS),
+                format!("kD budget: {limits}"),
+            );
         }
+        // What the class reads while stepping comes first: the ray and this step's slabs.
+        self.ray_ui(ui, &tree);
+        self.slab_ui(ui, &tree);
+        ui.separator();
         let max_depth = tree.build.built.facts.max_depth();
         depth_range_ui(ui, &mut self.depth_range, max_depth);
         ui.separator();
@@ -501,9 +669,15 @@ impl Lesson for MeshTreeLesson {
             .small()
             .weak(),
         );
+        let width = tree.build.built.structure.width();
+        if tree.build.built.structure.family() == Family::Bvh && width != Width::Binary {
+            ui.label(format!(
+                "With {} children per node the tree drawn is still the binary one: the wide BVH is made from it by melting some binary nodes into their parents, and a wide node tests at once the boxes of the binary nodes just below it, so the steps name binary nodes (lesson 15 shows it in 2D).",
+                width.children()
+            ));
+        }
         ui.separator();
         self.node_ui(ui, &tree);
-        self.slab_ui(ui, &tree);
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
@@ -525,8 +699,10 @@ impl Lesson for MeshTreeLesson {
         let current = state
             .and_then(|state| state.current)
             .and_then(|step| step_node(&step));
+        let dark_mode = ui.visuals().dark_mode;
         let boxes_revision = revision_of((
             self.tree.generation(),
+            dark_mode,
             self.depth_range,
             self.show_inner,
             self.show_leaves,
@@ -540,7 +716,7 @@ impl Lesson for MeshTreeLesson {
         let mut drawn_boxes = std::mem::take(&mut self.drawn_boxes);
         let boxes = drawn_boxes
             .get_or_make(boxes_revision, || {
-                Arc::new(self.boxes(&tree, steps, current))
+                Arc::new(self.boxes(&tree, steps, current, dark_mode))
             })
             .clone();
         self.drawn_boxes = drawn_boxes;
@@ -602,11 +778,12 @@ impl Lesson for MeshTreeLesson {
         } else if response.response.hovered() {
             self.hovered = None;
         }
-        if let Some((origin, direction)) = response.clicked {
+        if let Some(pixel) = response.clicked {
+            let (origin, direction) = pixel.ray(&response.camera);
             if let Some(node) = self.box_under(&tree, origin, direction) {
                 self.selected = Some(node);
             }
-            self.pick(origin, direction);
+            self.pick_pixel(pixel, &response.camera);
         }
     }
 }

@@ -279,16 +279,28 @@ impl Lesson for NearFirstLesson {
                             }
                             ui.end_row();
                         }
+                        // The hit and its t on rows of their own, so the columns stay as
+                        // narrow as the counts and all four fit the inspector.
                         ui.label("closest hit so far");
                         for row in traces.iter() {
                             for trace in row {
                                 ui.label(match trace.state(frame).closest {
-                                    Some((primitive, t)) => {
-                                        format!("#{primitive}, t = {}", number(t))
-                                    }
+                                    Some((primitive, _)) => format!("#{primitive}"),
                                     None if trace.state(frame).done => "none".to_owned(),
                                     None => "not yet".to_owned(),
                                 });
+                            }
+                        }
+                        ui.end_row();
+                        ui.label("at t");
+                        for row in traces.iter() {
+                            for trace in row {
+                                ui.label(
+                                    trace
+                                        .state(frame)
+                                        .closest
+                                        .map_or_else(|| "–".to_owned(), |(_, t)| number(t)),
+                                );
                             }
                         }
                         ui.end_row();

@@ -259,7 +259,9 @@ impl Lesson for RecapLesson {
             .weak(),
         );
         ui.separator();
-        ui.label(RichText::new(verdict(figures)).color(palette::CURRENT));
+        ui.label(
+            RichText::new(verdict(figures)).color(crate::canvas::readable(ui, palette::CURRENT)),
+        );
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {

@@ -160,7 +160,7 @@ impl SlabLesson {
                         ui.strong("Far");
                         ui.end_row();
                         for (row, (name, axis, color)) in SLABS.iter().enumerate() {
-                            ui.colored_label(*color, *name).on_hover_text(match axis {
+                            ui.colored_label(crate::canvas::readable(ui, *color), *name).on_hover_text(match axis {
                             1 => "between the box's bottom and top lines: the ray's y is in range",
                             _ => "between the box's left and right lines: the ray's x is in range",
                         });
@@ -169,7 +169,8 @@ impl SlabLesson {
                                 let text = if known { number(value) } else { "?".to_owned() };
                                 let rich = egui::RichText::new(text).monospace();
                                 ui.label(if chosen {
-                                    rich.strong().color(palette::CURRENT)
+                                    rich.strong()
+                                        .color(crate::canvas::readable(ui, palette::CURRENT))
                                 } else {
                                     rich
                                 });
@@ -253,11 +254,14 @@ impl Lesson for SlabLesson {
                 )
             };
             ui.colored_label(
-                if record.hit {
-                    palette::HIT
-                } else {
-                    palette::MISS
-                },
+                crate::canvas::readable(
+                    ui,
+                    if record.hit {
+                        palette::HIT
+                    } else {
+                        palette::MISS
+                    },
+                ),
                 verdict,
             );
         }

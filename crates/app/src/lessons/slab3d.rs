@@ -409,7 +409,7 @@ impl Lesson for Slab3dLesson {
         ));
         let Some(record) = scene.record() else {
             ui.colored_label(
-                palette::MISS,
+                crate::canvas::readable(ui, palette::MISS),
                 "The ray's two points meet: it has no direction.",
             );
             return;
@@ -429,7 +429,7 @@ impl Lesson for Slab3dLesson {
                         ui.strong("t far");
                         ui.end_row();
                         for (axis, (name, color)) in AXES.iter().enumerate() {
-                            ui.colored_label(*color, *name);
+                            ui.colored_label(crate::canvas::readable(ui, *color), *name);
                             let known = shown > axis;
                             let cell =
                                 |value: f64| if known { number(value) } else { "?".to_owned() };
@@ -460,7 +460,7 @@ impl Lesson for Slab3dLesson {
             } else {
                 ("miss", palette::MISS)
             };
-            ui.colored_label(color, text);
+            ui.colored_label(crate::canvas::readable(ui, color), text);
         }
     }
 
@@ -509,6 +509,17 @@ impl Lesson for Slab3dLesson {
             },
         );
         self.drag(ui, &response);
+        // The handles as discs over the picture, outlined so they show on every background.
+        let painter = ui.painter_at(response.response.rect);
+        for (at, fill) in self
+            .handles_on_screen
+            .iter()
+            .zip([palette::RAY, Color32::WHITE])
+        {
+            if let Some(at) = at {
+                painter.circle(*at, 7.0, fill, egui::Stroke::new(2.0, Color32::BLACK));
+            }
+        }
         if let Some(record) = record {
             let mut rows: Vec<IntervalRow<'_>> = AXES
                 .iter()

@@ -311,6 +311,21 @@ pub fn formula_text(candidate: &Candidate, curve: &CostCurve, family: Family) ->
 impl Lesson for SplitsLesson {
     crate::staged!(comparison);
 
+    fn share(&self) -> Vec<(String, String)> {
+        vec![("family".to_owned(), self.family.name().to_owned())]
+    }
+
+    fn restore(&mut self, key: &str, value: &str) -> Result<(), String> {
+        match key {
+            "family" => {
+                self.family = Family::from_name(value)
+                    .ok_or_else(|| format!("family '{value}' is not 'bvh' or 'kd'"))?;
+                Ok(())
+            }
+            _ => Err(format!("this lesson keeps no '{key}'")),
+        }
+    }
+
     fn update(&mut self) {
         let scene = &self.stage.scene;
         let family = self.family;
@@ -468,11 +483,7 @@ impl Lesson for SplitsLesson {
                     })
                     .strong(),
                 );
-                ui.label(
-                    RichText::new(formula_text(&candidate, curve, self.family))
-                        .monospace()
-                        .size(11.5),
-                );
+                ui.label(RichText::new(formula_text(&candidate, curve, self.family)).monospace());
             }
         }
         ui.label(

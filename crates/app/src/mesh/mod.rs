@@ -15,7 +15,7 @@ pub mod scene;
 pub mod tree;
 pub mod ui;
 
-pub use overlay::{Overlay, trace_overlay};
+pub use overlay::{Overlay, trace_boxes, trace_overlay};
 pub use scene::MeshScene;
 pub use tree::{MeshBuild, MeshTree};
 pub use ui::{loading_ui, mesh_and_structure_ui};

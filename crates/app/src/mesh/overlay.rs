@@ -48,3 +48,29 @@ pub fn trace_overlay(
     }];
     (highlights, segments)
 }
+
+/// The boxes (kD cells) a recorded traversal has met after `steps`, coloured as the tree
+/// diagram colours them (entered green, missed or skipped red), and the box of the step
+/// shown (`current`) in the current step's blue: the stepped picture lesson 12 draws.
+pub fn trace_boxes(
+    tree: &MeshTree,
+    steps: &[accelviz_core::Step<f64>],
+    current: Option<u32>,
+) -> Vec<Instance> {
+    let facts = &tree.build.built.facts;
+    let emphasis = crate::views::tree_diagram::traversal_emphasis(steps, facts.node_count());
+    let instance = |node: u32, color: egui::Color32| {
+        let bounds = facts.bounds[node as usize];
+        Instance {
+            a: relative(bounds.min, tree.build.sphere),
+            b: relative(bounds.max, tree.build.sphere),
+            color: color.to_array(),
+        }
+    };
+    let mut boxes: Vec<Instance> = (0..facts.node_count() as u32)
+        .filter(|&node| Some(node) != current)
+        .filter_map(|node| Some(instance(node, emphasis[node as usize]?)))
+        .collect();
+    boxes.extend(current.map(|node| instance(node, crate::canvas::palette::CURRENT)));
+    boxes
+}

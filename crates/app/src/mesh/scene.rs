@@ -26,8 +26,9 @@ pub struct MeshScene {
     /// The mesh shown before the last one (mesh, revision, name), to go back to when its
     /// build is cancelled.
     previous: Option<(Arc<Mesh>, u64, String)>,
-    /// Why the last file read in the background could not be opened.
-    pub problem: Option<String>,
+    /// How the last file read in the background ended (its name, or why it could not be
+    /// opened), until the app takes it for its status line.
+    read_outcome: Option<Result<String, String>>,
 }
 
 /// Files larger than this (bytes) are read on a worker thread where there are workers, in a
@@ -91,7 +92,7 @@ impl MeshScene {
             name,
             loading: None,
             previous: None,
-            problem: None,
+            read_outcome: None,
         }
     }
 
@@ -120,12 +121,13 @@ impl MeshScene {
         match loading.take_result() {
             None => {}
             Some(Ok(mesh)) => {
+                let name = loading.name.clone();
                 self.replace(mesh);
-                self.problem = None;
+                self.read_outcome = Some(Ok(name));
             }
             Some(Err(problem)) => {
                 self.loading = None;
-                self.problem = Some(problem);
+                self.read_outcome = Some(Err(problem));
             }
         }
     }
@@ -151,7 +153,7 @@ impl SceneFile for MeshScene {
     }
 
     fn open(&mut self, name: &str, text: &str) -> Result<(), String> {
-        self.problem = None;
+        self.read_outcome = None;
         if text.len() > READ_ASIDE_ABOVE
             && let Some(loading) = MeshLoad::start(name, text)
         {
@@ -170,6 +172,10 @@ impl SceneFile for MeshScene {
 
     fn reading(&self) -> Option<f32> {
         self.loading.as_ref().map(MeshLoad::progress)
+    }
+
+    fn take_read_outcome(&mut self) -> Option<Result<String, String>> {
+        self.read_outcome.take()
     }
 
     fn reset(&mut self, text: &LessonText) {

@@ -23,7 +23,11 @@ pub fn mesh_and_structure_ui(
             for builtin in BUILTINS {
                 let name = format!("builtin:{}", builtin.name);
                 if ui
-                    .selectable_label(current == name, builtin.name)
+                    // The name links and lesson texts use, then what it is.
+                    .selectable_label(
+                        current == name,
+                        format!("{}: {}", builtin.name, builtin.about),
+                    )
                     .on_hover_text(builtin.about)
                     .clicked()
                 {
@@ -40,7 +44,11 @@ pub fn mesh_and_structure_ui(
             for entry in accelviz_core::CATALOGUE {
                 let chosen = structure.entry().name == entry.name;
                 if ui
-                    .selectable_label(chosen, format!("{} {}", entry.label, entry.family.label()))
+                    // The name the lesson texts, links and CLI use, then what it is.
+                    .selectable_label(
+                        chosen,
+                        format!("{}: {} {}", entry.name, entry.label, entry.family.label()),
+                    )
                     .on_hover_text(entry.about)
                     .clicked()
                 {
@@ -55,16 +63,13 @@ pub fn mesh_and_structure_ui(
 /// While a large mesh is read or its structure built: a progress line with a cancel button
 /// that goes back to exactly what is on screen (the UI keeps drawing meanwhile): a read
 /// stops and the mesh shown stays; a build stops and the mesh and `structure` go back to the
-/// tree shown. Also says why the last file read aside could not be opened.
+/// tree shown.
 pub fn loading_ui(
     ui: &mut egui::Ui,
     scene: &mut MeshScene,
     tree: &mut Derived<(u64, Structure), MeshTree>,
     structure: &mut Structure,
 ) {
-    if let Some(problem) = &scene.problem {
-        ui.colored_label(crate::canvas::palette::MISS, problem);
-    }
     let building = tree.working_for();
     let line = match (&scene.loading, building) {
         (Some(loading), _) => Some((

@@ -189,7 +189,7 @@ fn scene_ui(
         let visible = figure_tree.visible(state.frame);
         if figure_tree.reveal_as_reached {
             for &node in &visible {
-                let color = depth_color(facts.depth[node as usize] as usize);
+                let color = canvas.depth_color(facts.depth[node as usize] as usize);
                 node_outline(
                     canvas,
                     tree,
@@ -252,7 +252,8 @@ fn scene_ui(
                 node_labels.push((
                     DVec2::new(bounds.min.x + inward, bounds.max.y - inward),
                     accelviz_quiz::node_label(facts, node),
-                    depth_color(depth),
+                    // Labels sit on the dark plate: the bright colours, in every theme.
+                    depth_color(depth, true),
                 ));
             }
         }
@@ -400,7 +401,7 @@ fn build_ui(
     let tree = exercise.tree();
     let facts = TreeFacts::of(&tree);
     for node in 0..facts.node_count() {
-        let color = depth_color(facts.depth[node] as usize);
+        let color = canvas.depth_color(facts.depth[node] as usize);
         let bounds = facts.bounds[node];
         let grow = DVec2::splat(canvas.world_length(3.0) * (4.0 - facts.depth[node].min(4) as f64));
         canvas.box_outline(

@@ -407,7 +407,7 @@ impl QuizMode {
             } else {
                 ui.visuals().weak_text_color()
             };
-            ui.colored_label(color, message);
+            ui.colored_label(crate::canvas::readable(ui, color), message);
         }
         ui.separator();
         let Some(session) = &self.session else {
@@ -464,7 +464,7 @@ impl QuizMode {
                 )
             });
             ui.colored_label(
-                palette::RAY,
+                crate::canvas::readable(ui, palette::RAY),
                 format!("A new quiz replaces the one under way{progress}."),
             );
             ui.horizontal(|ui| {
@@ -644,13 +644,16 @@ impl QuizMode {
     fn verdict_ui(&mut self, ui: &mut Ui, ask: &accelviz_quiz::Ask, verdict: Option<Verdict>) {
         let right = verdict.is_some_and(|verdict| verdict.correct);
         if right {
-            ui.colored_label(palette::HIT, RichText::new("Right.").strong().size(16.0));
+            ui.colored_label(
+                crate::canvas::readable(ui, palette::HIT),
+                RichText::new("Right.").strong().size(16.0),
+            );
         } else {
             let given = verdict.map_or_else(String::new, |verdict| {
                 format!(" You said {}.", ask.expected.describe(&verdict.response))
             });
             ui.colored_label(
-                palette::MISS,
+                crate::canvas::readable(ui, palette::MISS),
                 RichText::new(format!("Not quite.{given}"))
                     .strong()
                     .size(16.0),
@@ -793,11 +796,11 @@ impl QuizMode {
         );
         ui.label(RichText::new(&ask.prompt).strong());
         ui.colored_label(
-            palette::MISS,
+            crate::canvas::readable(ui, palette::MISS),
             format!("You said {}.", ask.expected.describe(&mistake.response)),
         );
         ui.colored_label(
-            palette::HIT,
+            crate::canvas::readable(ui, palette::HIT),
             format!("The answer: {}", ask.expected.model_answer()),
         );
         ui.label(&ask.explanation);

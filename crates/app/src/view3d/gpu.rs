@@ -495,8 +495,14 @@ impl ViewGpu {
                 pass.draw(0..triangles * 3, 0..1);
             }
             if let Some((slice, triangles)) = self.highlights.slice(TRIANGLE_BYTES) {
-                pass.set_pipeline(&pipelines.highlight);
                 pass.set_vertex_buffer(0, slice);
+                // Highlighted triangles behind the surface (a selected cell's at the back, a
+                // tested triangle inside) shine through it faintly, as hidden box edges do.
+                if scene.hidden_edges == HiddenEdges::Dimmed {
+                    pass.set_pipeline(&pipelines.highlight_hidden);
+                    pass.draw(0..triangles * 3, 0..1);
+                }
+                pass.set_pipeline(&pipelines.highlight);
                 pass.draw(0..triangles * 3, 0..1);
             }
             if let Some((slice, quads)) = self.quads.slice(INSTANCE_BYTES) {
@@ -643,6 +649,7 @@ struct Pipelines {
     bind_group_layout: wgpu::BindGroupLayout,
     mesh: wgpu::RenderPipeline,
     highlight: wgpu::RenderPipeline,
+    highlight_hidden: wgpu::RenderPipeline,
     boxes: wgpu::RenderPipeline,
     boxes_hidden: wgpu::RenderPipeline,
     segments: wgpu::RenderPipeline,
@@ -752,6 +759,14 @@ impl Pipelines {
                 &mesh_layout,
                 false,
                 LessEqual,
+            ),
+            highlight_hidden: pipeline(
+                "highlight hidden",
+                "vs_mesh",
+                "fs_color_hidden",
+                &mesh_layout,
+                false,
+                Greater,
             ),
             boxes: pipeline(
                 "boxes",

@@ -111,6 +111,8 @@ pub struct View3d {
     /// Set while a lesson drags something in the view: drags then do not move the camera.
     pub locked: bool,
     gpu: ViewGpu,
+    /// Where the view was drawn last frame.
+    rect: Option<Rect>,
 }
 
 /// What happened in the view this frame.
@@ -119,9 +121,10 @@ pub struct ViewResponse {
     pub response: egui::Response,
     /// The camera used.
     pub camera: Camera,
-    /// The ray through the pixel clicked this frame, in world space: (origin, direction).
-    pub clicked: Option<(DVec3, DVec3)>,
-    /// The ray through the pixel under the pointer.
+    /// The pixel clicked this frame.
+    pub clicked: Option<Pixel>,
+    /// The ray through the centre of the pixel under the pointer, in world space: (origin,
+    /// direction).
     pub hovered: Option<(DVec3, DVec3)>,
     /// World to screen (points), for the bounding sphere the view was drawn for.
     to_screen: Box<dyn Fn(DVec3) -> Option<egui::Pos2>>,
@@ -131,6 +134,69 @@ impl ViewResponse {
     /// Where `point` is drawn, if it is in front of the camera.
     pub fn to_screen(&self, point: DVec3) -> Option<egui::Pos2> {
         (self.to_screen)(point)
+    }
+}
+
+/// A pixel of the view's picture: its column and row in a picture `width` × `height` pixels.
+/// With the camera it names one ray (through its centre), whatever the window's size later.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Pixel {
+    /// From the left, from 0.
+    pub column: u32,
+    /// From the top, from 0.
+    pub row: u32,
+    /// The picture's width in pixels.
+    pub width: u32,
+    /// The picture's height in pixels.
+    pub height: u32,
+}
+
+impl Pixel {
+    /// The ray through the pixel's centre, in world space: (origin, direction); the same
+    /// ray the heat maps and `accelviz-cli bench --camera` trace for it
+    /// ([`Camera::pixel_ray`]).
+    pub fn ray(&self, camera: &Camera) -> (DVec3, DVec3) {
+        camera.ray_through(
+            f64::from(self.column) + 0.5,
+            f64::from(self.row) + 0.5,
+            self.width as usize,
+            self.height as usize,
+        )
+    }
+
+    /// The pixel as shared in a link: `column,row,width,height`.
+    pub fn to_text(&self) -> String {
+        format!(
+            "{},{},{},{}",
+            self.column, self.row, self.width, self.height
+        )
+    }
+
+    /// Reads [`Pixel::to_text`]'s form.
+    pub fn parse(text: &str) -> Result<Self, String> {
+        let numbers: Vec<u32> = text
+            .split(',')
+            .map(|part| part.trim().parse::<u32>())
+            .collect::<Result<_, _>>()
+            .map_err(|_| {
+                format!("pixel '{text}' is not four whole numbers: column,row,width,height")
+            })?;
+        let &[column, row, width, height] = numbers.as_slice() else {
+            return Err(format!(
+                "pixel '{text}' is not four numbers: column,row,width,height"
+            ));
+        };
+        if column >= width || row >= height {
+            return Err(format!(
+                "pixel {column},{row} is outside a {width}×{height} picture"
+            ));
+        }
+        Ok(Self {
+            column,
+            row,
+            width,
+            height,
+        })
     }
 }
 
@@ -179,8 +245,26 @@ pub struct Content<'a> {
     pub wireframe: bool,
 }
 
-/// Line width in points: readable on a projector.
-const LINE_WIDTH_POINTS: f32 = 1.6;
+/// Line width in points: readable on a projector (3.6 pixels at lecture mode's 1.5 zoom), and
+/// wider again in a theme with heavier strokes (high contrast).
+const LINE_WIDTH_POINTS: f32 = 2.4;
+
+/// How the view looks in the theme of `visuals`: the background of the app's other canvases
+/// (dark in the dark theme: no glaring rectangle in a dark hall), and the line width in pixels
+/// at `pixels_per_point`, scaled as the theme's strokes are.
+pub fn look(visuals: &egui::Visuals, pixels_per_point: f32) -> ([u8; 3], f32) {
+    let background = visuals.extreme_bg_color;
+    let stroke_scale = visuals
+        .widgets
+        .noninteractive
+        .fg_stroke
+        .width
+        .clamp(1.0, 1.5);
+    (
+        [background.r(), background.g(), background.b()],
+        LINE_WIDTH_POINTS * stroke_scale * pixels_per_point,
+    )
+}
 
 impl View3d {
     /// Draws the view filling `size` and handles its camera controls. Coordinates sent to
@@ -188,6 +272,7 @@ impl View3d {
     /// the origin.
     pub fn ui(&mut self, ui: &mut egui::Ui, size: Vec2, content: &Content<'_>) -> ViewResponse {
         let (rect, response) = ui.allocate_exact_size(size, Sense::click_and_drag());
+        self.rect = Some(rect);
         if !self.locked {
             self.orbit.control(&response, ui);
         }
@@ -199,17 +284,26 @@ impl View3d {
             (rect.width() * pixels_per_point).round().max(1.0) as u32,
             (rect.height() * pixels_per_point).round().max(1.0) as u32,
         ];
-        let ray_at = |position: egui::Pos2| {
-            let x = (position.x - rect.min.x) * pixels_per_point;
-            let y = (position.y - rect.min.y) * pixels_per_point;
-            camera.ray_through(x as f64, y as f64, pixels[0] as usize, pixels[1] as usize)
+        // The pixel under a point: a click traces through that pixel's centre, as the heat
+        // maps' rays do, not through the corner the pointer's position falls on.
+        let pixel_at = |position: egui::Pos2| {
+            let x = ((position.x - rect.min.x) * pixels_per_point).floor();
+            let y = ((position.y - rect.min.y) * pixels_per_point).floor();
+            Pixel {
+                column: (x.max(0.0) as u32).min(pixels[0] - 1),
+                row: (y.max(0.0) as u32).min(pixels[1] - 1),
+                width: pixels[0],
+                height: pixels[1],
+            }
         };
         let clicked = response
             .clicked()
             .then(|| response.interact_pointer_pos())
             .flatten()
-            .map(ray_at);
-        let hovered = response.hover_pos().map(ray_at);
+            .map(pixel_at);
+        let hovered = response
+            .hover_pos()
+            .map(|position| pixel_at(position).ray(&camera));
 
         match Gpu::of(ui.ctx()) {
             Some(gpu) => {
@@ -229,6 +323,7 @@ impl View3d {
                 let view_proj: Mat4 = relative
                     .view_projection(pixels[0] as f64 / pixels[1] as f64, near, far)
                     .as_mat4();
+                let (background, line_width) = look(ui.visuals(), pixels_per_point);
                 let scene = Scene3d {
                     view_proj,
                     light: camera.eye - camera.target,
@@ -237,10 +332,10 @@ impl View3d {
                     boxes: content.boxes,
                     segments: content.segments,
                     quads: content.quads,
-                    line_width: LINE_WIDTH_POINTS * pixels_per_point,
+                    line_width,
                     hidden_edges: content.hidden_edges,
                     wireframe: content.wireframe,
-                    background: [246, 246, 246],
+                    background,
                 };
                 let texture = self.gpu.draw(&gpu, pixels, &scene);
                 if !self.gpu.uploaded() {
@@ -300,6 +395,11 @@ impl View3d {
             let bytes = accelviz_scene::output::encode_png(width, height, &pixels)?;
             Ok(("view.png".to_owned(), bytes))
         }))
+    }
+
+    /// Where the view was drawn last frame (points), if it was drawn.
+    pub fn rect(&self) -> Option<Rect> {
+        self.rect
     }
 
     /// Puts the camera back where it started.

@@ -58,6 +58,12 @@ fn fs_color(in: MeshOut) -> @location(0) vec4<f32> {
     return in.color;
 }
 
+// Highlighted triangles behind a surface, drawn faint (x-ray), as hidden lines are.
+@fragment
+fn fs_color_hidden(in: MeshOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(in.color.rgb, in.color.a * min(1.0, 2.8 * uniforms.viewport.w));
+}
+
 // The mesh, with its triangles' edges drawn a pixel wide over it when asked (wireframe): the
 // distance to the nearest edge in pixels is the smallest barycentric coordinate over its
 // change per pixel (a screen-space derivative, which WebGL2 has too).

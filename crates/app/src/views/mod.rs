@@ -8,7 +8,7 @@ pub mod scene_view;
 pub mod tree_diagram;
 pub mod tree_view;
 
-/// The choice of a BVH's width (children a node: 2 as built, or collapsed to 4 or 8), for a
+/// The choice of a BVH's width (children per node: 2 as built, or collapsed to 4 or 8), for a
 /// BVH structure; nothing for a kD-tree. Adds its widgets to `ui`'s own layout (call it in a
 /// wrapping row).
 pub fn width_ui(ui: &mut egui::Ui, structure: &mut accelviz_core::Structure) {
@@ -16,12 +16,12 @@ pub fn width_ui(ui: &mut egui::Ui, structure: &mut accelviz_core::Structure) {
     if structure.family() != Family::Bvh {
         return;
     }
-    ui.label("Children a node");
+    ui.label("Children per node");
     for width in Width::ALL {
         let hover = match width {
             Width::Binary => "The binary tree, as the builder made it".to_owned(),
             _ => format!(
-                "The binary tree collapsed to {} children a node (Ylitie et al. 2017): a node's \
+                "The binary tree collapsed to {} children per node (Ylitie et al. 2017): a node's \
                  children are tested together",
                 width.children()
             ),

@@ -104,7 +104,10 @@ pub fn diagram_ui<V: Vector>(
     // Nodes first, then labels, which keep clear of the nodes and of each other.
     for node in (0..facts.node_count() as u32).filter(|&node| visible(node)) {
         let center = position(node);
-        let base = depth_color(facts.depth[node as usize] as usize);
+        let base = depth_color(
+            facts.depth[node as usize] as usize,
+            painter.ctx().global_style().visuals.dark_mode,
+        );
         let fill = emphasis[node as usize].unwrap_or(base);
         painter.circle_filled(center, radius, fill);
         labels.reserve(Rect::from_center_size(center, Vec2::splat(radius * 2.0)));

@@ -9,7 +9,7 @@ use accelviz_core::{Aabb, Family, Step};
 use egui::{Color32, Pos2, Rect, Stroke, StrokeKind, Vec2};
 use glam::DVec2;
 
-use crate::canvas::{BATCH_ABOVE, Canvas, depth_color, faded, palette};
+use crate::canvas::{BATCH_ABOVE, Canvas, faded, palette};
 use crate::stage::SceneTree;
 
 /// What to draw of a tree, and what stands out.
@@ -76,14 +76,14 @@ pub fn draw_tree(canvas: &Canvas, tree: &SceneTree, look: &TreeLook) {
                     {
                         continue;
                     }
-                    let color = faded(depth_color(facts.depth[node] as usize), alpha);
+                    let color = faded(canvas.depth_color(facts.depth[node] as usize), alpha);
                     batch.rect_outline(inset(screen, facts.depth[node] as usize), 1.0, color);
                 }
                 canvas.draw_batch(batch);
             } else {
                 for node in (0..count).filter(|&node| shown(node)) {
                     let depth = facts.depth[node] as usize;
-                    let color = faded(depth_color(depth), alpha);
+                    let color = faded(canvas.depth_color(depth), alpha);
                     node_outline(canvas, tree, node as u32, Stroke::new(1.5, color), None);
                 }
             }
@@ -91,7 +91,7 @@ pub fn draw_tree(canvas: &Canvas, tree: &SceneTree, look: &TreeLook) {
         Family::Kd => {
             canvas.box_outline(
                 &tree.built.root_bounds(),
-                Stroke::new(1.5, faded(depth_color(0), alpha)),
+                Stroke::new(1.5, faded(canvas.depth_color(0), alpha)),
                 None,
             );
             // Shallowest first: if the budget runs out, the deepest levels are left out.
@@ -103,7 +103,7 @@ pub fn draw_tree(canvas: &Canvas, tree: &SceneTree, look: &TreeLook) {
                 .collect();
             canvas.split_lines(splits.into_iter().filter_map(|node| {
                 let (axis, position) = tree.built.plane(node as u32)?;
-                let color = faded(depth_color(facts.depth[node] as usize + 1), alpha);
+                let color = faded(canvas.depth_color(facts.depth[node] as usize + 1), alpha);
                 Some((facts.bounds[node], axis, position, Stroke::new(1.5, color)))
             }));
         }

@@ -160,3 +160,50 @@ fn scaled_up_every_lesson_keeps_its_layout_whole() {
         }
     }
 }
+
+/// A window made small and large again gives the inspector its width back, and lesson 6's
+/// counter table keeps all four columns in it at the end of the traversal.
+#[test]
+fn the_inspector_comes_back_after_a_small_window_and_lesson_6_s_table_fits_it() {
+    use egui_kittest::kittest::Queryable;
+    let mut harness = common::app_harness_sized(egui::vec2(1920.0, 1080.0));
+    let titles = harness.state().titles();
+    harness.state_mut().selected = titles
+        .iter()
+        .position(|title| title.contains("Near first or file order"))
+        .expect("lesson 6");
+    harness.run();
+    harness.run();
+    let before = harness.state().last_layout.inspector;
+    harness.set_size(egui::vec2(640.0, 480.0));
+    harness.run();
+    harness.run();
+    assert!(harness.state().last_layout.inspector.width() < before.width());
+    harness.set_size(egui::vec2(1920.0, 1080.0));
+    harness.run();
+    harness.run();
+    let after = harness.state().last_layout.inspector;
+    assert!(
+        (after.width() - before.width()).abs() < 1.0,
+        "the inspector was {before:?}, is {after:?}"
+    );
+    // At the traversal's end, the widest the table gets: every column inside the inspector.
+    {
+        let timeline = &mut harness
+            .state_mut()
+            .lesson_mut()
+            .expect("lesson")
+            .stage_mut()
+            .timeline;
+        timeline.shown = timeline.len;
+    }
+    harness.run();
+    harness.run();
+    let header = harness.get_by_label("BVH file").rect();
+    assert!(
+        header.max.x <= after.max.x,
+        "the last column ends at {} past the inspector's {}",
+        header.max.x,
+        after.max.x
+    );
+}

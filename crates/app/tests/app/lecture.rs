@@ -457,3 +457,101 @@ fn bad_script_lines_are_skipped_and_each_reported() {
     assert_eq!(harness.state().mode, Mode::Lecture);
     harness.get_by_label_contains("3 lines of the script were skipped");
 }
+
+/// The lecture bar is one row on every slide at 1920×1080 and the default scale: its buttons
+/// keep their places and the canvas below it its top, whatever the slide's title.
+#[test]
+fn the_lecture_bar_keeps_one_row_and_its_buttons_on_every_slide() {
+    let mut harness = lecturing();
+    let count = harness
+        .state()
+        .lecture
+        .as_ref()
+        .unwrap()
+        .script
+        .slides
+        .len();
+    let mut first: Option<(egui::Rect, f32)> = None;
+    for index in 0..count {
+        harness.state_mut().open_slide(index, false);
+        harness.run();
+        let exit = harness.get_by_label("Exit (Esc)").rect();
+        let canvas_top = harness.state().last_layout.canvas.min.y;
+        let screen = harness.ctx.content_rect();
+        assert!(
+            exit.max.x <= screen.max.x,
+            "slide {}: Exit is cut off at {exit:?}",
+            index + 1
+        );
+        match first {
+            None => first = Some((exit, canvas_top)),
+            Some((exit_before, top_before)) => {
+                assert_eq!(exit, exit_before, "slide {}: the buttons moved", index + 1);
+                assert_eq!(
+                    canvas_top,
+                    top_before,
+                    "slide {}: the bar changed height",
+                    index + 1
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_slide_that_names_its_panels_opens_with_them_and_a_script_opened_replaces_the_lecture() {
+    let script = LectureScript::parse("lesson 5 panels on\nlesson 3\n", "two.txt", 15).unwrap();
+    assert!(matches!(
+        script.slides[0],
+        Slide::Lesson { panels: true, .. }
+    ));
+    assert!(matches!(
+        script.slides[1],
+        Slide::Lesson { panels: false, .. }
+    ));
+    let error = LectureScript::parse("lesson 5 panels maybe\nlesson 3\n", "two.txt", 15)
+        .unwrap()
+        .problems_line()
+        .unwrap();
+    assert!(
+        error.contains("two.txt:1: panels 'maybe' is not 'on' or 'off'"),
+        "{error}"
+    );
+
+    let mut harness = lecturing();
+    assert!(
+        harness
+            .state_mut()
+            .open_script_text("two.txt", "lesson 5 panels on\nlesson 3\n")
+    );
+    harness.run();
+    let lecture = harness.state().lecture.as_ref().unwrap();
+    assert_eq!((lecture.slide, lecture.script.slides.len()), (0, 2));
+    assert!(lecture.panels, "the first slide names its panels");
+    harness.get_by_label_contains("opened the lecture script two.txt: 2 slides");
+    // The kD lesson's panels are there, its text is not (the lecturer says it).
+    let text = &harness.state().lesson().unwrap().text().file.slide;
+    assert!(
+        harness
+            .query_by_label_contains(&format!("Slide: {text}"))
+            .is_none()
+    );
+    press(&mut harness, Key::PageDown);
+    // Stepping goes through lesson 5's animation first; then slide 2 has no panels.
+    while harness.state().lecture.as_ref().unwrap().slide == 0 {
+        press(&mut harness, Key::PageDown);
+    }
+    assert!(!harness.state().lecture.as_ref().unwrap().panels);
+    // A script with no slide leaves the lecture as it was, and says why.
+    assert!(
+        !harness
+            .state_mut()
+            .open_script_text("empty.txt", "# nothing\n")
+    );
+    harness.run();
+    assert_eq!(
+        harness.state().lecture.as_ref().unwrap().script.path,
+        "two.txt"
+    );
+    harness.get_by_label_contains("empty.txt:0: the script has no slides");
+}

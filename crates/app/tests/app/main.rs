@@ -5,6 +5,7 @@
 mod background;
 mod bounds;
 mod common;
+mod contrast;
 mod interaction;
 mod large_mesh;
 mod layout;

@@ -124,3 +124,56 @@ fn a_named_ray_is_shared_by_its_name() {
     other.run_steps(3);
     assert_eq!(view_of(other.state()), before);
 }
+
+#[test]
+fn a_3d_link_reopens_on_the_same_clicked_pixel_order_and_step() {
+    let mut harness = common::app_harness();
+    let titles = harness.state().titles();
+    for title in ["real mesh", "kD-tree in 3D"] {
+        let index = titles.iter().position(|t| t.contains(title)).unwrap();
+        harness.state_mut().selected = index;
+        harness.run_steps(2);
+        {
+            let lesson = harness.state_mut().lesson_mut().unwrap();
+            lesson.restore("order", "file-order").unwrap();
+            // The pixel a click on the teapot's body gives in a 960 × 680 view.
+            lesson.restore("pixel", "480,330,960,680").unwrap();
+        }
+        harness.run_steps(3);
+        let steps = {
+            let lesson = harness.state_mut().lesson_mut().unwrap();
+            let timeline = &mut lesson.stage_mut().timeline;
+            assert!(timeline.len > 6, "{title}: the pixel's ray is traced");
+            timeline.shown = timeline.len / 2;
+            timeline.len
+        };
+        harness.run();
+        let caption = |app: &AccelvizApp| app.lesson().unwrap().caption();
+        let before = (view_of(harness.state()), caption(harness.state()));
+        let link = harness.state().share_state().unwrap().encode();
+        assert!(link.contains("pixel=480,330,960,680"), "{link}");
+        assert!(link.contains("order=file-order"), "{link}");
+
+        let mut other = common::app_harness();
+        other.state_mut().open_state(&link).unwrap();
+        other.run_steps(4);
+        let after = (view_of(other.state()), caption(other.state()));
+        assert_eq!(after, before, "{title}: {link}");
+        assert_eq!(
+            other.state().lesson().unwrap().stage().timeline.len,
+            steps,
+            "{title}: the same ray, traced in as many steps"
+        );
+    }
+    let mut harness = common::app_harness();
+    for (bad, problem) in [
+        ("480,330,960", "not four numbers"),
+        ("960,10,960,680", "outside a 960×680 picture"),
+        ("a,b,c,d", "not four whole numbers"),
+    ] {
+        let index = titles.iter().position(|t| t.contains("real mesh")).unwrap();
+        let link = format!("v=1&lesson={}&pixel={bad}", index + 1);
+        let error = harness.state_mut().open_state(&link).unwrap_err();
+        assert!(error.contains(problem), "{bad}: {error}");
+    }
+}

@@ -28,6 +28,9 @@ fn the_mesh_and_its_boxes_at_two_depth_ranges_with_and_without_xray() {
             failures.push(error.to_string());
         }
     };
+    // A big tree opens on its first two levels; every depth is asked for.
+    assert_eq!(harness.state().depth_range, (0, 1));
+    harness.state_mut().depth_range = (0, usize::MAX);
     check(&mut harness, "mesh_3d_all_depths_xray");
     harness.state_mut().depth_range = (3, 4);
     check(&mut harness, "mesh_3d_depths_3_4_xray");
@@ -58,6 +61,54 @@ fn a_clicked_pixels_traversal_half_way() {
     harness.state_mut().view.orbit.yaw += 70.0;
     harness.run();
     harness.snapshot("mesh_3d_traversal_half_way");
+}
+
+#[test]
+fn a_click_traces_through_its_pixels_centre() {
+    let mut harness = lesson_harness_3d(mesh_lesson());
+    harness.run();
+    let rect = harness.state().view.rect().expect("drawn");
+    // Where a pointer lands: on a pixel's corner (the harness has one pixel a point).
+    let at = egui::pos2(rect.min.x + 301.0, rect.min.y + 207.0);
+    for event in [
+        egui::Event::PointerMoved(at),
+        egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed: true,
+            modifiers: egui::Modifiers::NONE,
+        },
+        egui::Event::PointerButton {
+            pos: at,
+            button: egui::PointerButton::Primary,
+            pressed: false,
+            modifiers: egui::Modifiers::NONE,
+        },
+    ] {
+        harness.event(event);
+        harness.run();
+    }
+    let (pixel, ray) = harness.state().picked().expect("a click picks a ray");
+    let pixel = pixel.expect("a clicked pixel");
+    assert_eq!((pixel.column, pixel.row), (301, 207));
+    assert_eq!(
+        (pixel.width, pixel.height),
+        (rect.width().round() as u32, rect.height().round() as u32)
+    );
+    let tree = harness.state().tree().expect("built").clone();
+    let camera = harness
+        .state()
+        .view
+        .orbit
+        .camera(tree.build.sphere.0, tree.build.sphere.1);
+    // The very ray the heat maps and `bench --camera` trace for that pixel.
+    let expected: Ray<DVec3> = camera
+        .pixel_ray(301, 207, pixel.width as usize, pixel.height as usize)
+        .expect("a ray");
+    assert_eq!(
+        (ray.origin, ray.direction),
+        (expected.origin, expected.direction)
+    );
 }
 
 #[test]
@@ -300,6 +351,164 @@ fn kd_split_planes_clipped_to_their_cells_and_a_selected_cell() {
         failures.push(error.to_string());
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+/// A harness's picture (pixels per point 1), as RGBA rows.
+#[derive(Clone)]
+struct Picture {
+    width: u32,
+    height: u32,
+    rgba: Vec<u8>,
+}
+
+impl Picture {
+    fn of<State>(harness: &mut egui_kittest::Harness<'_, State>) -> Self {
+        let image = harness.render().expect("renders");
+        Self {
+            width: image.width(),
+            height: image.height(),
+            rgba: image.into_raw(),
+        }
+    }
+
+    fn pixel(&self, x: u32, y: u32) -> [u8; 4] {
+        let at = ((y * self.width + x) * 4) as usize;
+        [0, 1, 2, 3].map(|c| self.rgba[at + c])
+    }
+
+    /// The pixels inside `rect`: (x, y, RGBA).
+    fn inside(&self, rect: egui::Rect) -> impl Iterator<Item = (u32, u32, [u8; 4])> + '_ {
+        let (x0, y0) = (rect.min.x.ceil() as u32, rect.min.y.ceil() as u32);
+        let (x1, y1) = (
+            (rect.max.x.floor() as u32).min(self.width),
+            (rect.max.y.floor() as u32).min(self.height),
+        );
+        (y0..y1).flat_map(move |y| (x0..x1).map(move |x| (x, y, self.pixel(x, y))))
+    }
+}
+
+/// Relative luminance (WCAG) of an sRGB pixel.
+fn luminance([r, g, b, _]: [u8; 4]) -> f64 {
+    let linear = |c: u8| {
+        let c = f64::from(c) / 255.0;
+        if c <= 0.04045 {
+            c / 12.92
+        } else {
+            ((c + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    0.2126 * linear(r) + 0.7152 * linear(g) + 0.0722 * linear(b)
+}
+
+#[test]
+fn the_3d_view_is_dark_in_the_dark_theme_and_light_in_the_light_ones() {
+    use accelviz_app::lecture::Theme;
+    for theme in Theme::ALL {
+        let mut harness = lesson_harness_3d(MeshTreeLesson::new(lesson_text("13-kd-3d.ron")));
+        harness.ctx.set_visuals(theme.visuals());
+        harness.run();
+        let rect = harness.state().view.rect().expect("drawn");
+        let image = Picture::of(&mut harness);
+        // The view's background: its outermost pixels (the teapot sits in the middle).
+        let border: Vec<f64> = image
+            .inside(rect.shrink(2.0))
+            .filter(|&(x, y, _)| {
+                let (x, y) = (x as f32, y as f32);
+                x < rect.min.x + 8.0
+                    || x > rect.max.x - 9.0
+                    || y < rect.min.y + 8.0
+                    || y > rect.max.y - 9.0
+            })
+            .map(|(_, _, pixel)| luminance(pixel))
+            .collect();
+        let background = border.iter().sum::<f64>() / border.len() as f64;
+        let all: Vec<f64> = image.inside(rect).map(|(_, _, p)| luminance(p)).collect();
+        let mean = all.iter().sum::<f64>() / all.len() as f64;
+        eprintln!(
+            "{}: background {background:.3}, mean {mean:.3}",
+            theme.name()
+        );
+        if theme == Theme::Dark {
+            assert!(
+                background < 0.01,
+                "dark theme: background luminance {background}"
+            );
+            assert!(mean < 0.12, "dark theme: the view's mean luminance {mean}");
+            harness.snapshot("kd_3d_dark");
+        } else {
+            assert!(
+                background > 0.8,
+                "{}: background {background}",
+                theme.name()
+            );
+        }
+    }
+}
+
+#[test]
+fn a_selected_kd_cell_lights_its_triangles_and_its_plane() {
+    let mut harness = lesson_harness_3d(MeshTreeLesson::new(lesson_text("13-kd-3d.ron")));
+    harness.run();
+    let tree = harness.state().tree().expect("built").clone();
+    let rect = harness.state().view.rect().expect("drawn");
+    let before = Picture::of(&mut harness);
+    // Every inner node two levels down (the findings' LL among them), with planes shown and not.
+    let facts = &tree.build.built.facts;
+    let nodes: Vec<u32> = facts
+        .by_depth
+        .iter()
+        .copied()
+        .filter(|&node| facts.depth[node as usize] == 2 && tree.build.built.plane(node).is_some())
+        .collect();
+    assert!(!nodes.is_empty());
+    for show_planes in [true, false] {
+        harness.state_mut().show_planes = show_planes;
+        harness.state_mut().selected = Some(0);
+        harness.run();
+        let before = if show_planes {
+            before.clone()
+        } else {
+            Picture::of(&mut harness)
+        };
+        for &node in &nodes {
+            harness.state_mut().selected = Some(node);
+            harness.run();
+            let after = Picture::of(&mut harness);
+            let (axis, _) = tree.build.built.plane(node).expect("inner");
+            let axis_color = accelviz_app::canvas::palette::AXES[axis];
+            let (mut bluer, mut in_axis_color) = (0, 0);
+            for (x, y, pixel) in after.inside(rect) {
+                let old = before.pixel(x, y);
+                let blueness = |[r, _, b, _]: [u8; 4]| i32::from(b) - i32::from(r);
+                // The highlight's blue, lit or seen through the surface.
+                if blueness(pixel) - blueness(old) > 30 {
+                    bluer += 1;
+                }
+                let near = |p: [u8; 4]| {
+                    (0..3)
+                        .map(|c| (i32::from(p[c]) - i32::from(axis_color.to_array()[c])).abs())
+                        .max()
+                        .unwrap_or(0)
+                        < 24
+                };
+                if near(pixel) && !near(old) {
+                    in_axis_color += 1;
+                }
+            }
+            let label = tree.node_name(node);
+            eprintln!(
+                "node {label} (planes {show_planes}): {bluer} pixels bluer, {in_axis_color} in the plane's colour"
+            );
+            assert!(
+                bluer > 400,
+                "node {label}: {bluer} pixels lit by its triangles"
+            );
+            assert!(
+                in_axis_color > 100,
+                "node {label}: {in_axis_color} pixels of its plane's outline"
+            );
+        }
+    }
 }
 
 /// A file dropped onto the window, as eframe hands it over on the desktop.

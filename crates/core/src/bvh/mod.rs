@@ -1,5 +1,5 @@
 //! Bounding volume hierarchies: a flat array of nodes, four builders, one traversal; and wide
-//! BVHs (4 or 8 children a node) collapsed from them, with their own traversal.
+//! BVHs (4 or 8 children per node) collapsed from them, with their own traversal.
 //!
 //! Boxes → a builder (`build_*`) → [`Bvh`] (flat nodes, index children) → [`traverse`] told
 //! about each step by an [`Observer`](crate::observer::Observer). [`validate`] checks any tree;

@@ -61,7 +61,7 @@ fn a_runaway_build_lowers_its_depth_limit_to_fit_the_node_budget() {
     assert_eq!(
         limits.to_string(),
         format!(
-            "depth limit {} (lowered from 27 to stay within 100\u{2009}000 nodes); {} cells stopped there",
+            "depth limit {} (lowered from 27 to stay within 100\u{a0}000 nodes); {} cells stopped there",
             limits.depth_limit,
             accelviz_core::format::count(limits.leaves_at_depth_limit)
         )

@@ -89,10 +89,13 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     let listed = if hit_list.is_empty() {
         "The ray meets no shape.".to_owned()
     } else {
-        format!(
-            "Along the ray it meets {}, in that order.",
-            hit_list.join(", then ")
-        )
+        match hit_list.as_slice() {
+            [only] => format!("Along the ray it meets {only} only."),
+            _ => format!(
+                "Along the ray it meets {}, in that order.",
+                hit_list.join(", then ")
+            ),
+        }
     };
     let mut asks = vec![Ask {
         prompt: "Which shape does the ray hit first?".into(),

@@ -29,14 +29,6 @@ pub(super) fn bvh_structure(generator: &mut Gen) -> Structure {
     }
 }
 
-/// The name of an order, as the JSON spells it.
-pub(super) fn order_name(order: Order) -> &'static str {
-    match order {
-        Order::NearFirst => "near-first",
-        Order::FileOrder => "file-order",
-    }
-}
-
 /// Why the traversal entered `steps[at]`'s node, from the steps before it.
 fn why_entered(
     figure: &TreeFigure,
@@ -173,7 +165,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             asks.push(Ask {
                 prompt: format!(
                     "Which node does the traversal ({}) enter next?",
-                    order_name(order).replace('-', " ")
+                    order.name().replace('-', " ")
                 ),
                 expected: Expected::Choice {
                     options: options
@@ -235,13 +227,13 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             .map_or(0, |at| at + 1),
         needs: Vec::new(),
     });
-    let order_value = json!(order_name(order));
+    let order_value = json!(order.name());
     let (mut fields, scene) = traversal_question(shapes, ray, figure);
     fields.insert("order".into(), order_value);
     Some(Draft {
         prompt: format!(
             "A BVH over the shapes, and a ray. The traversal pauses before each node it enters: which comes next? Order: {}.",
-            order_name(order)
+            order.name()
         ),
         figure: Figure::Scene(Box::new(scene)),
         asks,
