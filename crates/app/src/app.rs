@@ -411,7 +411,7 @@ impl AccelvizApp {
                 (
                     scene.noun(),
                     scene.filter().is_some(),
-                    scene.save().is_some(),
+                    scene.can_save(),
                 )
             });
             let has_scene = scene.is_some();

@@ -1,6 +1,8 @@
 //! The 2D canvas: a view (where the world sits on screen, zoom and pan) and the drawing of
 //! the core's geometry: boxes, shapes, rays, points along a ray.
 
+use std::sync::Arc;
+
 use accelviz_core::{Aabb, Shape};
 use egui::{Align2, Color32, FontId, Pos2, Rect, Response, Sense, Stroke, StrokeKind, Vec2};
 use glam::DVec2;
@@ -75,6 +77,9 @@ pub struct View2d {
     /// The canvas size the view was fitted to, while the user has not moved it: a canvas of
     /// another size (a window resized, a lecture slide opened at another scale) fits again.
     pub fitted_size: Option<Vec2>,
+    /// The height kept clear at the top for the canvas's caption when it was fitted: a caption
+    /// that grows (lecture mode's larger text, more lines) fits the view again below it.
+    pub fitted_top: f32,
 }
 
 impl Default for View2d {
@@ -84,6 +89,7 @@ impl Default for View2d {
             points_per_unit: 4.0,
             placed: false,
             fitted_size: None,
+            fitted_top: 0.0,
         }
     }
 }
@@ -91,20 +97,31 @@ impl Default for View2d {
 impl View2d {
     /// A view showing all of `bounds` in `rect` with a margin.
     pub fn fitted(bounds: &Aabb<DVec2>, rect: Rect) -> Self {
+        Self::fitted_below(bounds, rect, 0.0)
+    }
+
+    /// A view showing all of `bounds` in `rect` below its top `top` points (kept for a
+    /// caption), with a margin.
+    pub fn fitted_below(bounds: &Aabb<DVec2>, rect: Rect, top: f32) -> Self {
         if bounds.is_empty() || !bounds.is_finite() {
             return Self {
                 placed: true,
                 ..Self::default()
             };
         }
+        // No more than half the canvas goes to a caption.
+        let top = top.clamp(0.0, rect.height() / 2.0);
         let extent = bounds.extent().max(DVec2::splat(1e-9));
-        let usable = (rect.size() - Vec2::splat(48.0)).max(Vec2::splat(16.0));
+        let usable = (rect.size() - Vec2::new(48.0, 48.0 + top)).max(Vec2::splat(16.0));
         let points_per_unit = (usable.x as f64 / extent.x).min(usable.y as f64 / extent.y);
+        // The bounds' centre sits in the middle of what is below the caption.
+        let center = bounds.center() + DVec2::new(0.0, f64::from(top) / 2.0 / points_per_unit);
         Self {
-            center: bounds.center(),
+            center,
             points_per_unit,
             placed: true,
             fitted_size: Some(rect.size()),
+            fitted_top: top,
         }
     }
 }
@@ -126,13 +143,17 @@ pub struct Canvas {
     left_out: std::cell::Cell<usize>,
     /// The labels written on the canvas this frame, laid out so none covers another.
     labels: std::cell::RefCell<Labels>,
+    /// Whether it is drawn on the dark theme's background (read once: a tree of 100,000
+    /// nodes asks per node).
+    dark_mode: bool,
 }
 
-/// The most vertices one canvas draws in a frame: far more than a screen shows (a box smaller
-/// than a point is not drawn at all), and far below what the renderer takes in one frame
-/// (egui-wgpu's buffers stop at 256 MB: about 13 million vertices). What does not fit is left
-/// out and the canvas says so ([`Canvas::finish`]).
-pub const VERTEX_BUDGET: usize = 1_000_000;
+/// The most vertices one canvas draws in a frame: more than a canvas has pixels (a box smaller
+/// than [`SMALLEST_DRAWN`] is not drawn at all), and few enough that egui hands three canvases
+/// of them to the GPU in a frame of lesson 7 at 100,000 shapes well under 100 ms (at a million
+/// each, frames took up to 400 ms). What does not fit is left out and the canvas says so
+/// ([`Canvas::finish`]).
+pub const VERTEX_BUDGET: usize = 400_000;
 
 /// Colours shared by every lesson, readable on the dark and the light theme.
 pub mod palette {
@@ -216,7 +237,7 @@ fn hue_of_depth(depth: usize, dark_mode: bool) -> Color32 {
 impl Canvas {
     /// [`depth_color`] for this canvas's background.
     pub fn depth_color(&self, depth: usize) -> Color32 {
-        depth_color(depth, self.painter.ctx().global_style().visuals.dark_mode)
+        depth_color(depth, self.dark_mode)
     }
 
     /// Allocates a canvas of `size`, lets the user zoom (scroll, pinch) and pan (drag with the
@@ -231,11 +252,19 @@ impl Canvas {
     ) -> Self {
         let (response, painter) = ui.allocate_painter(size, Sense::click_and_drag());
         let rect = response.rect;
-        let resized = view
-            .fitted_size
-            .is_some_and(|size| (size - rect.size()).length() > 0.5);
+        // The caption's height last frame ([`Canvas::caption`]).
+        let caption: f32 = ui
+            .ctx()
+            .data(|data| data.get_temp(caption_id(&response)))
+            .unwrap_or(0.0);
+        // Fitted again when the canvas changes size or its caption grows past the room kept
+        // (not when it shrinks: a view that jumped at every step would be worse).
+        let resized = view.fitted_size.is_some_and(|size| {
+            (size - rect.size()).length() > 0.5
+                || caption.clamp(0.0, rect.height() / 2.0) > view.fitted_top + 0.5
+        });
         if !view.placed || resized {
-            *view = View2d::fitted(fit_bounds, rect);
+            *view = View2d::fitted_below(fit_bounds, rect, caption);
         }
         painter.rect_filled(rect, 0.0, ui.visuals().extreme_bg_color);
 
@@ -270,6 +299,7 @@ impl Canvas {
             budget: std::cell::Cell::new(VERTEX_BUDGET),
             left_out: std::cell::Cell::new(0),
             labels: std::cell::RefCell::new(Labels::new(rect.shrink(2.0))),
+            dark_mode: ui.visuals().dark_mode,
         }
     }
 
@@ -414,15 +444,23 @@ impl Canvas {
             return;
         }
         let mut batch = self.batch();
-        batch.reserve(lines.len() * 4, lines.len() * 2);
+        self.batch_split_lines(&mut batch, lines);
+        self.draw_batch(batch);
+    }
+
+    /// [`Canvas::split_lines`] of many lines into `batch`.
+    pub fn batch_split_lines(
+        &self,
+        batch: &mut Batch,
+        lines: impl IntoIterator<Item = (Aabb<DVec2>, usize, f64, Stroke)>,
+    ) {
         for (cell, axis, position, stroke) in lines {
             let [from, to] = self.split_ends(&cell, axis, position);
-            // A line shorter than a point cannot be seen: a cell too small to show.
-            if self.visible(Rect::from_two_pos(from, to)) && from.distance(to) >= 1.0 {
+            // A line shorter than that cannot be told from its neighbours: a cell too small.
+            if self.visible(Rect::from_two_pos(from, to)) && from.distance(to) >= SMALLEST_DRAWN {
                 batch.line(from, to, stroke.width, stroke.color);
             }
         }
-        self.draw_batch(batch);
     }
 
     /// Draws a shape: filled disc or box, or a thick segment. A shape a few points across is
@@ -574,7 +612,9 @@ impl Canvas {
     }
 
     /// A caption in the canvas's top-left corner, one entry a line (wrapped to the canvas).
+    /// A fitted view keeps clear of it: its height is kept for the next frame's fit.
     pub fn caption(&self, lines: &[(String, Color32)]) {
+        let top = self.rect.top();
         let mut pos = self.rect.left_top() + Vec2::new(10.0, 8.0);
         let width = (self.rect.width() - 20.0).max(40.0);
         for (text, color) in lines {
@@ -587,8 +627,22 @@ impl Canvas {
             self.painter.galley(pos, galley, *color);
             pos.y += height + 6.0;
         }
+        let height = pos.y - top;
+        self.painter
+            .ctx()
+            .data_mut(|data| data.insert_temp(caption_id(&self.response), height));
     }
 }
+
+/// Where a canvas keeps its caption's height between frames.
+fn caption_id(response: &Response) -> egui::Id {
+    response.id.with("caption height")
+}
+
+/// Boxes and split lines smaller than this (points) are not drawn in a batch: at that size a
+/// tree's neighbouring boxes merge into one smear, and three trees of 100,000 shapes drew a
+/// million of them a frame (200 ms) to show nothing more.
+pub const SMALLEST_DRAWN: f32 = 2.0;
 
 /// Above this many shapes, boxes or lines, a lesson draws them as one batched mesh.
 pub const BATCH_ABOVE: usize = 300;
@@ -730,6 +784,57 @@ impl Canvas {
             mesh: egui::Mesh::default(),
             limit: self.budget.get(),
             left_out: 0,
+        }
+    }
+
+    /// Paints the batch `fill` makes, or the one it made last for the same `slot` of this
+    /// canvas and the same `key` (what it is drawn from: a tree's id, colours, the view and
+    /// canvas are added here). Three trees of 100,000 shapes took 50 to 100 ms a frame to
+    /// batch again, unchanged; kept, a frame hands egui the same mesh.
+    pub fn cached_batch(
+        &self,
+        slot: &str,
+        key: impl std::hash::Hash,
+        fill: impl FnOnce(&mut Batch),
+    ) {
+        use std::hash::{Hash, Hasher};
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        key.hash(&mut hasher);
+        (
+            self.view.center.to_array().map(f64::to_bits),
+            self.view.points_per_unit.to_bits(),
+        )
+            .hash(&mut hasher);
+        [
+            self.rect.min.x,
+            self.rect.min.y,
+            self.rect.max.x,
+            self.rect.max.y,
+        ]
+        .map(f32::to_bits)
+        .hash(&mut hasher);
+        (self.dark_mode, self.budget.get()).hash(&mut hasher);
+        let key = hasher.finish();
+        let id = self.response.id.with(("batch", slot));
+        let kept: Option<(u64, Arc<egui::Mesh>, usize)> =
+            self.painter.ctx().data(|data| data.get_temp(id));
+        let (mesh, left_out) = match kept {
+            Some((kept_key, mesh, left_out)) if kept_key == key => (mesh, left_out),
+            _ => {
+                let mut batch = self.batch();
+                fill(&mut batch);
+                let made = (Arc::new(batch.mesh), batch.left_out);
+                self.painter
+                    .ctx()
+                    .data_mut(|data| data.insert_temp(id, (key, made.0.clone(), made.1)));
+                made
+            }
+        };
+        self.budget
+            .set(self.budget.get().saturating_sub(mesh.vertices.len()));
+        self.left_out.set(self.left_out.get() + left_out);
+        if !mesh.is_empty() {
+            self.painter.add(egui::Shape::Mesh(mesh));
         }
     }
 

@@ -54,6 +54,10 @@ pub trait SceneFile {
     /// The scene as a file to save (suggested name, content); `None` if it cannot be saved.
     fn save(&self) -> Option<(String, String)>;
 
+    /// Whether [`save`](Self::save) makes a file, without making it (the top bar asks every
+    /// frame: writing 100,000 shapes as RON takes a tenth of a second).
+    fn can_save(&self) -> bool;
+
     /// Puts back the scene the lesson's file starts with.
     fn reset(&mut self, text: &LessonText);
 
@@ -101,6 +105,10 @@ impl SceneFile for EditableScene {
 
     fn save(&self) -> Option<(String, String)> {
         Some(("scene.ron".to_owned(), self.scene.to_ron()))
+    }
+
+    fn can_save(&self) -> bool {
+        true
     }
 
     fn reset(&mut self, text: &LessonText) {
@@ -177,6 +185,15 @@ pub struct SceneTree {
     pub stats: TreeStats,
     /// How long the build took.
     pub build_millis: f64,
+    /// A number no other tree of the process has: what is drawn of it can be kept between
+    /// frames under it ([`crate::canvas::Canvas::cached_batch`]).
+    pub id: u64,
+}
+
+/// A new [`SceneTree::id`].
+pub fn next_tree_id() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
 }
 
 impl SceneTree {
@@ -212,6 +229,7 @@ impl SceneTree {
             built,
             stats,
             build_millis,
+            id: next_tree_id(),
         }
     }
 

@@ -133,6 +133,10 @@ impl SceneFile for SlabScene {
         None
     }
 
+    fn can_save(&self) -> bool {
+        false
+    }
+
     fn reset(&mut self, text: &LessonText) {
         *self = Self::of_lesson(text);
     }

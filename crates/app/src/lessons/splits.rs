@@ -14,7 +14,7 @@ use egui_plot::{
     Points, VLine,
 };
 
-use crate::background::{Cached, Derived};
+use crate::background::Derived;
 use crate::canvas::{Canvas, faded, palette};
 use crate::editor::Editing;
 use crate::lesson::Lesson;
@@ -30,6 +30,9 @@ const SAH_PANE: usize = 2;
 /// The axis names.
 const AXES: [&str; 2] = ["x", "y"];
 
+/// The most candidates the cost plot draws a dot each (see `plot_ui`).
+const MOST_DOTS: usize = 4_000;
+
 /// The lesson.
 pub struct SplitsLesson {
     stage: Stage,
@@ -42,7 +45,11 @@ pub struct SplitsLesson {
     /// Whether binned candidates are overlaid.
     show_binned: bool,
     /// The node's cost curve, for the comparison, node and binning it is of.
-    curve: Cached<(u64, u32, Option<usize>), CostCurve>,
+    /// The plotted node's cost curve, made aside when the node is large (the root of 100,000
+    /// shapes takes a tenth of a second): (comparison, node, bins).
+    curve: Derived<(u64, u32, Option<usize>), CostCurve>,
+    /// The curve (its generation) the selection was made on.
+    curve_shown: u64,
     /// The candidate under the pointer in the plot (hovering selects it).
     selected: Option<Candidate>,
     plot_transform: Option<PlotTransform>,
@@ -58,7 +65,8 @@ impl SplitsLesson {
             node: 0,
             axis: 0,
             show_binned: true,
-            curve: Cached::default(),
+            curve: Derived::default(),
+            curve_shown: 0,
             selected: None,
             plot_transform: None,
         }
@@ -132,8 +140,14 @@ impl SplitsLesson {
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), cost| {
                 (low.min(cost), high.max(cost))
             });
+        // Room above the curve for the legend (top right): as much of the plot's height as
+        // the legend's rows take at the text size of the moment (lecture mode's is larger),
+        // so the legend never covers the curve.
+        let legend_rows = 6.0;
+        let legend_height = legend_rows * ui.text_style_height(&egui::TextStyle::Body) * 1.2 + 24.0;
+        let legend_share = f64::from((legend_height / height.max(1.0)).clamp(0.1, 0.7));
         let headroom = if high > low {
-            high + (high - low) * 0.8
+            low + (high - low) / (1.0 - legend_share)
         } else {
             high + 1.0
         };
@@ -165,14 +179,23 @@ impl SplitsLesson {
                         _ => lowest.push([candidate.position, candidate.cost]),
                     }
                 }
+                // Up to a few thousand candidates a dot each; beyond (a root of 100,000
+                // shapes has 200,000), a dot for each pixel-wide group's cheapest, as the line
+                // has: 200,000 dots took egui a tenth of a second a frame to draw.
+                let (dots, dots_name): (PlotPoints, &str) = if exact.len() <= MOST_DOTS {
+                    (
+                        exact.iter().map(|c| [c.position, c.cost]).collect(),
+                        "every candidate (exact)",
+                    )
+                } else {
+                    (
+                        PlotPoints::new(lowest.clone()),
+                        "exact candidates (cheapest a pixel)",
+                    )
+                };
                 // No name: the dots' legend entry stands for both.
                 plot.line(Line::new("", PlotPoints::new(lowest)).color(palette::RAY));
-                let dots: PlotPoints = exact.iter().map(|c| [c.position, c.cost]).collect();
-                plot.points(
-                    Points::new("every candidate (exact)", dots)
-                        .radius(2.5)
-                        .color(palette::RAY),
-                );
+                plot.points(Points::new(dots_name, dots).radius(2.5).color(palette::RAY));
                 if !binned.is_empty() {
                     let bins: PlotPoints = binned.iter().map(|c| [c.position, c.cost]).collect();
                     plot.points(
@@ -343,14 +366,18 @@ impl Lesson for SplitsLesson {
         }
         let node = self.node;
         let bins = self.show_binned.then_some(tree.settings.bins);
-        let boxes = tree.shapes.all_bounds();
-        let cost = tree.settings.cost();
-        let built = &tree.built;
-        let before = self.curve.get().map(|curve| curve as *const CostCurve);
-        let curve = self.curve.get_or_make((generation, node, bins), || {
-            node_curve(built, node, &boxes, &cost, bins)
+        // The scene's size stands for the node's (at most that): it decides only whether the
+        // curve is made aside.
+        let size = tree.shapes.shapes.len();
+        self.curve.request(&(generation, node, bins), size, || {
+            move || {
+                let tree = &comparison.trees[SAH_PANE];
+                let boxes = tree.shapes.all_bounds();
+                node_curve(&tree.built, node, &boxes, &tree.settings.cost(), bins)
+            }
         });
-        if before != Some(curve as *const CostCurve) {
+        if self.curve.generation() != self.curve_shown {
+            self.curve_shown = self.curve.generation();
             self.selected = None;
         }
     }

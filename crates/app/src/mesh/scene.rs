@@ -170,6 +170,10 @@ impl SceneFile for MeshScene {
         None
     }
 
+    fn can_save(&self) -> bool {
+        false
+    }
+
     fn reading(&self) -> Option<f32> {
         self.loading.as_ref().map(MeshLoad::progress)
     }

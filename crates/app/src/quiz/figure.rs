@@ -50,6 +50,7 @@ pub fn scene_tree(question: &Question) -> Option<SceneTree> {
         built: tree.built.clone(),
         stats,
         build_millis: 0.0,
+        id: crate::stage::next_tree_id(),
     })
 }
 

@@ -24,13 +24,27 @@ pub fn draw_shapes(
 ) {
     let plain = shape_fill(ui);
     if shapes.shapes.len() > BATCH_ABOVE {
-        let mut batch = canvas.batch();
-        // A disc takes up to 41 vertices; boxes and segments 4.
-        batch.reserve(shapes.shapes.len() * 16, shapes.shapes.len() * 14);
-        for (index, shape) in shapes.shapes.iter().enumerate() {
-            canvas.batch_shape(&mut batch, shape, color_of(index).unwrap_or(plain));
+        // Kept between frames while the shapes and their colours are the same (hashing them
+        // takes a fraction of what drawing them again does).
+        let colors: Vec<Color32> = (0..shapes.shapes.len())
+            .map(|index| color_of(index).unwrap_or(plain))
+            .collect();
+        let mut hasher = std::collections::hash_map::DefaultHasher::new();
+        for shape in &shapes.shapes {
+            let bounds = shape.bounds();
+            std::hash::Hash::hash(
+                &[bounds.min, bounds.max].map(|corner| corner.to_array().map(f64::to_bits)),
+                &mut hasher,
+            );
         }
-        canvas.draw_batch(batch);
+        let key = (std::hash::Hasher::finish(&hasher), &colors);
+        canvas.cached_batch("shapes", key, |batch| {
+            // A disc takes up to 41 vertices; boxes and segments 4.
+            batch.reserve(shapes.shapes.len() * 16, shapes.shapes.len() * 14);
+            for (shape, color) in shapes.shapes.iter().zip(&colors) {
+                canvas.batch_shape(batch, shape, *color);
+            }
+        });
         return;
     }
     for (index, shape) in shapes.shapes.iter().enumerate() {

@@ -9,7 +9,7 @@ use accelviz_core::{Aabb, Family, Step};
 use egui::{Color32, Pos2, Rect, Stroke, StrokeKind, Vec2};
 use glam::DVec2;
 
-use crate::canvas::{BATCH_ABOVE, Canvas, faded, palette};
+use crate::canvas::{BATCH_ABOVE, Canvas, SMALLEST_DRAWN, faded, palette};
 use crate::stage::SceneTree;
 
 /// What to draw of a tree, and what stands out.
@@ -62,24 +62,25 @@ pub fn draw_tree(canvas: &Canvas, tree: &SceneTree, look: &TreeLook) {
         Family::Bvh => {
             let count = facts.node_count();
             if count > BATCH_ABOVE {
-                let mut batch = canvas.batch();
-                batch.reserve(count * 8, count * 8);
-                // Shallowest first: if the budget runs out, the deepest levels are left out.
-                for node in facts
-                    .by_depth
-                    .iter()
-                    .map(|&node| node as usize)
-                    .filter(|&node| shown(node))
-                {
-                    let screen = canvas.screen_rect(&facts.bounds[node]);
-                    if screen.width().max(screen.height()) < 1.0 || !canvas.rect.intersects(screen)
+                let key = (tree.id, alpha, look.depths.start(), look.depths.end());
+                canvas.cached_batch("tree boxes", key, |batch| {
+                    // Shallowest first: if the budget runs out, the deepest levels are left out.
+                    for node in facts
+                        .by_depth
+                        .iter()
+                        .map(|&node| node as usize)
+                        .filter(|&node| shown(node))
                     {
-                        continue;
+                        let screen = canvas.screen_rect(&facts.bounds[node]);
+                        if screen.width().max(screen.height()) < SMALLEST_DRAWN
+                            || !canvas.rect.intersects(screen)
+                        {
+                            continue;
+                        }
+                        let color = faded(canvas.depth_color(facts.depth[node] as usize), alpha);
+                        batch.rect_outline(inset(screen, facts.depth[node] as usize), 1.0, color);
                     }
-                    let color = faded(canvas.depth_color(facts.depth[node] as usize), alpha);
-                    batch.rect_outline(inset(screen, facts.depth[node] as usize), 1.0, color);
-                }
-                canvas.draw_batch(batch);
+                });
             } else {
                 for node in (0..count).filter(|&node| shown(node)) {
                     let depth = facts.depth[node] as usize;
@@ -95,17 +96,27 @@ pub fn draw_tree(canvas: &Canvas, tree: &SceneTree, look: &TreeLook) {
                 None,
             );
             // Shallowest first: if the budget runs out, the deepest levels are left out.
-            let splits: Vec<usize> = facts
-                .by_depth
-                .iter()
-                .map(|&node| node as usize)
-                .filter(|&node| !facts.is_leaf(node as u32) && shown(node))
-                .collect();
-            canvas.split_lines(splits.into_iter().filter_map(|node| {
-                let (axis, position) = tree.built.plane(node as u32)?;
-                let color = faded(canvas.depth_color(facts.depth[node] as usize + 1), alpha);
-                Some((facts.bounds[node], axis, position, Stroke::new(1.5, color)))
-            }));
+            let splits = || {
+                facts
+                    .by_depth
+                    .iter()
+                    .map(|&node| node as usize)
+                    .filter(|&node| !facts.is_leaf(node as u32) && shown(node))
+                    .filter_map(|node| {
+                        let (axis, position) = tree.built.plane(node as u32)?;
+                        let color =
+                            faded(canvas.depth_color(facts.depth[node] as usize + 1), alpha);
+                        Some((facts.bounds[node], axis, position, Stroke::new(1.5, color)))
+                    })
+            };
+            if facts.node_count() > BATCH_ABOVE {
+                let key = (tree.id, alpha, look.depths.start(), look.depths.end());
+                canvas.cached_batch("split lines", key, |batch| {
+                    canvas.batch_split_lines(batch, splits());
+                });
+            } else {
+                canvas.split_lines(splits());
+            }
         }
     }
     draw_traversal(canvas, tree, look);
