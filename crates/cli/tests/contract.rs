@@ -991,3 +991,71 @@ fn quiz_errors_name_the_valid_choices() {
         "--count: 'many' is not a whole number from 1",
     );
 }
+
+/// A 3D view's "copy as a ray-file line" (`accelviz_scene::rays::ray_line`) is read by
+/// `query` as exactly that ray: on the teapot, in f64, the hit is brute force's, at its t.
+#[test]
+fn query_reads_a_copied_ray_line_as_the_same_ray() {
+    use accelviz_core::{NoObserver, TraceOptions, TriangleSet, brute_force};
+    use accelviz_scene::rays::{RaySpec, ray_line};
+    use glam::DVec3;
+    let mesh = (accelviz_scene::builtin::named("builtin:teapot")
+        .unwrap()
+        .make)();
+    let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
+    // Rays as a camera gives them: an eye with many digits, directions of no round numbers.
+    let eye = DVec3::new(
+        std::f64::consts::E,
+        std::f64::consts::SQRT_2,
+        -std::f64::consts::PI,
+    );
+    let rays: Vec<RaySpec> = (0..40)
+        .map(|k| {
+            let k = f64::from(k);
+            let target = DVec3::new(
+                -1.5 + 0.0761 * k,
+                0.3 + 0.0333 * (k * 0.7).sin(),
+                0.1 * k.cos(),
+            );
+            RaySpec::generated(eye, (target - eye) * (1.0 + 1e-3 * k))
+        })
+        .collect();
+    let text: String = rays.iter().map(|ray| ray_line(ray) + "\n").collect();
+    let path = file("copied.rays", &text);
+    let output = cli(&[
+        "query",
+        "--mesh",
+        "builtin:teapot",
+        "--accel",
+        "kd:sah",
+        "--precision",
+        "f64",
+        "--rays",
+        &path,
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let mut hits = 0;
+    for (ray, line) in rays.iter().zip(stdout(&output).lines()) {
+        let expected = brute_force(
+            &triangles,
+            &ray.to_ray::<DVec3>().unwrap(),
+            &TraceOptions::default(),
+            &mut NoObserver,
+        );
+        match expected {
+            Some(hit) => {
+                hits += 1;
+                let words: Vec<&str> = line.split(' ').collect();
+                assert_eq!(words[..2], ["HIT", &hit.primitive.to_string()], "{line}");
+                let t: f64 = words[2].parse().unwrap();
+                assert!(
+                    (t - hit.t).abs() <= 1e-9 * hit.t.abs(),
+                    "{line} against t = {}",
+                    hit.t
+                );
+            }
+            None => assert_eq!(line, "MISS"),
+        }
+    }
+    assert!(hits >= 10, "only {hits} of the rays hit the teapot");
+}

@@ -9,6 +9,9 @@ use crate::app::{AccelvizApp, INSPECTOR_WIDTH, Mode};
 use crate::lesson::Lesson;
 use crate::position::Position;
 
+/// The share of the window a slide's panels take.
+const LECTURE_PANEL_SHARE: f32 = 0.42;
+
 impl AccelvizApp {
     /// Where lecture mode is: the slide and, on a question slide, the question's step; on a
     /// lesson slide, the lesson's own position after it.
@@ -159,9 +162,13 @@ impl AccelvizApp {
         let panels = self.lecture.as_ref().is_some_and(|lecture| lecture.panels);
         if on_lesson {
             if panels {
-                egui::Panel::right("inspector")
+                // Wide enough for the kD pseudo-code's lines at lecture size: a panel of its
+                // own (the lessons' inspector keeps its width).
+                let width =
+                    (ui.ctx().content_rect().width() * LECTURE_PANEL_SHARE).max(INSPECTOR_WIDTH.0);
+                egui::Panel::right("lecture panels")
                     .resizable(true)
-                    .default_size(INSPECTOR_WIDTH.1)
+                    .default_size(width)
                     .show(ui, |ui| {
                         // The lesson's panels without its text: the lecturer tells it, and
                         // at lecture scale the text would push the panels off the screen.
@@ -204,9 +211,10 @@ impl AccelvizApp {
         let what = match lecture.current() {
             Slide::Lesson { index, .. } => {
                 let title = titles.get(*index).cloned().unwrap_or_default();
+                // A 3D slide before its ray is clicked has no steps to count.
                 match step {
-                    Some((shown, len)) => format!("{title} · step {shown} of {len}"),
-                    None => title,
+                    Some((shown, len)) if len > 0 => format!("{title} · step {shown} of {len}"),
+                    _ => title,
                 }
             }
             Slide::Question { kind, .. } => {
