@@ -26,20 +26,20 @@ fn app_on(lesson: &str, layout: LayoutEntry, count: usize) -> (egui::Context, Ac
         .iter()
         .position(|title| title.contains(lesson))
         .expect("the lesson");
-    let scene = &mut app
-        .lesson_mut()
+    app.lesson_mut()
         .expect("the lesson")
         .stage_mut()
         .scene
         .as_flat()
-        .expect("a 2D scene");
-    scene.scene.settings.max_leaf_size = 2;
-    scene.generator = GeneratorEntry {
+        .expect("a 2D scene")
+        .scene
+        .settings
+        .max_leaf_size = 2;
+    assert!(app.generate_scene(GeneratorEntry {
         layout,
         count,
         seed: 1,
-    };
-    scene.generate();
+    }));
     // The first frames build (at once: no worker threads here) and fit the view.
     for _ in 0..3 {
         frame(&ctx, &mut app);

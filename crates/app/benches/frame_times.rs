@@ -97,21 +97,11 @@ fn main() {
         .expect("lesson 7");
     frame(&ctx, &mut app);
     let limit = Duration::from_secs(120);
-    {
-        let scene = app
-            .lesson_mut()
-            .expect("the lesson")
-            .stage_mut()
-            .scene
-            .as_flat()
-            .expect("a 2D scene");
-        scene.generator = GeneratorEntry {
-            layout: LayoutEntry::Uniform,
-            count: SHAPES,
-            seed: 1,
-        };
-        scene.generate();
-    }
+    assert!(app.generate_scene(GeneratorEntry {
+        layout: LayoutEntry::Uniform,
+        count: SHAPES,
+        seed: 1,
+    }));
     report(
         &format!("generate {SHAPES} shapes (kD-trees)"),
         &frames_until_built(&ctx, &mut app, limit),

@@ -666,6 +666,20 @@ impl AccelvizApp {
         }
     }
 
+    /// Generates the lesson's 2D scene from `generator`, as the toolbar's "generate" does;
+    /// false if the lesson has no 2D scene.
+    pub fn generate_scene(&mut self, generator: accelviz_scene::document::GeneratorEntry) -> bool {
+        let Some(scene) = self
+            .lesson_mut()
+            .and_then(|lesson| lesson.stage_mut().scene.as_flat())
+        else {
+            return false;
+        };
+        scene.generator = generator;
+        scene.generate();
+        true
+    }
+
     /// Opens a file's text as what it was opened as: a lecture script, or the lesson's scene.
     fn open_text(&mut self, filter: FileFilter, name: &str, text: &str) -> bool {
         if filter == SCRIPT_FILTER {

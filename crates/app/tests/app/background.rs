@@ -33,22 +33,11 @@ fn a_long_build_runs_while_the_app_keeps_drawing() {
     );
     // The lesson's small scene is drawn: its panes' captions name the structures.
     assert!(harness.query_by_label_contains("building…").is_none());
-    {
-        let scene = &mut harness
-            .state_mut()
-            .lesson_mut()
-            .expect("lesson 7")
-            .stage_mut()
-            .scene
-            .as_flat()
-            .expect("a 2D scene");
-        scene.generator = GeneratorEntry {
-            layout: LayoutEntry::Uniform,
-            count: 100_000,
-            seed: 3,
-        };
-        scene.generate();
-    }
+    assert!(harness.state_mut().generate_scene(GeneratorEntry {
+        layout: LayoutEntry::Uniform,
+        count: 100_000,
+        seed: 3,
+    }));
     // The frame after the edit returns with the build still running, and says so.
     harness.step();
     harness.step();

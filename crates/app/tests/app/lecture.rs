@@ -29,6 +29,17 @@ fn lecturing() -> Harness<'static, AccelvizApp> {
     harness
 }
 
+/// The lecture's slides.
+fn slides(harness: &Harness<'_, AccelvizApp>) -> Vec<Slide> {
+    let lecture = harness.state().lecture.as_ref();
+    lecture.unwrap().script.slides.clone()
+}
+
+/// How many slides the lecture has.
+fn slide_count(harness: &Harness<'_, AccelvizApp>) -> usize {
+    slides(harness).len()
+}
+
 fn press(harness: &mut Harness<'_, AccelvizApp>, key: Key) {
     harness.key_press(key);
     harness.run();
@@ -108,14 +119,7 @@ fn blank_holds_the_screen_and_escape_leaves() {
 
 /// The first question slide of the default script.
 fn first_question(harness: &mut Harness<'_, AccelvizApp>) -> usize {
-    let slides = harness
-        .state()
-        .lecture
-        .as_ref()
-        .unwrap()
-        .script
-        .slides
-        .clone();
+    let slides = slides(harness);
     let index = slides
         .iter()
         .position(|slide| matches!(slide, Slide::Question { .. }))
@@ -199,14 +203,7 @@ fn smallest_text(harness: &Harness<'_, AccelvizApp>) -> Option<(f32, String)> {
 #[test]
 fn no_text_under_24_pixels_on_any_slide() {
     let mut harness = lecturing();
-    let count = harness
-        .state()
-        .lecture
-        .as_ref()
-        .unwrap()
-        .script
-        .slides
-        .len();
+    let count = slide_count(&harness);
     let mut small = Vec::new();
     for slide in 0..count {
         harness.state_mut().open_slide(slide, false);
@@ -297,14 +294,7 @@ fn script_errors_name_file_and_line() {
 #[test]
 fn every_slide_of_the_default_script_opens_what_it_names() {
     let mut harness = lecturing();
-    let slides = harness
-        .state()
-        .lecture
-        .as_ref()
-        .unwrap()
-        .script
-        .slides
-        .clone();
+    let slides = slides(&harness);
     for (index, slide) in slides.iter().enumerate() {
         harness.state_mut().open_slide(index, false);
         harness.run();
@@ -463,14 +453,7 @@ fn bad_script_lines_are_skipped_and_each_reported() {
 #[test]
 fn the_lecture_bar_keeps_one_row_and_its_buttons_on_every_slide() {
     let mut harness = lecturing();
-    let count = harness
-        .state()
-        .lecture
-        .as_ref()
-        .unwrap()
-        .script
-        .slides
-        .len();
+    let count = slide_count(&harness);
     let mut first: Option<(egui::Rect, f32)> = None;
     for index in 0..count {
         harness.state_mut().open_slide(index, false);

@@ -387,17 +387,11 @@ impl Picture {
     }
 }
 
-/// Relative luminance (WCAG) of an sRGB pixel.
+/// Relative luminance (WCAG) of a picture's pixel, as the contrast test computes it.
 fn luminance([r, g, b, _]: [u8; 4]) -> f64 {
-    let linear = |c: u8| {
-        let c = f64::from(c) / 255.0;
-        if c <= 0.04045 {
-            c / 12.92
-        } else {
-            ((c + 0.055) / 1.055).powf(2.4)
-        }
-    };
-    0.2126 * linear(r) + 0.7152 * linear(g) + 0.0722 * linear(b)
+    f64::from(accelviz_app::canvas::luminance(egui::Color32::from_rgb(
+        r, g, b,
+    )))
 }
 
 #[test]
