@@ -241,6 +241,11 @@ impl AccelvizApp {
         let Some(lesson) = self.lesson_mut() else {
             return;
         };
+        // A lesson still building what it animates (a 3D lesson's tree, in a Web Worker in the
+        // browser) has no caption yet: the step waits for it.
+        if lesson.building().is_some() {
+            return;
+        }
         let animated = lesson.caption().is_some();
         let timeline = &mut lesson.stage_mut().timeline;
         if !animated {

@@ -154,9 +154,21 @@ fn a_3d_link_reopens_on_the_same_clicked_pixel_order_and_step() {
         assert!(link.contains("pixel=480,330,960,680"), "{link}");
         assert!(link.contains("order=file-order"), "{link}");
 
+        // Opened where the tree is built on a worker thread (as on the desktop, or in a Web
+        // Worker in the browser): the step waits for the tree and its trace.
+        accelviz_app::background::set_background(true);
         let mut other = common::app_harness();
         other.state_mut().open_state(&link).unwrap();
-        other.run_steps(4);
+        for _ in 0..400 {
+            other.step();
+            let lesson = other.state().lesson().unwrap();
+            if lesson.building().is_none() && lesson.stage().timeline.len > 0 {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(10));
+        }
+        other.run_steps(2);
+        accelviz_app::background::set_background(false);
         let after = (view_of(other.state()), caption(other.state()));
         assert_eq!(after, before, "{title}: {link}");
         assert_eq!(
