@@ -622,3 +622,63 @@ fn the_view_and_a_heat_map_save_as_png() {
     assert_eq!((width as usize, height as usize), (key.width, key.height));
     assert!(colours > 10, "{colours} colours");
 }
+
+/// Lesson 14: a clicked map pixel is marked on the view (a white ring on black around it),
+/// and stepping its ray draws the boxes it met, the step's own in the current step's blue.
+#[test]
+fn a_clicked_heat_map_pixel_is_marked_and_its_steps_draw_boxes() {
+    let mut harness = lesson_harness_3d(heat_lesson());
+    finish_heat_maps(&mut harness);
+    let key = *harness.state().job().expect("job").key();
+    let (x, y) = (key.width / 2, key.height / 2);
+    harness.state_mut().pick_pixel(x, y, Order::NearFirst);
+    harness.run();
+    let rect = harness.state().view.rect().expect("drawn");
+    let before = Picture::of(&mut harness);
+    // The ring (radius 7 points around the pixel's centre: one point a pixel here).
+    let at = rect.min
+        + egui::vec2(
+            (x as f32 + 0.5) / key.width as f32 * rect.width(),
+            (y as f32 + 0.5) / key.height as f32 * rect.height(),
+        );
+    let ring_white = (0..16)
+        .filter(|&k| {
+            let angle = k as f32 / 16.0 * std::f32::consts::TAU;
+            // The ring is 2 points wide: a white pixel within a point of its radius.
+            [6.0, 6.5, 7.0, 7.5, 8.0].iter().any(|radius| {
+                let p = at + *radius * egui::vec2(angle.cos(), angle.sin());
+                let [r, g, b, _] = before.pixel(p.x.round() as u32, p.y.round() as u32);
+                r > 200 && g > 200 && b > 200
+            })
+        })
+        .count();
+    assert!(
+        ring_white >= 12,
+        "{ring_white} of 16 points of the marker's ring are white"
+    );
+    // At the first step that tests a box: that box drawn in the current step's blue.
+    let trace = harness.state().trace().expect("traced");
+    let frame = (1..=trace.frames())
+        .find(|&frame| {
+            trace
+                .state(frame)
+                .current
+                .and_then(|step| accelviz_app::trace::step_node(&step))
+                .is_some()
+        })
+        .expect("a step at a node");
+    harness.state_mut().stage_mut().timeline.shown = frame;
+    harness.run();
+    let after = Picture::of(&mut harness);
+    let current = accelviz_app::canvas::palette::CURRENT;
+    let near = |[r, g, b, _]: [u8; 4]| {
+        (i32::from(r) - i32::from(current.r())).abs() < 30
+            && (i32::from(g) - i32::from(current.g())).abs() < 30
+            && (i32::from(b) - i32::from(current.b())).abs() < 30
+    };
+    let blue_now = after
+        .inside(rect)
+        .filter(|&(x, y, pixel)| near(pixel) && !near(before.pixel(x, y)))
+        .count();
+    assert!(blue_now > 50, "{blue_now} pixels of the current step's box");
+}
