@@ -64,7 +64,7 @@ pub struct LectureScript {
 
 /// A problem in a script, with its place.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
-#[error("{path}:{line}: {problem}")]
+#[error("{}: {problem}", place(path, *line))]
 pub struct ScriptError {
     /// The file.
     pub path: String,
@@ -72,6 +72,15 @@ pub struct ScriptError {
     pub line: usize,
     /// What is wrong.
     pub problem: String,
+}
+
+/// `file:line`, or the file alone for a problem of the file as a whole (line 0).
+fn place(path: &str, line: usize) -> String {
+    if line == 0 {
+        path.to_owned()
+    } else {
+        format!("{path}:{line}")
+    }
 }
 
 /// The built-in script, following the lecture.
