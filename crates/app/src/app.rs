@@ -452,13 +452,7 @@ impl AccelvizApp {
                 ui.label(format!("building… {:.1} s", working.as_secs_f64()));
             }
             if let Some((message, problem)) = &self.status {
-                let color = if *problem {
-                    crate::canvas::readable(ui, crate::canvas::palette::MISS)
-                } else {
-                    ui.visuals().weak_text_color()
-                };
-                ui.add(egui::Label::new(RichText::new(message).color(color)).truncate())
-                    .on_hover_text(message.as_str());
+                crate::canvas::message_line(ui, message, *problem);
             }
         });
     }

@@ -53,6 +53,19 @@ pub fn readable(ui: &egui::Ui, color: Color32) -> Color32 {
     readable_on(color, ui.visuals().panel_fill)
 }
 
+/// A message on one line of a bar (the top bar's status, the lecture bar's notes): a problem in
+/// the palette's red made [`readable`], anything else in the weak text colour; cut to the room
+/// there is, the whole of it on hover.
+pub fn message_line(ui: &mut egui::Ui, message: &str, problem: bool) {
+    let color = if problem {
+        readable(ui, palette::MISS)
+    } else {
+        ui.visuals().weak_text_color()
+    };
+    ui.add(egui::Label::new(egui::RichText::new(message).color(color)).truncate())
+        .on_hover_text(message);
+}
+
 /// `top` (premultiplied, as egui keeps colours) painted over the opaque `bottom`.
 pub fn over(top: Color32, bottom: Color32) -> Color32 {
     let keep = 1.0 - f32::from(top.a()) / 255.0;

@@ -288,13 +288,7 @@ impl AccelvizApp {
             lecture.message.clone(),
         ];
         for (note, problem) in notes.into_iter().flatten() {
-            let color = if problem {
-                crate::canvas::readable(ui, crate::canvas::palette::MISS)
-            } else {
-                ui.visuals().weak_text_color()
-            };
-            ui.add(egui::Label::new(RichText::new(&note).color(color)).truncate())
-                .on_hover_text(note);
+            crate::canvas::message_line(ui, &note, problem);
         }
         if open_script {
             self.open_script(&ui.ctx().clone());

@@ -786,12 +786,12 @@ impl Lesson for HeatLesson {
                     .filter_map(|(order, map)| {
                         let cost = map.at(x, y)?;
                         let name = order.name().replace('-', " ");
-                        let counted = |n: u32, one, many| counted(n as usize, one, many);
+                        let of = |n: u32, one, many| counted(n as usize, one, many);
                         Some(format!(
                             "{name} {}, {}, {}",
-                            counted(cost.nodes, "node", "nodes"),
-                            counted(cost.boxes, "box test", "box tests"),
-                            counted(cost.prims, "primitive test", "primitive tests")
+                            of(cost.nodes, "node", "nodes"),
+                            of(cost.boxes, "box test", "box tests"),
+                            of(cost.prims, "primitive test", "primitive tests")
                         ))
                     })
                     .collect();

@@ -53,11 +53,10 @@ fn opening_depths(node_count: usize) -> (usize, usize) {
     }
 }
 
-/// A split plane as drawn: a flat box, filled as a quad or outlined (a box's edges).
+/// A split plane as drawn: a flat box, filled as a quad or outlined (a box's edges), and its
+/// centre in world space (to sort planes back to front).
 struct PlaneQuad {
-    a_world: DVec3,
-    b_world: DVec3,
-    color: [u8; 4],
+    center: DVec3,
     instance: Instance,
 }
 
@@ -280,9 +279,9 @@ impl MeshTreeLesson {
             } else {
                 (90 - 8 * depth.min(8)) as u8
             };
-            let [r, g, b, _] = plane.color;
+            let [r, g, b, _] = plane.instance.color;
             planes.push((
-                ((plane.a_world + plane.b_world) / 2.0 - eye).length(),
+                (plane.center - eye).length(),
                 Instance {
                     color: [r, g, b, alpha],
                     ..plane.instance
@@ -303,9 +302,7 @@ impl MeshTreeLesson {
         let color = palette::AXES[axis];
         let color = [color.r(), color.g(), color.b(), 255];
         Some(PlaneQuad {
-            a_world: low,
-            b_world: high,
-            color,
+            center: (low + high) / 2.0,
             instance: Instance {
                 a: relative(low, tree.build.sphere),
                 b: relative(high, tree.build.sphere),

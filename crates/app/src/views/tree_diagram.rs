@@ -101,13 +101,11 @@ pub fn diagram_ui<V: Vector>(
     let pointer = response.hover_pos();
     let mut under_pointer = None;
     let mut labels = Labels::new(rect);
+    let dark_mode = ui.visuals().dark_mode;
     // Nodes first, then labels, which keep clear of the nodes and of each other.
     for node in (0..facts.node_count() as u32).filter(|&node| visible(node)) {
         let center = position(node);
-        let base = depth_color(
-            facts.depth[node as usize] as usize,
-            painter.ctx().global_style().visuals.dark_mode,
-        );
+        let base = depth_color(facts.depth[node as usize] as usize, dark_mode);
         let fill = emphasis[node as usize].unwrap_or(base);
         painter.circle_filled(center, radius, fill);
         labels.reserve(Rect::from_center_size(center, Vec2::splat(radius * 2.0)));
