@@ -8,7 +8,7 @@ use crate::files::{
 };
 use crate::lecture::script::LectureScript;
 use crate::lecture::{Lecture, Theme};
-use crate::lesson::Lesson;
+use crate::lesson::{Lesson, Parts};
 use crate::position::Position;
 use crate::registry::{self, BrokenLesson};
 
@@ -85,12 +85,25 @@ pub struct FrameLayout {
     pub window_width: Option<f32>,
     /// The inspector's width the user dragged it to, kept across window resizes.
     pub inspector_choice: Option<f32>,
+    /// How much taller than the screen a lecture slide's panels were (points; 0 or less:
+    /// they fit without scrolling).
+    pub lecture_panels_overflow: f32,
 }
 
 impl Default for AccelvizApp {
     fn default() -> Self {
         Self::new()
     }
+}
+
+/// Each lesson's inspector parts, in the lessons' order (a broken lesson has none).
+fn parts_of(
+    lessons: &[Result<Box<dyn Lesson>, BrokenLesson>],
+) -> Vec<&'static [crate::lesson::Part]> {
+    lessons
+        .iter()
+        .map(|lesson| lesson.as_ref().map_or(&[][..], |lesson| lesson.parts()))
+        .collect()
 }
 
 impl AccelvizApp {
@@ -111,7 +124,7 @@ impl AccelvizApp {
             // Every bad line is skipped and reported; a file with no slide left (or none to
             // read) leaves the built-in lecture, with the reason shown in lecture mode.
             let problem = match accelviz_scene::error::read_text(&shown) {
-                Ok(text) => match LectureScript::parse(&text, &shown, app.lessons.len()) {
+                Ok(text) => match LectureScript::parse(&text, &shown, &app.lesson_parts()) {
                     Ok(script) => {
                         app.script = Ok(script);
                         None
@@ -139,7 +152,7 @@ impl AccelvizApp {
 
     /// The app with these lessons.
     pub fn from_lessons(lessons: Vec<Result<Box<dyn Lesson>, BrokenLesson>>) -> Self {
-        let lessons_len = lessons.len();
+        let lesson_parts = parts_of(&lessons);
         Self {
             lessons,
             selected: 0,
@@ -152,11 +165,12 @@ impl AccelvizApp {
                 canvas: egui::Rect::NOTHING,
                 window_width: None,
                 inspector_choice: None,
+                lecture_panels_overflow: 0.0,
             },
             mode: Mode::Lessons,
             quiz: crate::quiz::QuizMode::new(),
             lecture: None,
-            script: LectureScript::default_for(lessons_len).map_err(|error| error.to_string()),
+            script: LectureScript::default_for(&lesson_parts).map_err(|error| error.to_string()),
             theme: Theme::Dark,
             styled: None,
             pending_step: None,
@@ -303,16 +317,26 @@ impl AccelvizApp {
     /// The selected lesson's inspector: a notice, its text, its own part; or why it did not
     /// load.
     pub(crate) fn lesson_inspector_ui(&mut self, ui: &mut Ui) {
-        self.lesson_side_ui(ui, true);
+        self.lesson_side_ui(ui, true, Parts::All);
     }
 
     /// The selected lesson's panels (its inspector) without its text, as lecture mode shows
-    /// them.
-    pub(crate) fn lesson_panels_ui(&mut self, ui: &mut Ui) {
-        self.lesson_side_ui(ui, false);
+    /// them: the `parts` a slide names, or all (none named).
+    pub(crate) fn lesson_panels_ui(&mut self, ui: &mut Ui, parts: &[&'static str]) {
+        let parts = if parts.is_empty() {
+            Parts::All
+        } else {
+            Parts::Only(parts)
+        };
+        self.lesson_side_ui(ui, false, parts);
     }
 
-    fn lesson_side_ui(&mut self, ui: &mut Ui, with_text: bool) {
+    /// Each lesson's inspector parts, in the lessons' order (what a lecture script may name).
+    pub fn lesson_parts(&self) -> Vec<&'static [crate::lesson::Part]> {
+        parts_of(&self.lessons)
+    }
+
+    fn lesson_side_ui(&mut self, ui: &mut Ui, with_text: bool, parts: Parts<'_>) {
         match &mut self.lessons[self.selected] {
             Ok(lesson) => {
                 if let Some(notice) = &lesson.stage().notice {
@@ -326,7 +350,7 @@ impl AccelvizApp {
                     text_ui(ui, lesson.text());
                     ui.separator();
                 }
-                lesson.inspector_ui(ui);
+                lesson.inspector_ui(ui, parts);
             }
             Err(broken) => {
                 ui.colored_label(
@@ -701,7 +725,7 @@ impl AccelvizApp {
     /// script with no slide keeps the lecture as it was and says why. Returns whether it
     /// opened.
     pub fn open_script_text(&mut self, name: &str, text: &str) -> bool {
-        match LectureScript::parse(text, name, self.lessons.len()) {
+        match LectureScript::parse(text, name, &self.lesson_parts()) {
             Ok(script) => {
                 let slides = script.slides.len();
                 log::info!("accelviz: opened the lecture script {name}: {slides} slides");

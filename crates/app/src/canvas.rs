@@ -93,6 +93,9 @@ pub struct View2d {
     /// The height kept clear at the top for the canvas's caption when it was fitted: a caption
     /// that grows (lecture mode's larger text, more lines) fits the view again below it.
     pub fitted_top: f32,
+    /// The same at the bottom, for the notes there (the scene's shape count and source): a
+    /// ray whose origin sat in the corner was hidden under it.
+    pub fitted_bottom: f32,
 }
 
 impl Default for View2d {
@@ -103,6 +106,7 @@ impl Default for View2d {
             placed: false,
             fitted_size: None,
             fitted_top: 0.0,
+            fitted_bottom: 0.0,
         }
     }
 }
@@ -110,31 +114,35 @@ impl Default for View2d {
 impl View2d {
     /// A view showing all of `bounds` in `rect` with a margin.
     pub fn fitted(bounds: &Aabb<DVec2>, rect: Rect) -> Self {
-        Self::fitted_below(bounds, rect, 0.0)
+        Self::fitted_between(bounds, rect, 0.0, 0.0)
     }
 
     /// A view showing all of `bounds` in `rect` below its top `top` points (kept for a
-    /// caption), with a margin.
-    pub fn fitted_below(bounds: &Aabb<DVec2>, rect: Rect, top: f32) -> Self {
+    /// caption) and above its bottom `bottom` points (kept for the notes there), with a
+    /// margin.
+    pub fn fitted_between(bounds: &Aabb<DVec2>, rect: Rect, top: f32, bottom: f32) -> Self {
         if bounds.is_empty() || !bounds.is_finite() {
             return Self {
                 placed: true,
                 ..Self::default()
             };
         }
-        // No more than half the canvas goes to a caption.
+        // No more than half the canvas goes to a caption, a quarter to the notes.
         let top = top.clamp(0.0, rect.height() / 2.0);
+        let bottom = bottom.clamp(0.0, rect.height() / 4.0);
         let extent = bounds.extent().max(DVec2::splat(1e-9));
-        let usable = (rect.size() - Vec2::new(48.0, 48.0 + top)).max(Vec2::splat(16.0));
+        let usable = (rect.size() - Vec2::new(48.0, 48.0 + top + bottom)).max(Vec2::splat(16.0));
         let points_per_unit = (usable.x as f64 / extent.x).min(usable.y as f64 / extent.y);
-        // The bounds' centre sits in the middle of what is below the caption.
-        let center = bounds.center() + DVec2::new(0.0, f64::from(top) / 2.0 / points_per_unit);
+        // The bounds' centre sits in the middle of what is between caption and notes.
+        let center =
+            bounds.center() + DVec2::new(0.0, f64::from(top - bottom) / 2.0 / points_per_unit);
         Self {
             center,
             points_per_unit,
             placed: true,
             fitted_size: Some(rect.size()),
             fitted_top: top,
+            fitted_bottom: bottom,
         }
     }
 }
@@ -159,6 +167,8 @@ pub struct Canvas {
     /// Whether it is drawn on the dark theme's background (read once: a tree of 100,000
     /// nodes asks per node).
     dark_mode: bool,
+    /// The colour the canvas is painted on.
+    background: Color32,
 }
 
 /// The most vertices one canvas draws in a frame: more than a canvas has pixels (a box smaller
@@ -265,19 +275,23 @@ impl Canvas {
     ) -> Self {
         let (response, painter) = ui.allocate_painter(size, Sense::click_and_drag());
         let rect = response.rect;
-        // The caption's height last frame ([`Canvas::caption`]).
-        let caption: f32 = ui
-            .ctx()
-            .data(|data| data.get_temp(caption_id(&response)))
-            .unwrap_or(0.0);
-        // Fitted again when the canvas changes size or its caption grows past the room kept
-        // (not when it shrinks: a view that jumped at every step would be worse).
+        // The caption's and the bottom notes' heights last frame ([`Canvas::caption`],
+        // [`Canvas::note_right`]).
+        let (caption, notes): (f32, f32) = ui.ctx().data(|data| {
+            (
+                data.get_temp(caption_id(&response)).unwrap_or(0.0),
+                data.get_temp(notes_id(&response)).unwrap_or(0.0),
+            )
+        });
+        // Fitted again when the canvas changes size or its caption or notes grow past the
+        // room kept (not when they shrink: a view that jumped at every step would be worse).
         let resized = view.fitted_size.is_some_and(|size| {
             (size - rect.size()).length() > 0.5
                 || caption.clamp(0.0, rect.height() / 2.0) > view.fitted_top + 0.5
+                || notes.clamp(0.0, rect.height() / 4.0) > view.fitted_bottom + 0.5
         });
         if !view.placed || resized {
-            *view = View2d::fitted_below(fit_bounds, rect, caption);
+            *view = View2d::fitted_between(fit_bounds, rect, caption, notes);
         }
         painter.rect_filled(rect, 0.0, ui.visuals().extreme_bg_color);
 
@@ -313,7 +327,13 @@ impl Canvas {
             left_out: std::cell::Cell::new(0),
             labels: std::cell::RefCell::new(Labels::new(rect.shrink(2.0))),
             dark_mode: ui.visuals().dark_mode,
+            background: ui.visuals().extreme_bg_color,
         }
+    }
+
+    /// The colour the canvas is painted on (what a label's plate hides lines with).
+    pub fn background(&self) -> Color32 {
+        self.background
     }
 
     /// Where this frame's labels went on the canvas (for tests).
@@ -339,15 +359,29 @@ impl Canvas {
 
     /// A short note at the bottom right of the canvas, on a dark plate.
     pub fn note_right(&self, text: &str) {
-        let galley = self.painter.layout_no_wrap(
+        // Wrapped to the canvas: a narrow pane (three side by side, with the panels on) cut
+        // a one-line note at its left edge.
+        let galley = self.painter.layout(
             text.to_owned(),
             font(self.painter.ctx(), 12.0),
             Color32::from_gray(220),
+            (self.rect.width() - 20.0).max(40.0),
         );
         let pos = self.rect.right_bottom() - Vec2::new(10.0, 8.0) - galley.size();
         let backing = Rect::from_min_size(pos, galley.size()).expand(3.0);
+        self.keep_notes_room(self.rect.bottom() - backing.top());
         self.painter.rect_filled(backing, 3.0, PLATE);
         self.painter.galley(pos, galley, Color32::from_gray(220));
+    }
+
+    /// Keeps `height` at the canvas's bottom for its notes in the next frame's fit (what a
+    /// caption's height does at the top).
+    fn keep_notes_room(&self, height: f32) {
+        let id = notes_id(&self.response);
+        self.painter.ctx().data_mut(|data| {
+            let kept: f32 = data.get_temp(id).unwrap_or(0.0);
+            data.insert_temp(id, kept.max(height));
+        });
     }
 
     /// A one-line note at the bottom left of the canvas, on a dark plate.
@@ -360,6 +394,7 @@ impl Canvas {
         );
         let pos = self.rect.left_bottom() + Vec2::new(10.0, -10.0 - galley.size().y);
         let backing = Rect::from_min_size(pos, galley.size()).expand(3.0);
+        self.keep_notes_room(self.rect.bottom() - backing.top());
         self.painter.rect_filled(backing, 3.0, PLATE);
         self.painter.galley(pos, galley, Color32::WHITE);
     }
@@ -507,6 +542,7 @@ impl Canvas {
     /// Draws a ray from its origin to `t_end` (clipped to the canvas), with an arrow head at
     /// `origin + direction` that the user can drag.
     pub fn ray(&self, origin: DVec2, direction: DVec2, t_end: f64, stroke: Stroke) {
+        self.reserve_ray(origin, direction);
         let start = self.to_screen(origin);
         let end = self.to_screen(origin + direction * self.clip_t(origin, direction, t_end));
         self.painter.line_segment([start, end], stroke);
@@ -519,6 +555,18 @@ impl Canvas {
             stroke.color,
             Stroke::NONE,
         ));
+    }
+
+    /// Keeps labels off a ray's origin dot and arrow head (where [`ray`](Self::ray) draws
+    /// them): a name under the head could not be read, nor the head dragged.
+    pub fn reserve_ray(&self, origin: DVec2, direction: DVec2) {
+        let mut labels = self.labels.borrow_mut();
+        for point in [origin, origin + direction] {
+            labels.reserve(Rect::from_center_size(
+                self.to_screen(point),
+                Vec2::splat(18.0),
+            ));
+        }
     }
 
     /// The largest `t ≤ t_end` that still lies near the visible canvas (so an infinite ray
@@ -624,6 +672,22 @@ impl Canvas {
         );
     }
 
+    /// Names the box drawn at `rect` (on screen) by `text`: inside it, or just outside when
+    /// `has_named_inside` (boxes named inside it), on a plate of the canvas's background so
+    /// shapes and lines under it do not hide it ([`Labels::place_for_box`]).
+    pub fn box_label(&self, rect: Rect, has_named_inside: bool, text: &str, color: Color32) {
+        let plate = faded(self.background, 220);
+        self.labels.borrow_mut().place_for_box(
+            &self.painter,
+            text,
+            font(self.painter.ctx(), 13.0),
+            color,
+            rect,
+            has_named_inside,
+            Some(plate),
+        );
+    }
+
     /// A caption in the canvas's top-left corner, one entry a line (wrapped to the canvas).
     /// A fitted view keeps clear of it: its height is kept for the next frame's fit.
     pub fn caption(&self, lines: &[(String, Color32)]) {
@@ -645,6 +709,11 @@ impl Canvas {
             .ctx()
             .data_mut(|data| data.insert_temp(caption_id(&self.response), height));
     }
+}
+
+/// Where a canvas keeps the height of its bottom notes between frames.
+fn notes_id(response: &Response) -> egui::Id {
+    response.id.with("notes height")
 }
 
 /// Where a canvas keeps its caption's height between frames.
@@ -949,10 +1018,93 @@ impl Labels {
         None
     }
 
+    /// Names the box drawn at `boxed` (on screen) by `text`, so that the name reads as that
+    /// box's and no other's. A box with named boxes inside it (a parent whose children are
+    /// named too) is named just outside, above its top edge, or else below its bottom edge,
+    /// left-aligned, where no child's name can sit; any other box inside, at its top-left
+    /// corner, or along its top edge, then row by row down. The first spot free of other
+    /// labels is taken; with none, no name rather than one that could be read as a
+    /// neighbour's.
+    #[allow(clippy::too_many_arguments)]
+    pub fn place_for_box(
+        &mut self,
+        painter: &egui::Painter,
+        text: &str,
+        font: FontId,
+        color: Color32,
+        boxed: Rect,
+        outside: bool,
+        plate: Option<Color32>,
+    ) -> Option<Rect> {
+        let galley = painter.layout_no_wrap(text.to_owned(), font, color);
+        let size = galley.size();
+        // (spot, the gap it keeps from other labels).
+        let mut spots = Vec::new();
+        if outside {
+            // Above the top edge's left corner, or below the bottom edge's; then along the
+            // rows there, sliding right. Outside, a name keeps a wider gap from the others:
+            // "root" and "R" side by side above one edge read as one name.
+            let rows = [boxed.top() - 4.0 - size.y, boxed.bottom() + 4.0].map(|y| {
+                spots_in(
+                    Rect::from_min_size(
+                        Pos2::new(boxed.left() + 3.0, y),
+                        Vec2::new(boxed.width() - 3.0, size.y),
+                    ),
+                    size,
+                )
+            });
+            spots.extend(rows.iter().filter_map(|row| row.first().copied()));
+            spots.extend(rows.iter().flat_map(|row| row.iter().skip(1).copied()));
+        }
+        let outside_count = spots.len();
+        // The plate's margin stays inside the box too.
+        spots.extend(spots_in(boxed.shrink(3.0), size));
+        for (index, rect) in spots.into_iter().enumerate() {
+            let gap = if index < outside_count { 10.0 } else { 2.0 };
+            let inside_area = self.area.contains_rect(rect);
+            if !inside_area
+                || self
+                    .placed
+                    .iter()
+                    .any(|other| other.intersects(rect.expand(gap)))
+            {
+                continue;
+            }
+            if let Some(plate) = plate {
+                painter.rect_filled(rect.expand(2.0), 3.0, plate);
+            }
+            painter.galley(rect.min, galley, color);
+            self.placed.push(rect);
+            return Some(rect);
+        }
+        None
+    }
+
     /// Where the labels went (and what was reserved), for tests.
     pub fn placed(&self) -> &[Rect] {
         &self.placed
     }
+}
+
+/// The spots a label of `size` can take inside `room`, row by row from its top-left corner
+/// in half-label steps (at most 41 × 41 of them); none when it does not fit.
+fn spots_in(room: Rect, size: Vec2) -> Vec<Rect> {
+    if size.x > room.width() || size.y > room.height() {
+        return Vec::new();
+    }
+    let step = Vec2::new((size.x * 0.5).max(4.0), (size.y * 0.5).max(4.0));
+    let columns = (((room.width() - size.x) / step.x).floor() as usize).min(40);
+    let rows = (((room.height() - size.y) / step.y).floor() as usize).min(40);
+    (0..=rows)
+        .flat_map(|row| {
+            (0..=columns).map(move |column| {
+                Rect::from_min_size(
+                    room.min + Vec2::new(column as f32 * step.x, row as f32 * step.y),
+                    size,
+                )
+            })
+        })
+        .collect()
 }
 
 /// Whether any two of `rects` overlap: what a label layout must never allow.

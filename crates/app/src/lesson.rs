@@ -47,8 +47,15 @@ pub trait Lesson {
         Err(format!("this lesson keeps no '{key}'"))
     }
 
-    /// The lesson's part of the inspector (right): statistics, tables, the tree.
-    fn inspector_ui(&mut self, ui: &mut egui::Ui);
+    /// The parts of [`inspector_ui`](Self::inspector_ui) a lecture slide can show on their
+    /// own (`panels code,tree`), in the order it draws them; none: it is one part.
+    fn parts(&self) -> &'static [Part] {
+        &[]
+    }
+
+    /// The lesson's part of the inspector (right): statistics, tables, the tree; of its
+    /// [`parts`](Self::parts) those `parts` shows.
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, parts: Parts<'_>);
 
     /// The canvas (middle), with the lesson's controls above it.
     fn canvas_ui(&mut self, ui: &mut egui::Ui);
@@ -74,6 +81,41 @@ pub trait Lesson {
     /// The lesson's text.
     fn text(&self) -> &LessonText {
         &self.stage().text
+    }
+}
+
+/// A part of a lesson's inspector that a lecture slide can show without the rest, so that
+/// what carries the slide's point fits the screen at lecture scale without scrolling.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Part {
+    /// Its name in a lecture script.
+    pub name: &'static str,
+    /// What it holds, for the script's messages.
+    pub what: &'static str,
+}
+
+/// Which [`Part`]s of an inspector to draw.
+#[derive(Clone, Copy, Debug)]
+pub enum Parts<'a> {
+    /// All of it: the lessons' own inspector, and a slide's `panels on`.
+    All,
+    /// The parts a slide names (`panels code,tree`).
+    Only(&'a [&'static str]),
+}
+
+impl Parts<'_> {
+    /// Whether the parts are squeezed to fit the screen (a slide's named parts, shown without
+    /// scrolling) rather than drawn at their natural height in a scrolled inspector.
+    pub fn fit_screen(&self) -> bool {
+        matches!(self, Parts::Only(_))
+    }
+
+    /// Whether `part` is drawn.
+    pub fn show(&self, part: &Part) -> bool {
+        match self {
+            Parts::All => true,
+            Parts::Only(names) => names.contains(&part.name),
+        }
     }
 }
 

@@ -17,7 +17,7 @@ use egui::{Color32, Key, RichText, Ui};
 use crate::canvas::{View2d, palette};
 use crate::quiz::figure::{FigureState, figure_ui, scene_tree};
 use crate::stage::SceneTree;
-use script::{LectureScript, Slide, StartStep};
+use script::{LectureScript, Panels, Slide, StartStep};
 
 /// What a key does in lecture mode.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -238,6 +238,8 @@ pub struct Lecture {
     pub blank: bool,
     /// The side panels are shown.
     pub panels: bool,
+    /// The inspector's parts the slide names (`panels code,tree`); empty: all of it.
+    pub parts: Vec<&'static str>,
     /// The pointer is lit.
     pub pointer: bool,
     /// The zoom (points per pixel at 1).
@@ -264,6 +266,7 @@ impl Lecture {
             slide: 0,
             blank: false,
             panels: false,
+            parts: Vec::new(),
             pointer: true,
             scale: LECTURE_SCALE,
             message: None,
@@ -332,7 +335,11 @@ impl Lecture {
             } => {
                 self.pending = Some(if at_end { StartStep::End } else { step });
                 // The panels the slide's point is in; I still turns them on or off.
-                self.panels = panels;
+                self.panels = panels.on();
+                self.parts = match panels {
+                    Panels::Only(parts) => parts,
+                    Panels::Off | Panels::All => Vec::new(),
+                };
                 Some((index, show))
             }
             Slide::Question { kind, seed, level } => {
@@ -525,7 +532,9 @@ impl Lecture {
         });
         egui::Panel::right("lecture question")
             .resizable(false)
-            .exact_size((ui.available_width() * 0.42).max(320.0))
+            // Half the width, less a little: the figure stays large, and a line of the
+            // numbers (a kD node's box, cut and children) stays on one line.
+            .exact_size((ui.available_width() * 0.48).max(320.0))
             .show(ui, |ui| {
                 egui::ScrollArea::vertical().show(ui, |ui| {
                     ui.label(RichText::new(&question.prompt).size(20.0));

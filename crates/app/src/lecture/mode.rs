@@ -10,7 +10,7 @@ use crate::lesson::Lesson;
 use crate::position::Position;
 
 /// The share of the window a slide's panels take.
-const LECTURE_PANEL_SHARE: f32 = 0.42;
+const LECTURE_PANEL_SHARE: f32 = 0.45;
 
 impl AccelvizApp {
     /// Where lecture mode is: the slide and, on a question slide, the question's step; on a
@@ -172,7 +172,16 @@ impl AccelvizApp {
                     .show(ui, |ui| {
                         // The lesson's panels without its text: the lecturer tells it, and
                         // at lecture scale the text would push the panels off the screen.
-                        egui::ScrollArea::vertical().show(ui, |ui| self.lesson_panels_ui(ui));
+                        let shown = egui::ScrollArea::vertical().show(ui, |ui| {
+                            let parts = self
+                                .lecture
+                                .as_ref()
+                                .map(|lecture| lecture.parts.clone())
+                                .unwrap_or_default();
+                            self.lesson_panels_ui(ui, &parts);
+                        });
+                        self.last_layout.lecture_panels_overflow =
+                            shown.content_size.y - shown.inner_rect.height();
                     });
             }
             self.lesson_canvas_ui(ui);

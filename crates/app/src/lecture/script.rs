@@ -9,11 +9,14 @@
 //! lesson 10 show "dust in a room"   a preset of the lesson, by its name
 //! lesson 6 step end             at the last step
 //! lesson 5 panels on            with the lesson's panels (its pseudo-code, costs, tree)
+//! lesson 5 panels code,tree     with those of its panels only (the rest would not fit)
 //! question lecture seed 7       a quiz question (answers hidden until R)
 //! question slab seed 3 level hard
 //! ```
 
 use accelviz_quiz::Level;
+
+use crate::lesson::Part;
 
 /// Where a lesson slide starts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -35,9 +38,9 @@ pub enum Slide {
         step: StartStep,
         /// A named ray or preset of the lesson file to show.
         show: Option<String>,
-        /// Whether the slide opens with the lesson's panels (its inspector: a kD-tree's
-        /// pseudo-code, a builder's costs, the tree) beside the canvas.
-        panels: bool,
+        /// The lesson's panels the slide opens with beside the canvas (its inspector: a
+        /// kD-tree's pseudo-code, a builder's costs, the tree).
+        panels: Panels,
     },
     /// A quiz question.
     Question {
@@ -48,6 +51,25 @@ pub enum Slide {
         /// The level.
         level: Level,
     },
+}
+
+/// Which of a lesson's panels a slide opens with.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub enum Panels {
+    /// None: the canvas fills the screen.
+    #[default]
+    Off,
+    /// The whole inspector.
+    All,
+    /// The inspector's parts by these names ([`Part::name`]), in the inspector's order.
+    Only(Vec<&'static str>),
+}
+
+impl Panels {
+    /// Whether any panel is shown.
+    pub fn on(&self) -> bool {
+        *self != Panels::Off
+    }
 }
 
 /// A parsed script.
@@ -90,10 +112,15 @@ pub const DEFAULT_SCRIPT: &str = include_str!("../../../../assets/lecture.txt");
 pub const DEFAULT_SCRIPT_PATH: &str = "assets/lecture.txt";
 
 impl LectureScript {
-    /// Reads a script for an app with `lesson_count` lessons. A line that cannot be read is
+    /// Reads a script for an app whose lessons have these inspector parts (one entry a
+    /// lesson, in order; [`crate::lesson::Lesson::parts`]). A line that cannot be read is
     /// skipped and kept in [`problems`](Self::problems) with its place; the error is for a
     /// script with no slide left (its first bad line, or "no slides").
-    pub fn parse(text: &str, path: &str, lesson_count: usize) -> Result<Self, ScriptError> {
+    pub fn parse(
+        text: &str,
+        path: &str,
+        lesson_parts: &[&'static [Part]],
+    ) -> Result<Self, ScriptError> {
         let mut slides = Vec::new();
         let mut problems = Vec::new();
         for (number, line) in text.lines().enumerate() {
@@ -108,7 +135,7 @@ impl LectureScript {
                     return Ok(None);
                 };
                 match *first {
-                    "lesson" => lesson_slide(rest, lesson_count).map(Some),
+                    "lesson" => lesson_slide(rest, lesson_parts).map(Some),
                     "question" => question_slide(rest).map(Some),
                     other => Err(format!(
                         "'{other}' is not a slide; a line starts with 'lesson' or 'question'"
@@ -150,9 +177,9 @@ impl LectureScript {
         })
     }
 
-    /// The built-in script.
-    pub fn default_for(lesson_count: usize) -> Result<Self, ScriptError> {
-        Self::parse(DEFAULT_SCRIPT, DEFAULT_SCRIPT_PATH, lesson_count)
+    /// The built-in script, for lessons with these inspector parts (as [`parse`](Self::parse)).
+    pub fn default_for(lesson_parts: &[&'static [Part]]) -> Result<Self, ScriptError> {
+        Self::parse(DEFAULT_SCRIPT, DEFAULT_SCRIPT_PATH, lesson_parts)
     }
 }
 
@@ -199,7 +226,8 @@ fn options<'a>(words: &[&'a str]) -> Result<Vec<(&'a str, &'a str)>, String> {
         .collect()
 }
 
-fn lesson_slide(words: &[&str], lesson_count: usize) -> Result<Slide, String> {
+fn lesson_slide(words: &[&str], lesson_parts: &[&'static [Part]]) -> Result<Slide, String> {
+    let lesson_count = lesson_parts.len();
     let Some((number, rest)) = words.split_first() else {
         return Err(format!(
             "which lesson? write 'lesson N' with N from 1 to {lesson_count}"
@@ -213,7 +241,7 @@ fn lesson_slide(words: &[&str], lesson_count: usize) -> Result<Slide, String> {
         - 1;
     let mut step = StartStep::At(0);
     let mut show = None;
-    let mut panels = false;
+    let mut panels = Panels::Off;
     for (key, value) in options(rest)? {
         match key {
             "step" => {
@@ -229,9 +257,9 @@ fn lesson_slide(words: &[&str], lesson_count: usize) -> Result<Slide, String> {
             "show" => show = Some(value.to_owned()),
             "panels" => {
                 panels = match value {
-                    "on" => true,
-                    "off" => false,
-                    _ => return Err(format!("panels '{value}' is not 'on' or 'off'")),
+                    "on" => Panels::All,
+                    "off" => Panels::Off,
+                    _ => Panels::Only(part_names(value, index, lesson_parts[index])?),
                 };
             }
             other => {
@@ -247,6 +275,44 @@ fn lesson_slide(words: &[&str], lesson_count: usize) -> Result<Slide, String> {
         show,
         panels,
     })
+}
+
+/// The parts `list` names (`code,tree`) as lesson `index`'s [`Part`]s spell them, in the
+/// inspector's order; an error names what the lesson has.
+fn part_names(
+    list: &str,
+    index: usize,
+    parts: &'static [Part],
+) -> Result<Vec<&'static str>, String> {
+    let known = || {
+        parts
+            .iter()
+            .map(|part| format!("{} ({})", part.name, part.what))
+            .collect::<Vec<_>>()
+            .join(", ")
+    };
+    if parts.is_empty() {
+        return Err(format!(
+            "panels '{list}': lesson {}'s panels are one whole; write 'panels on' or 'panels off'",
+            index + 1
+        ));
+    }
+    let names: Vec<&str> = list.split(',').map(str::trim).collect();
+    if let Some(unknown) = names
+        .iter()
+        .find(|name| !parts.iter().any(|part| part.name == **name))
+    {
+        return Err(format!(
+            "lesson {} has no panel '{unknown}'; write 'on', 'off' or some of: {}",
+            index + 1,
+            known()
+        ));
+    }
+    Ok(parts
+        .iter()
+        .filter(|part| names.contains(&part.name))
+        .map(|part| part.name)
+        .collect())
 }
 
 fn question_slide(words: &[&str]) -> Result<Slide, String> {

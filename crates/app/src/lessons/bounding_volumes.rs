@@ -140,7 +140,7 @@ impl Lesson for BoundingVolumesLesson {
             });
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         ui.horizontal(|ui| {
             ui.label("Test rays against");
             ui.selectable_value(&mut self.volume, Volume::Aabb, "the box (AABB)");

@@ -275,7 +275,7 @@ impl Lesson for BuildStepsLesson {
         Some(self.caption.clone())
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         ui.horizontal(|ui| {
             ui.label("Build");
             ui.selectable_value(&mut self.way, Way::SortAtEachNode, "sort at each node");

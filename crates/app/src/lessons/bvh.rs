@@ -157,6 +157,7 @@ impl BvhLesson {
             shown,
             &mut self.hovered,
             &mut self.selected,
+            false,
         );
         ui.label(
             egui::RichText::new("Colour: depth; green entered, red missed or skipped. Hover a node to light its box; click to inspect it.")
@@ -341,7 +342,7 @@ impl Lesson for BvhLesson {
         })
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         ui.horizontal_wrapped(|ui| {
             ui.label("Build with");
             for entry in CATALOGUE.iter().filter(|entry| entry.family == Family::Bvh) {

@@ -48,7 +48,7 @@ impl Lesson for CostSplitLesson {
         request_comparison(&mut self.comparison, scene, family, structures);
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         ui.horizontal(|ui| {
             ui.label("Compare");
             for family in [Family::Kd, Family::Bvh] {

@@ -541,7 +541,7 @@ impl Lesson for HeatLesson {
         ))
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         let Some(tree) = self.tree.get().cloned() else {
             ui.label("Building…");
             return;

@@ -16,7 +16,7 @@ use glam::DVec2;
 use crate::background::{Cached, Derived};
 use crate::canvas::{Canvas, faded, palette};
 use crate::editor::Editing;
-use crate::lesson::Lesson;
+use crate::lesson::{self, Lesson, Parts};
 use crate::lesson_file::LessonText;
 use crate::stage::{SceneTree, Stage, request_tree};
 use crate::trace::Trace;
@@ -36,6 +36,21 @@ pub const PSEUDO_CODE: [&str; 9] = [
     "      rayFar = Clip ray to far side of the plane",
     "      intersectKDTree(rayFar, farChild(node, ray))",
 ];
+
+/// The inspector's parts a lecture slide can name.
+const BUILD_PART: lesson::Part = lesson::Part {
+    name: "build",
+    what: "the kD build, leaf size and mailboxing",
+};
+const CODE_PART: lesson::Part = lesson::Part {
+    name: "code",
+    what: "the traversal's pseudo-code, the step's lines lit",
+};
+const TREE_PART: lesson::Part = lesson::Part {
+    name: "tree",
+    what: "the tree's numbers and diagram",
+};
+const PARTS: [lesson::Part; 3] = [BUILD_PART, CODE_PART, TREE_PART];
 
 /// The colour of the part of the ray on the near side, and on the far side.
 const NEAR_COLOR: Color32 = Color32::from_rgb(80, 170, 255);
@@ -357,6 +372,97 @@ impl KdLesson {
         canvas.ray_mark(ray.origin, ray.direction, t_near, color, "", 0.0);
         canvas.ray_mark(ray.origin, ray.direction, t_far, color, "", 0.0);
     }
+
+    /// The builder's settings: which kD build, the leaf size, mailboxing.
+    fn build_ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Build with");
+            for entry in CATALOGUE.iter().filter(|entry| {
+                entry.family == Family::Kd && entry.structure != Structure::KdSahPerNode
+            }) {
+                ui.selectable_value(&mut self.structure, entry.structure, entry.label)
+                    .on_hover_text(entry.about);
+            }
+        });
+        let mut leaf_size = self.stage.scene.scene.settings.max_leaf_size;
+        if ui
+            .add(egui::Slider::new(&mut leaf_size, 1..=8).text("max leaf size"))
+            .changed()
+        {
+            self.stage.scene.scene.settings.max_leaf_size = leaf_size;
+            self.stage.scene.touch();
+        }
+        ui.checkbox(&mut self.mailboxing, "mailboxing: test a straddling primitive once per ray")
+            .on_hover_text("A per-ray note of the primitives already tested, so one listed in several cells is tested once (the core's TraceOptions::mailboxing)");
+    }
+
+    /// The lecture's pseudo-code with the lines the current step runs lit.
+    fn code_ui(&mut self, ui: &mut egui::Ui) {
+        ui.heading("The traversal, line by line");
+        let view = self.view();
+        let lines = view
+            .as_ref()
+            .map(|view| view.lines.clone())
+            .unwrap_or_default();
+        egui::Frame::new()
+            .fill(ui.visuals().extreme_bg_color)
+            .inner_margin(6.0)
+            .show(ui, |ui| {
+                // Code lines keep their shape: in a narrow panel (the app scaled up) they
+                // scroll sideways rather than widen the panel.
+                egui::ScrollArea::horizontal()
+                    .id_salt("pseudo-code")
+                    .show(ui, |ui| {
+                        for (line, code) in PSEUDO_CODE.iter().enumerate() {
+                            let mut text = RichText::new(*code).monospace();
+                            if lines.contains(&line) {
+                                text = text.background_color(faded(palette::CURRENT, 110)).strong();
+                            }
+                            ui.add(egui::Label::new(text).wrap_mode(egui::TextWrapMode::Extend));
+                        }
+                    });
+            });
+    }
+
+    /// The tree's numbers and its diagram, linked to the canvas (squeezed to the height left
+    /// with `fit_height`).
+    fn tree_ui(&mut self, ui: &mut egui::Ui, tree: &Arc<SceneTree>, fit_height: bool) {
+        let stats = &tree.stats;
+        // Two lines at lecture scale: why references outnumber primitives is on hover.
+        ui.label(format!(
+            "{} nodes, {} leaves ({} empty), depth {}, {} primitive references for {} primitives, SAH cost {}",
+            count(stats.node_count),
+            count(stats.leaf_count),
+            count(stats.empty_leaf_count),
+            stats.max_depth,
+            count(stats.primitive_references),
+            count(tree.shapes.shapes.len()),
+            number(stats.sah_cost)
+        ))
+        .on_hover_text("A primitive that straddles a split plane is listed in each cell it reaches.");
+        if let Some(note) = tree.limits_note() {
+            ui.colored_label(crate::canvas::readable(ui, palette::RAY), note);
+        }
+        let frame = self.stage.timeline.shown;
+        let shown = self.trace.get().map_or(&[][..], |trace| trace.shown(frame));
+        let label = |node: u32| Self::node_label(tree, node);
+        diagram_ui(
+            ui,
+            &tree.built.facts,
+            &label,
+            shown,
+            &mut self.hovered,
+            &mut self.selected,
+            fit_height,
+        );
+        if let Some(reason) = self
+            .selected
+            .and_then(|node| tree.built.facts.leaf_reason(node))
+        {
+            ui.label(format!("Selected leaf: {reason}."));
+        }
+        t_hint_ui(ui);
+    }
 }
 
 impl Lesson for KdLesson {
@@ -415,88 +521,26 @@ impl Lesson for KdLesson {
         })
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
-        ui.horizontal_wrapped(|ui| {
-            ui.label("Build with");
-            for entry in CATALOGUE.iter().filter(|entry| {
-                entry.family == Family::Kd && entry.structure != Structure::KdSahPerNode
-            }) {
-                ui.selectable_value(&mut self.structure, entry.structure, entry.label)
-                    .on_hover_text(entry.about);
-            }
-        });
-        let mut leaf_size = self.stage.scene.scene.settings.max_leaf_size;
-        if ui
-            .add(egui::Slider::new(&mut leaf_size, 1..=8).text("max leaf size"))
-            .changed()
-        {
-            self.stage.scene.scene.settings.max_leaf_size = leaf_size;
-            self.stage.scene.touch();
+    fn parts(&self) -> &'static [lesson::Part] {
+        &PARTS
+    }
+
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, parts: Parts<'_>) {
+        if parts.show(&BUILD_PART) {
+            self.build_ui(ui);
         }
-        ui.checkbox(&mut self.mailboxing, "mailboxing: test a straddling primitive once per ray")
-            .on_hover_text("A per-ray note of the primitives already tested, so one listed in several cells is tested once (the core's TraceOptions::mailboxing)");
         let Some(tree) = self.tree.get().cloned() else {
             ui.label("Building…");
             return;
         };
-        ui.separator();
-        ui.heading("The traversal, line by line");
-        let view = self.view();
-        let lines = view
-            .as_ref()
-            .map(|view| view.lines.clone())
-            .unwrap_or_default();
-        egui::Frame::new()
-            .fill(ui.visuals().extreme_bg_color)
-            .inner_margin(6.0)
-            .show(ui, |ui| {
-                // Code lines keep their shape: in a narrow panel (the app scaled up) they
-                // scroll sideways rather than widen the panel.
-                egui::ScrollArea::horizontal()
-                    .id_salt("pseudo-code")
-                    .show(ui, |ui| {
-                        for (line, code) in PSEUDO_CODE.iter().enumerate() {
-                            let mut text = RichText::new(*code).monospace();
-                            if lines.contains(&line) {
-                                text = text.background_color(faded(palette::CURRENT, 110)).strong();
-                            }
-                            ui.add(egui::Label::new(text).wrap_mode(egui::TextWrapMode::Extend));
-                        }
-                    });
-            });
-        ui.separator();
-        let stats = &tree.stats;
-        ui.label(format!(
-            "{} nodes, {} leaves ({} empty), depth {}, {} primitive references for {} primitives (a straddler is listed in each cell it reaches), SAH cost {}",
-            count(stats.node_count),
-            count(stats.leaf_count),
-            count(stats.empty_leaf_count),
-            stats.max_depth,
-            count(stats.primitive_references),
-            count(tree.shapes.shapes.len()),
-            number(stats.sah_cost)
-        ));
-        if let Some(note) = tree.limits_note() {
-            ui.colored_label(crate::canvas::readable(ui, palette::RAY), note);
+        if parts.show(&CODE_PART) {
+            ui.separator();
+            self.code_ui(ui);
         }
-        let frame = self.stage.timeline.shown;
-        let shown = self.trace.get().map_or(&[][..], |trace| trace.shown(frame));
-        let label = |node: u32| Self::node_label(&tree, node);
-        diagram_ui(
-            ui,
-            &tree.built.facts,
-            &label,
-            shown,
-            &mut self.hovered,
-            &mut self.selected,
-        );
-        if let Some(reason) = self
-            .selected
-            .and_then(|node| tree.built.facts.leaf_reason(node))
-        {
-            ui.label(format!("Selected leaf: {reason}."));
+        if parts.show(&TREE_PART) {
+            ui.separator();
+            self.tree_ui(ui, &tree, parts.fit_screen());
         }
-        t_hint_ui(ui);
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {

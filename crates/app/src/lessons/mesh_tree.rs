@@ -17,7 +17,7 @@ use glam::DVec3;
 
 use crate::background::{Cached, Derived};
 use crate::canvas::{depth_color, palette};
-use crate::lesson::Lesson;
+use crate::lesson::{self, Lesson, Parts};
 use crate::lesson_file::LessonText;
 use crate::mesh::{MeshScene, MeshTree, Overlay, loading_ui, mesh_and_structure_ui, trace_overlay};
 use crate::stage::Stage;
@@ -41,6 +41,25 @@ const PIXEL: &str = "pixel";
 
 /// Trees up to this many nodes open with every depth shown.
 const SMALL_TREE_NODES: usize = 63;
+
+/// The inspector's parts a lecture slide can name.
+const RAY_PART: lesson::Part = lesson::Part {
+    name: "ray",
+    what: "the clicked ray and the step's slab table",
+};
+const DEPTHS_PART: lesson::Part = lesson::Part {
+    name: "depths",
+    what: "the depths whose boxes are drawn",
+};
+const TREE_PART: lesson::Part = lesson::Part {
+    name: "tree",
+    what: "the tree's numbers and diagram",
+};
+const NODE_PART: lesson::Part = lesson::Part {
+    name: "node",
+    what: "the selected node",
+};
+const PARTS: [lesson::Part; 4] = [RAY_PART, DEPTHS_PART, TREE_PART, NODE_PART];
 
 /// The depths a newly built tree opens on: every depth of a small tree; a big tree's first two
 /// levels, since a real mesh's boxes (or planes) all at once cover it like a blob (a scanned
@@ -380,6 +399,69 @@ impl MeshTreeLesson {
         });
     }
 
+    /// The mesh's and the tree's numbers, and a kD budget reached.
+    fn numbers_ui(ui: &mut egui::Ui, tree: &MeshTree) {
+        let stats = &tree.build.stats;
+        // The build time only on hover: it differs from run to run, the rest does not.
+        ui.label(format!(
+            "{}: {} triangles; {} nodes, {} leaves, depth {}, SAH cost {}",
+            tree.mesh.name.trim_start_matches("builtin:"),
+            count(tree.mesh.triangles.len()),
+            count(stats.node_count),
+            count(stats.leaf_count),
+            stats.max_depth,
+            number(stats.sah_cost),
+        ))
+        .on_hover_text(format!("built in {} ms", number(tree.build.build_millis)));
+        if let Some(limits) = tree
+            .build
+            .built
+            .tree
+            .kd_limits()
+            .filter(|limits| limits.reached())
+        {
+            ui.colored_label(
+                crate::canvas::readable(ui, palette::MISS),
+                format!("kD budget: {limits}"),
+            );
+        }
+    }
+
+    /// The tree diagram, linked to the view, with what its colours say (squeezed to the
+    /// height left with `fit_height`).
+    fn tree_ui(&mut self, ui: &mut egui::Ui, tree: &MeshTree, fit_height: bool) {
+        ui.heading("Tree");
+        let shown = self
+            .trace
+            .get()
+            .map_or(&[][..], |trace| trace.shown(self.stage.timeline.shown));
+        let label = |node: u32| tree.node_name(node);
+        diagram_ui(
+            ui,
+            &tree.build.built.facts,
+            &label,
+            shown,
+            &mut self.hovered,
+            &mut self.selected,
+            fit_height,
+        );
+        ui.label(
+            egui::RichText::new(
+                "Colour: depth; green entered, red missed or skipped. Hover a node to light its box; click a node or a box to select it.",
+            )
+            .small()
+            .weak(),
+        );
+        let width = tree.build.built.structure.width();
+        if tree.build.built.structure.family() == Family::Bvh && width != Width::Binary {
+            ui.label(format!(
+                "With {} children per node the tree drawn is still the binary one: the wide BVH is made from it by melting some binary nodes into their parents, and a wide node tests at once the boxes of the binary nodes just below it, so the steps name binary nodes (lesson 15 shows it in 2D).",
+                width.children()
+            ));
+        }
+    }
+
+    /// The selected node: where it is, what is under it, its subtree's cost.
     fn node_ui(&mut self, ui: &mut egui::Ui, tree: &MeshTree) {
         let Some(node) = self
             .selected
@@ -426,7 +508,6 @@ impl MeshTreeLesson {
         }
     }
 
-    /// The current step's box test, axis by axis: the slab intervals the inspector shows.
     /// The clicked ray in numbers that read back exactly (f64's shortest form): its pixel,
     /// origin, direction and the closest hit so far, and a button that copies it as a
     /// ray-file line, which `accelviz-cli query --rays` traces to the same hit.
@@ -480,6 +561,7 @@ impl MeshTreeLesson {
         }
     }
 
+    /// The current step's box test, axis by axis: the slab intervals the inspector shows.
     fn slab_ui(&self, ui: &mut egui::Ui, tree: &MeshTree) {
         let (Some(picked), Some(state)) = (self.picked, self.shown_state()) else {
             return;
@@ -609,72 +691,36 @@ impl Lesson for MeshTreeLesson {
         ))
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+    fn parts(&self) -> &'static [lesson::Part] {
+        &PARTS
+    }
+
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, parts: Parts<'_>) {
         let Some(tree) = self.tree.get().cloned() else {
             ui.label("Building…");
             return;
         };
-        let stats = &tree.build.stats;
-        // The build time only on hover: it differs from run to run, the rest does not.
-        ui.label(format!(
-            "{}: {} triangles; {} nodes, {} leaves, depth {}, SAH cost {}",
-            tree.mesh.name.trim_start_matches("builtin:"),
-            count(tree.mesh.triangles.len()),
-            count(stats.node_count),
-            count(stats.leaf_count),
-            stats.max_depth,
-            number(stats.sah_cost),
-        ))
-        .on_hover_text(format!("built in {} ms", number(tree.build.build_millis)));
-        if let Some(limits) = tree
-            .build
-            .built
-            .tree
-            .kd_limits()
-            .filter(|limits| limits.reached())
-        {
-            ui.colored_label(
-                crate::canvas::readable(ui, palette::MISS),
-                format!("kD budget: {limits}"),
-            );
+        if parts.show(&TREE_PART) {
+            Self::numbers_ui(ui, &tree);
         }
         // What the class reads while stepping comes first: the ray and this step's slabs.
-        self.ray_ui(ui, &tree);
-        self.slab_ui(ui, &tree);
-        ui.separator();
-        let max_depth = tree.build.built.facts.max_depth();
-        depth_range_ui(ui, &mut self.depth_range, max_depth);
-        ui.separator();
-        ui.heading("Tree");
-        let shown = self
-            .trace
-            .get()
-            .map_or(&[][..], |trace| trace.shown(self.stage.timeline.shown));
-        let label = |node: u32| tree.node_name(node);
-        diagram_ui(
-            ui,
-            &tree.build.built.facts,
-            &label,
-            shown,
-            &mut self.hovered,
-            &mut self.selected,
-        );
-        ui.label(
-            egui::RichText::new(
-                "Colour: depth; green entered, red missed or skipped. Hover a node to light its box; click a node or a box to select it.",
-            )
-            .small()
-            .weak(),
-        );
-        let width = tree.build.built.structure.width();
-        if tree.build.built.structure.family() == Family::Bvh && width != Width::Binary {
-            ui.label(format!(
-                "With {} children per node the tree drawn is still the binary one: the wide BVH is made from it by melting some binary nodes into their parents, and a wide node tests at once the boxes of the binary nodes just below it, so the steps name binary nodes (lesson 15 shows it in 2D).",
-                width.children()
-            ));
+        if parts.show(&RAY_PART) {
+            self.ray_ui(ui, &tree);
+            self.slab_ui(ui, &tree);
         }
-        ui.separator();
-        self.node_ui(ui, &tree);
+        if parts.show(&DEPTHS_PART) {
+            ui.separator();
+            let max_depth = tree.build.built.facts.max_depth();
+            depth_range_ui(ui, &mut self.depth_range, max_depth);
+        }
+        if parts.show(&TREE_PART) {
+            ui.separator();
+            self.tree_ui(ui, &tree, parts.fit_screen());
+        }
+        if parts.show(&NODE_PART) {
+            ui.separator();
+            self.node_ui(ui, &tree);
+        }
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {

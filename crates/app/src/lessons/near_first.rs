@@ -247,7 +247,7 @@ impl Lesson for NearFirstLesson {
         ))
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         let (Some(counters), Some(traces)) = (self.pane_counters(), self.traces.get()) else {
             ui.label("Building…");
             return;

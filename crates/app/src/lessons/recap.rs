@@ -185,7 +185,7 @@ impl Lesson for RecapLesson {
         request_comparison(&mut self.comparison, scene, (), structures);
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         ui.label(RichText::new("Scenes that make the point").strong());
         let presets: Vec<(String, String)> = self
             .stage

@@ -213,7 +213,7 @@ impl Lesson for SlabLesson {
         Some(said.to_owned())
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         ui.heading("Edge cases");
         ui.horizontal_wrapped(|ui| {
             for (index, (name, explanation)) in GALLERY.iter().enumerate() {

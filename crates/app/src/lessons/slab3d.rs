@@ -389,7 +389,7 @@ impl Lesson for Slab3dLesson {
         Some(caption)
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         self.view.save_button(ui);
         ui.label(egui::RichText::new("Edge cases").strong());
         ui.horizontal_wrapped(|ui| {

@@ -144,8 +144,11 @@ impl SplitsLesson {
         // the legend's rows take at the text size of the moment (lecture mode's is larger),
         // so the legend never covers the curve.
         let legend_rows = 6.0;
-        let legend_height = legend_rows * ui.text_style_height(&egui::TextStyle::Body) * 1.2 + 24.0;
-        let legend_share = f64::from((legend_height / height.max(1.0)).clamp(0.1, 0.7));
+        let row = ui.text_style_height(&egui::TextStyle::Body);
+        let legend_height = legend_rows * row * 1.2 + 24.0;
+        // Of the plot's height, the x axis's numbers and label take about three rows.
+        let data_height = (height - 3.0 * row).max(1.0);
+        let legend_share = f64::from((legend_height / data_height).clamp(0.1, 0.7));
         let headroom = if high > low {
             low + (high - low) / (1.0 - legend_share)
         } else {
@@ -382,7 +385,7 @@ impl Lesson for SplitsLesson {
         }
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         ui.horizontal(|ui| {
             ui.label("Compare");
             for family in [Family::Kd, Family::Bvh] {

@@ -252,7 +252,7 @@ impl Lesson for TrivialLoop {
         ))
     }
 
-    fn inspector_ui(&mut self, ui: &mut egui::Ui) {
+    fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         let total = self.stage.scene.scene.shapes.len();
         ui.heading("This ray");
         if let Some(state) = self.shown_state() {

@@ -11,11 +11,11 @@ use accelviz_quiz::{Ask, BuildExercise, Figure, Highlight, Pick, Question, optio
 use egui::{Color32, Stroke, Ui, Vec2};
 use glam::{DVec2, DVec3};
 
-use crate::canvas::{Canvas, View2d, depth_color, faded, palette};
+use crate::canvas::{Canvas, View2d, faded, palette, readable_on};
 use crate::stage::SceneTree;
 use crate::views::number_lines::{IntervalRow, number_lines_height, number_lines_ui};
 use crate::views::scene_view::{draw_ray_colored, draw_tested_shapes};
-use crate::views::tree_view::{TreeLook, draw_tree, light, node_outline};
+use crate::views::tree_view::{TreeLook, draw_tree, light, node_outline, node_rect};
 
 /// What the figure shows this frame.
 pub struct FigureState<'a> {
@@ -247,15 +247,20 @@ fn scene_ui(
         };
         if facts.node_count() <= 63 {
             for &node in &named {
-                let bounds = &facts.bounds[node as usize];
-                let depth = facts.depth[node as usize] as usize;
-                let inward = canvas.world_length(3.0 * depth as f32 + 4.0);
-                node_labels.push((
-                    DVec2::new(bounds.min.x + inward, bounds.max.y - inward),
-                    accelviz_quiz::node_label(facts, node),
-                    // Labels sit on the dark plate: the bright colours, in every theme.
-                    depth_color(depth, true),
-                ));
+                if let Some(rect) = node_rect(canvas, tree, node) {
+                    let depth = facts.depth[node as usize] as usize;
+                    // A parent named with its children takes its name outside its box, the
+                    // children inside theirs: no name reads as a neighbour's.
+                    let parent = named
+                        .iter()
+                        .any(|&other| facts.parent[other as usize] == Some(node));
+                    node_labels.push((
+                        rect,
+                        parent,
+                        accelviz_quiz::node_label(facts, node),
+                        readable_on(canvas.depth_color(depth), canvas.background()),
+                    ));
+                }
             }
         }
     }
@@ -271,8 +276,13 @@ fn scene_ui(
         };
         canvas.label(shape.bounds().center(), &index.to_string(), color);
     }
-    for (at, name, color) in &node_labels {
-        canvas.label(*at, name, *color);
+    if let Some(ray) = &scene.ray {
+        canvas.reserve_ray(ray.origin, ray.direction);
+    }
+    // In tree order, parents first: a parent's spot outside its box is taken before a
+    // child's name inside.
+    for (rect, parent, name, color) in &node_labels {
+        canvas.box_label(*rect, *parent, name, *color);
     }
     if let Some(lit) = lit {
         for &shape in &lit.shapes {

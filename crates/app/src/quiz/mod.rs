@@ -637,6 +637,7 @@ impl QuizMode {
             steps,
             &mut hovered,
             &mut selected,
+            false,
         );
         selected
     }
@@ -963,7 +964,8 @@ pub fn tolerance_text(tolerance: f64) -> String {
 
 /// The figure's numbers for the step asked (coordinates, boxes, perimeters: what an answer is
 /// worked out from, as [`accelviz_quiz::Question::numbers`] lists them), in a section open by
-/// default; `size` sets the text size (lecture mode's is larger).
+/// default; `size` sets the text size (lecture mode's is larger, and proportional: a line in
+/// monospace at lecture size wraps, and the list ran off the screen).
 pub fn numbers_ui(ui: &mut Ui, lines: &[String], size: Option<f32>) {
     if lines.is_empty() {
         return;
@@ -973,10 +975,9 @@ pub fn numbers_ui(ui: &mut Ui, lines: &[String], size: Option<f32>) {
         .default_open(true)
         .show(ui, |ui| {
             for line in lines {
-                let text = RichText::new(line).monospace();
                 ui.label(match size {
-                    Some(size) => text.size(size),
-                    None => text,
+                    Some(size) => RichText::new(line).size(size),
+                    None => RichText::new(line).monospace(),
                 });
             }
         });

@@ -9,6 +9,12 @@ use egui::{Align2, Color32, Pos2, Rect, Sense, Stroke, Vec2};
 
 use crate::canvas::{Labels, depth_color, faded, palette};
 
+/// A level's height in the diagram when there is room, and the least it is squeezed to.
+const ROW_HEIGHT: f32 = 36.0;
+const MIN_ROW_HEIGHT: f32 = 22.0;
+/// Nodes drawn smaller than this are not labelled: a label would not fit beside them.
+const MIN_LABELLED_RADIUS: f32 = 6.0;
+
 /// Each shown node's column (in leaf widths) when the tree is cut at `bottom`: nodes at that
 /// depth count as leaves. Depth first, left to right: leaves take the next column, parents
 /// sit between their children.
@@ -39,9 +45,10 @@ fn columns<V: Vector>(facts: &TreeFacts<V>, bottom: usize) -> (Vec<f32>, usize) 
 }
 
 /// Draws the diagram at the available width, each node named by `label` and coloured by what
-/// the traversal's `steps` did to it (green entered, red missed or skipped). Linked to the
-/// canvas both ways: `hovered` (lit from the canvas) is lit here and set to the node under the
-/// pointer; a click selects a node.
+/// the traversal's `steps` did to it (green entered, red missed or skipped); with
+/// `fit_height`, its levels squeezed into the height left (a lecture slide's panel). Linked to
+/// the canvas both ways: `hovered` (lit from the canvas) is lit here and set to the node under
+/// the pointer; a click selects a node.
 pub fn diagram_ui<V: Vector>(
     ui: &mut egui::Ui,
     facts: &TreeFacts<V>,
@@ -49,12 +56,12 @@ pub fn diagram_ui<V: Vector>(
     steps: &[Step<f64>],
     hovered: &mut Option<u32>,
     selected: &mut Option<u32>,
+    fit_height: bool,
 ) {
     if facts.node_count() == 0 {
         return;
     }
     let emphasis = traversal_emphasis(steps, facts.node_count());
-    let row_height = 36.0;
     let width = ui.available_width().max(120.0);
     // Levels too crowded to tell nodes apart (a few points each) are left out.
     let shown_depth = facts
@@ -63,11 +70,33 @@ pub fn diagram_ui<V: Vector>(
         .position(|&count| count as f32 * 4.0 > width)
         .map_or(facts.max_depth(), |crowded| crowded.saturating_sub(1));
     let (column, leaf_count) = columns(facts, shown_depth);
-    // Room below the last row for its labels.
-    let height = (shown_depth + 1) as f32 * row_height + 30.0;
+    let column_width = (width - 20.0) / leaf_count.max(1) as f32;
+    let widest = facts.nodes_per_depth[..=shown_depth]
+        .iter()
+        .copied()
+        .max()
+        .unwrap_or(1)
+        .max(1);
+    // As large as the widest level leaves room for; labels only on nodes that large.
+    let widest_radius = ((width - 20.0) / widest as f32 * 0.42).min(column_width * 0.42);
+    let labelled = widest_radius >= MIN_LABELLED_RADIUS;
+    // Room below the last row for its labels, or for the note on the depths left out; to
+    // fit the height, rows as tall as the room left allows, down to a readable minimum (a
+    // lecture slide's panel shows the tree below the ray's numbers without scrolling).
+    let bottom_room = if labelled { 30.0 } else { 16.0 };
+    // And room after it for the notes lessons put under it (what the colours mean, the
+    // selected leaf): two lines of body text.
+    let notes_room =
+        2.0 * ui.text_style_height(&egui::TextStyle::Body) + 2.0 * ui.spacing().item_spacing.y;
+    let row_height = if fit_height {
+        ((ui.available_height() - bottom_room - notes_room) / (shown_depth + 1) as f32)
+            .clamp(MIN_ROW_HEIGHT, ROW_HEIGHT)
+    } else {
+        ROW_HEIGHT
+    };
+    let height = (shown_depth + 1) as f32 * row_height + bottom_room;
     let (rect, response) = ui.allocate_exact_size(Vec2::new(width, height), Sense::click());
     let painter = ui.painter_at(rect);
-    let column_width = (width - 20.0) / leaf_count.max(1) as f32;
     let position = |node: u32| -> Pos2 {
         Pos2::new(
             rect.left() + 10.0 + (column[node as usize] + 0.5) * column_width,
@@ -89,15 +118,7 @@ pub fn diagram_ui<V: Vector>(
             }
         }
     }
-    let widest = facts.nodes_per_depth[..=shown_depth]
-        .iter()
-        .copied()
-        .max()
-        .unwrap_or(1)
-        .max(1);
-    let radius = ((width - 20.0) / widest as f32 * 0.42)
-        .min(column_width * 0.42)
-        .clamp(3.0, 11.0);
+    let radius = widest_radius.min(row_height * 0.3).clamp(3.0, 11.0);
     let pointer = response.hover_pos();
     let mut under_pointer = None;
     let mut labels = Labels::new(rect);
@@ -124,7 +145,7 @@ pub fn diagram_ui<V: Vector>(
             under_pointer = Some(node);
         }
     }
-    if radius >= 6.0 {
+    if labelled && radius >= MIN_LABELLED_RADIUS {
         let plate = ui.visuals().panel_fill;
         let below = radius + 8.0;
         for node in (0..facts.node_count() as u32).filter(|&node| visible(node)) {

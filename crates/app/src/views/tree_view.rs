@@ -127,6 +127,27 @@ pub fn draw_tree(canvas: &Canvas, tree: &SceneTree, look: &TreeLook) {
     }
 }
 
+/// Where `node`'s box is drawn on screen: a BVH node's moved in by its depth so nested
+/// boxes stay apart, a kD cell as it is; at least a point wide. `None` when it is empty or
+/// off the canvas.
+pub fn node_rect(canvas: &Canvas, tree: &SceneTree, node: u32) -> Option<Rect> {
+    let facts = &tree.built.facts;
+    let bounds = &facts.bounds[node as usize];
+    if bounds.is_empty() {
+        return None;
+    }
+    let screen = canvas.screen_rect(bounds);
+    if !canvas.rect.intersects(screen.expand(4.0)) {
+        return None;
+    }
+    let rect = match tree.built.tree.family() {
+        Family::Bvh => inset(screen, facts.depth[node as usize] as usize),
+        Family::Kd => screen,
+    };
+    // A flat box still shows: at least one point wide on screen.
+    Some(rect.union(Rect::from_center_size(screen.center(), Vec2::splat(1.0))))
+}
+
 /// Outlines `node`'s box (inset by its depth) or cell, optionally filled.
 pub fn node_outline(
     canvas: &Canvas,
@@ -135,21 +156,9 @@ pub fn node_outline(
     stroke: Stroke,
     fill: Option<Color32>,
 ) {
-    let facts = &tree.built.facts;
-    let bounds = &facts.bounds[node as usize];
-    if bounds.is_empty() {
+    let Some(rect) = node_rect(canvas, tree, node) else {
         return;
-    }
-    let screen = canvas.screen_rect(bounds);
-    if !canvas.rect.intersects(screen.expand(4.0)) {
-        return;
-    }
-    let rect = match tree.built.tree.family() {
-        Family::Bvh => inset(screen, facts.depth[node as usize] as usize),
-        Family::Kd => screen,
-    }
-    // A flat box still shows: at least one point wide on screen.
-    .union(Rect::from_center_size(screen.center(), Vec2::splat(1.0)));
+    };
     if let Some(fill) = fill {
         canvas.painter.rect_filled(rect, 0.0, fill);
     }

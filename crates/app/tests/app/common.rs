@@ -34,7 +34,9 @@ pub fn lesson_harness<L: Lesson + 'static>(lesson: L) -> Harness<'static, L> {
                         lesson.stage_mut().timeline.ui(ui, &caption);
                     }
                 });
-                egui::Panel::right("inspector").show(ui, |ui| lesson.inspector_ui(ui));
+                egui::Panel::right("inspector").show(ui, |ui| {
+                    lesson.inspector_ui(ui, accelviz_app::lesson::Parts::All)
+                });
                 egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
             },
             lesson,
@@ -86,7 +88,9 @@ pub fn lesson_harness_3d<L: Lesson + 'static>(lesson: L) -> Harness<'static, L> 
                         lesson.stage_mut().timeline.ui(ui, &caption);
                     }
                 });
-                egui::Panel::right("inspector").show(ui, |ui| lesson.inspector_ui(ui));
+                egui::Panel::right("inspector").show(ui, |ui| {
+                    lesson.inspector_ui(ui, accelviz_app::lesson::Parts::All)
+                });
                 egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
             },
             lesson,

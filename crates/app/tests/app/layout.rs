@@ -18,7 +18,9 @@ fn slab_labels_never_overlap_in_any_edge_case() {
     let mut harness = Harness::builder().with_size(size).build_ui_state(
         |ui, lesson: &mut SlabLesson| {
             lesson.update();
-            egui::Panel::right("inspector").show(ui, |ui| lesson.inspector_ui(ui));
+            egui::Panel::right("inspector").show(ui, |ui| {
+                lesson.inspector_ui(ui, accelviz_app::lesson::Parts::All)
+            });
             egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
         },
         SlabLesson::new(lesson_text("03-slab-test.ron")),
@@ -206,4 +208,82 @@ fn the_inspector_comes_back_after_a_small_window_and_lesson_6_s_table_fits_it() 
         header.max.x,
         after.max.x
     );
+}
+
+/// A box's name reads as that box's: a parent named with its children takes its name outside
+/// its box (above its top edge, or below its bottom edge), well apart from another name
+/// outside; a child's name sits inside its own box. What made "root R" and "R RR" of the
+/// findings read as one name.
+#[test]
+fn a_parents_name_goes_outside_its_box_and_a_childs_inside() {
+    use accelviz_app::canvas::Labels;
+    use egui::{Color32, FontId, Rect, pos2};
+    let ctx = egui::Context::default();
+    let mut output = ctx.run_ui(egui::RawInput::default(), |ui| {
+        let painter = ui.painter().clone();
+        let area = Rect::from_min_max(pos2(0.0, 0.0), pos2(600.0, 600.0));
+        let mut labels = Labels::new(area);
+        let font = FontId::proportional(13.0);
+        let root = Rect::from_min_max(pos2(100.0, 100.0), pos2(500.0, 500.0));
+        // The right child shares the root's top edge, moved in by its depth.
+        let right = Rect::from_min_max(pos2(110.0, 103.0), pos2(497.0, 250.0));
+        let leaf = Rect::from_min_max(pos2(120.0, 110.0), pos2(200.0, 180.0));
+        let place = |labels: &mut Labels, text: &str, boxed: Rect, outside: bool| {
+            labels
+                .place_for_box(
+                    &painter,
+                    text,
+                    font.clone(),
+                    Color32::WHITE,
+                    boxed,
+                    outside,
+                    None,
+                )
+                .expect("a spot is free")
+        };
+        let at_root = place(&mut labels, "root", root, true);
+        let at_right = place(&mut labels, "R", right, true);
+        let at_leaf = place(&mut labels, "RL", leaf, false);
+        assert!(
+            at_root.max.y <= root.top(),
+            "the root's name is above it: {at_root:?}"
+        );
+        assert!(
+            !right.intersects(at_right),
+            "R's name is outside R: {at_right:?}"
+        );
+        assert!(
+            at_root.expand(5.0).intersect(at_right.expand(5.0)).area() <= 0.0,
+            "the two names outside keep apart: {at_root:?} {at_right:?}"
+        );
+        assert!(
+            leaf.contains_rect(at_leaf),
+            "RL's name is inside RL: {at_leaf:?}"
+        );
+        assert!(!any_overlap(labels.placed()));
+    });
+    output.textures_delta.clear();
+}
+
+/// A fitted view keeps clear of the caption's room at the top and the notes' at the bottom:
+/// a ray's origin in the scene's corner was hidden under "5 shapes · the lesson's scene".
+#[test]
+fn a_fitted_view_keeps_clear_of_the_caption_and_the_notes() {
+    use accelviz_app::canvas::View2d;
+    use accelviz_core::Aabb;
+    use glam::DVec2;
+    let rect = egui::Rect::from_min_size(egui::pos2(10.0, 20.0), egui::vec2(800.0, 500.0));
+    let bounds = Aabb::new(DVec2::new(0.0, 0.0), DVec2::new(40.0, 20.0));
+    let (top, bottom) = (60.0, 40.0);
+    let view = View2d::fitted_between(&bounds, rect, top, bottom);
+    let screen_y = |y: f64| rect.center().y - ((y - view.center.y) * view.points_per_unit) as f32;
+    let (highest, lowest) = (screen_y(bounds.max.y), screen_y(bounds.min.y));
+    assert!(highest >= rect.top() + top, "below the caption: {highest}");
+    assert!(
+        lowest <= rect.bottom() - bottom,
+        "above the notes: {lowest}"
+    );
+    // Centred between them.
+    let middle = (rect.top() + top + rect.bottom() - bottom) / 2.0;
+    assert!(((highest + lowest) / 2.0 - middle).abs() < 0.5);
 }

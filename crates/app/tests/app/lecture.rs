@@ -9,7 +9,7 @@ use crate::common;
 
 use accelviz_app::AccelvizApp;
 use accelviz_app::app::Mode;
-use accelviz_app::lecture::script::{LectureScript, Slide};
+use accelviz_app::lecture::script::{LectureScript, Panels, Slide};
 use accelviz_app::lecture::{Action, LECTURE_KEYS, key_table};
 use egui::Key;
 use egui_kittest::Harness;
@@ -116,6 +116,9 @@ fn blank_holds_the_screen_and_escape_leaves() {
     assert_eq!(harness.state().mode, Mode::Lessons);
     assert!(harness.state().lecture.is_none());
 }
+
+/// A lesson with no inspector parts, for scripts read without the app.
+const NO_PARTS: &[accelviz_app::lesson::Part] = &[];
 
 /// The first question slide of the default script.
 fn first_question(harness: &mut Harness<'_, AccelvizApp>) -> usize {
@@ -267,7 +270,7 @@ fn script_errors_name_file_and_line() {
     ];
     for (text, line, problem) in cases {
         // A script with no slide left is refused; otherwise the bad line is skipped and kept.
-        let error = match LectureScript::parse(text, "my-lecture.txt", 14) {
+        let error = match LectureScript::parse(text, "my-lecture.txt", &[NO_PARTS; 14]) {
             Err(error) => error,
             Ok(script) => script.problems[0].clone(),
         };
@@ -285,7 +288,7 @@ fn script_errors_name_file_and_line() {
     let script = LectureScript::parse(
         "lesson 10 show \"dust in a room\"  # a preset\nlesson 6 step end\nquestion sah-split seed 4 level hard\n",
         "x.txt",
-        14,
+        &[NO_PARTS; 14],
     )
     .unwrap();
     assert_eq!(script.slides.len(), 3);
@@ -428,7 +431,7 @@ fn bad_script_lines_are_skipped_and_each_reported() {
     let script = LectureScript::parse(
         "lesson 1\nlesson 4 step banana\nquestion slab\nquestion sah-spilt\nlesson 99\n",
         "my-lecture.txt",
-        14,
+        &[NO_PARTS; 14],
     )
     .unwrap();
     assert_eq!(script.slides.len(), 2);
@@ -486,23 +489,43 @@ fn the_lecture_bar_keeps_one_row_and_its_buttons_on_every_slide() {
 
 #[test]
 fn a_slide_that_names_its_panels_opens_with_them_and_a_script_opened_replaces_the_lecture() {
-    let script = LectureScript::parse("lesson 5 panels on\nlesson 3\n", "two.txt", 15).unwrap();
-    assert!(matches!(
-        script.slides[0],
-        Slide::Lesson { panels: true, .. }
-    ));
-    assert!(matches!(
-        script.slides[1],
-        Slide::Lesson { panels: false, .. }
-    ));
-    let error = LectureScript::parse("lesson 5 panels maybe\nlesson 3\n", "two.txt", 15)
-        .unwrap()
-        .problems_line()
-        .unwrap();
-    assert!(
-        error.contains("two.txt:1: panels 'maybe' is not 'on' or 'off'"),
-        "{error}"
+    let parts = AccelvizApp::new().lesson_parts();
+    let script = LectureScript::parse(
+        "lesson 5 panels on\nlesson 3\nlesson 5 panels tree,code\n",
+        "two.txt",
+        &parts,
+    )
+    .unwrap();
+    let panels: Vec<Panels> = script
+        .slides
+        .iter()
+        .map(|slide| match slide {
+            Slide::Lesson { panels, .. } => panels.clone(),
+            Slide::Question { .. } => unreachable!(),
+        })
+        .collect();
+    // Named parts come in the inspector's order, whatever the script's.
+    assert_eq!(
+        panels,
+        [Panels::All, Panels::Off, Panels::Only(vec!["code", "tree"])]
     );
+    for (line, problem) in [
+        (
+            "lesson 5 panels maybe",
+            "lesson 5 has no panel 'maybe'; write 'on', 'off' or some of: build (the kD build, leaf size and mailboxing), code (",
+        ),
+        ("lesson 5 panels code,tre", "lesson 5 has no panel 'tre'"),
+        (
+            "lesson 3 panels code",
+            "panels 'code': lesson 3's panels are one whole; write 'panels on' or 'panels off'",
+        ),
+    ] {
+        let error = LectureScript::parse(&format!("{line}\nlesson 3\n"), "two.txt", &parts)
+            .unwrap()
+            .problems_line()
+            .unwrap();
+        assert!(error.contains(&format!("two.txt:1: {problem}")), "{error}");
+    }
 
     let mut harness = lecturing();
     assert!(
@@ -540,4 +563,52 @@ fn a_slide_that_names_its_panels_opens_with_them_and_a_script_opened_replaces_th
         "two.txt"
     );
     harness.get_by_label_contains("empty.txt: the script has no slides");
+}
+
+/// Every slide of the default script that names its panels shows them without scrolling at
+/// 1920 × 1080, at its first step and its last (lesson 5's pseudo-code and tree; lessons 12
+/// and 13's ray, tree and selected node).
+#[test]
+fn a_slides_named_panels_fit_the_screen_without_scrolling() {
+    let mut harness = lecturing();
+    let named: Vec<usize> = slides(&harness)
+        .iter()
+        .enumerate()
+        .filter(|(_, slide)| {
+            matches!(
+                slide,
+                Slide::Lesson {
+                    panels: Panels::Only(_),
+                    ..
+                }
+            )
+        })
+        .map(|(index, _)| index)
+        .collect();
+    assert!(named.len() >= 3, "lessons 5, 12 and 13 name their panels");
+    for index in named {
+        harness.state_mut().open_slide(index, false);
+        for key in [Key::Home, Key::End] {
+            // Long enough for a 3D lesson's tree, built aside.
+            for _ in 0..40 {
+                harness.run();
+                if harness
+                    .state()
+                    .lesson()
+                    .is_some_and(|lesson| lesson.building().is_none())
+                {
+                    break;
+                }
+                std::thread::sleep(std::time::Duration::from_millis(50));
+            }
+            press(&mut harness, key);
+            harness.run();
+            let overflow = harness.state().last_layout.lecture_panels_overflow;
+            assert!(
+                overflow <= 0.0,
+                "slide {} ({key:?}): its panels are {overflow} points taller than the screen",
+                index + 1
+            );
+        }
+    }
 }
