@@ -711,6 +711,46 @@ impl Canvas {
     }
 }
 
+/// A slot's last batch ([`Canvas::cached_batch`]): what it was made from, and the view and
+/// canvas it was laid out for.
+#[derive(Clone)]
+struct KeptBatch {
+    key: u64,
+    mesh: Arc<egui::Mesh>,
+    left_out: usize,
+    view: View2d,
+    rect: Rect,
+    /// The frame since which it has been shown moved, waiting to be made again.
+    waiting_since: Option<u64>,
+}
+
+/// Where the app keeps the frame (pass) in which a batch was last made.
+fn batch_pass_id() -> egui::Id {
+    egui::Id::unique("canvas batch made in pass")
+}
+
+/// `mesh`, laid out for `view` on `rect`, moved and scaled to `to_view` on `to_rect`: a
+/// world point's screen position is affine in it, axis by axis.
+fn moved_to(
+    mesh: &egui::Mesh,
+    view: View2d,
+    rect: Rect,
+    to_view: View2d,
+    to_rect: Rect,
+) -> egui::Mesh {
+    let scale = (to_view.points_per_unit / view.points_per_unit) as f32;
+    let shift = (view.center - to_view.center) * to_view.points_per_unit;
+    let (from, to) = (rect.center(), to_rect.center());
+    let mut moved = mesh.clone();
+    for vertex in &mut moved.vertices {
+        vertex.pos = Pos2::new(
+            to.x + shift.x as f32 + (vertex.pos.x - from.x) * scale,
+            to.y - shift.y as f32 + (vertex.pos.y - from.y) * scale,
+        );
+    }
+    moved
+}
+
 /// Where a canvas keeps the height of its bottom notes between frames.
 fn notes_id(response: &Response) -> egui::Id {
     response.id.with("notes height")
@@ -873,6 +913,12 @@ impl Canvas {
     /// canvas and the same `key` (what it is drawn from: a tree's id, colours, the view and
     /// canvas are added here). Three trees of 100,000 shapes took 50 to 100 ms a frame to
     /// batch again, unchanged; kept, a frame hands egui the same mesh.
+    ///
+    /// At most one batch is made a frame while another slot has one to show: three new trees
+    /// arriving at once (lesson 7 switching from kD-trees to BVHs at 100,000 shapes) made a
+    /// frame of 200 ms. A slot that waits shows its last mesh, moved and scaled to this
+    /// frame's view (exact while only the view changed: a pan, a zoom), and asks for the
+    /// next frame, which makes it.
     pub fn cached_batch(
         &self,
         slot: &str,
@@ -897,19 +943,48 @@ impl Canvas {
         .hash(&mut hasher);
         (self.dark_mode, self.budget.get()).hash(&mut hasher);
         let key = hasher.finish();
+        let ctx = self.painter.ctx();
         let id = self.response.id.with(("batch", slot));
-        let kept: Option<(u64, Arc<egui::Mesh>, usize)> =
-            self.painter.ctx().data(|data| data.get_temp(id));
+        let kept: Option<KeptBatch> = ctx.data(|data| data.get_temp(id));
+        let pass = ctx.cumulative_pass_nr();
+        let made_this_pass = ctx.data(|data| data.get_temp::<u64>(batch_pass_id()) == Some(pass));
         let (mesh, left_out) = match kept {
-            Some((kept_key, mesh, left_out)) if kept_key == key => (mesh, left_out),
+            Some(kept) if kept.key == key => (kept.mesh, kept.left_out),
+            // A slot waits two frames at most, so none starves while others change.
+            Some(mut kept)
+                if made_this_pass
+                    && kept
+                        .waiting_since
+                        .is_none_or(|since| pass.saturating_sub(since) < 2) =>
+            {
+                ctx.request_repaint();
+                let shown = (
+                    Arc::new(moved_to(
+                        &kept.mesh, kept.view, kept.rect, self.view, self.rect,
+                    )),
+                    kept.left_out,
+                );
+                kept.waiting_since.get_or_insert(pass);
+                ctx.data_mut(|data| data.insert_temp(id, kept));
+                shown
+            }
             _ => {
                 let mut batch = self.batch();
                 fill(&mut batch);
-                let made = (Arc::new(batch.mesh), batch.left_out);
-                self.painter
-                    .ctx()
-                    .data_mut(|data| data.insert_temp(id, (key, made.0.clone(), made.1)));
-                made
+                let made = KeptBatch {
+                    key,
+                    mesh: Arc::new(batch.mesh),
+                    left_out: batch.left_out,
+                    view: self.view,
+                    rect: self.rect,
+                    waiting_since: None,
+                };
+                let shown = (made.mesh.clone(), made.left_out);
+                ctx.data_mut(|data| {
+                    data.insert_temp(id, made);
+                    data.insert_temp(batch_pass_id(), pass);
+                });
+                shown
             }
         };
         self.budget

@@ -287,3 +287,92 @@ fn a_fitted_view_keeps_clear_of_the_caption_and_the_notes() {
     let middle = (rect.top() + top + rect.bottom() - bottom) / 2.0;
     assert!(((highest + lowest) / 2.0 - middle).abs() < 0.5);
 }
+
+/// The slots' batches drawn in a frame: their vertices, in drawing order.
+fn batched_meshes(harness: &Harness<'_, BatchScene>) -> Vec<Vec<egui::Pos2>> {
+    fn walk(shape: &egui::Shape, found: &mut Vec<Vec<egui::Pos2>>) {
+        match shape {
+            egui::Shape::Mesh(mesh) => found.push(mesh.vertices.iter().map(|v| v.pos).collect()),
+            egui::Shape::Vec(shapes) => shapes.iter().for_each(|shape| walk(shape, found)),
+            _ => {}
+        }
+    }
+    let mut found = Vec::new();
+    for clipped in &harness.output().shapes {
+        walk(&clipped.shape, &mut found);
+    }
+    found
+}
+
+/// Three slots of batched boxes on one canvas, as lesson 7's panes draw their trees.
+struct BatchScene {
+    view: accelviz_app::canvas::View2d,
+    key: u64,
+    fills: usize,
+}
+
+/// Three new batches at once (lesson 7's three trees arriving) are made one a frame, the
+/// others shown meanwhile as they were, moved to the frame's view; a pan moves the waiting
+/// ones exactly where a fresh batch puts them.
+#[test]
+fn one_batch_is_made_a_frame_while_the_others_wait_moved_to_the_view() {
+    use accelviz_app::canvas::Canvas;
+    use accelviz_core::Aabb;
+    use glam::DVec2;
+    let bounds = Aabb::new(DVec2::ZERO, DVec2::new(30.0, 10.0));
+    let mut harness = Harness::builder()
+        .with_size(egui::vec2(600.0, 300.0))
+        .build_ui_state(
+            move |ui, scene: &mut BatchScene| {
+                let size = ui.available_size();
+                let canvas = Canvas::allocate(ui, size, &mut scene.view, &bounds, false);
+                for slot in 0..3u32 {
+                    let fills = &mut scene.fills;
+                    canvas.cached_batch(&format!("slot {slot}"), (scene.key, slot), |batch| {
+                        *fills += 1;
+                        for index in 0..4 {
+                            let min = DVec2::new(slot as f64 * 10.0 + index as f64, index as f64);
+                            let boxed = Aabb::new(min, min + DVec2::splat(1.5));
+                            batch.rect(canvas.screen_rect(&boxed), egui::Color32::WHITE);
+                        }
+                    });
+                }
+            },
+            BatchScene {
+                view: accelviz_app::canvas::View2d::default(),
+                key: 0,
+                fills: 0,
+            },
+        );
+    harness.step();
+    assert_eq!(
+        harness.state().fills,
+        3,
+        "nothing to show yet: all three are made"
+    );
+    // New contents for all three: one a frame.
+    harness.state_mut().key = 1;
+    for frame in 1..=3 {
+        harness.step();
+        assert_eq!(harness.state().fills, 3 + frame, "frame {frame}");
+    }
+    harness.step();
+    assert_eq!(harness.state().fills, 6, "all made: none again");
+    // A pan: one made at once, the others moved, where the fresh ones then go.
+    harness.state_mut().view.center += DVec2::new(3.0, -1.5);
+    harness.state_mut().view.points_per_unit *= 1.25;
+    harness.state_mut().view.fitted_size = None;
+    harness.step();
+    assert_eq!(harness.state().fills, 7);
+    let moved = batched_meshes(&harness);
+    harness.run();
+    assert_eq!(harness.state().fills, 9);
+    let fresh = batched_meshes(&harness);
+    assert_eq!(moved.len(), 3);
+    for (moved, fresh) in moved.iter().zip(&fresh) {
+        assert_eq!(moved.len(), fresh.len());
+        for (a, b) in moved.iter().zip(fresh) {
+            assert!((*a - *b).length() < 1e-3, "{a:?} against {b:?}");
+        }
+    }
+}
