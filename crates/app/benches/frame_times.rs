@@ -34,12 +34,20 @@ fn frame(ctx: &egui::Context, app: &mut AccelvizApp) -> Duration {
     std::hint::black_box(ctx.tessellate(output.shapes, output.pixels_per_point));
     let total = started.elapsed();
     TESSELLATION.with(|sum| sum.set(sum.get() + (total - ui_done)));
+    SLOW.with(|slow| {
+        let mut slow = slow.borrow_mut();
+        if slow.is_none_or(|(slowest, _)| total > slowest) {
+            *slow = Some((total, total - ui_done));
+        }
+    });
     total
 }
 
 thread_local! {
     /// Time spent tessellating, summed over the frames of a phase.
     static TESSELLATION: std::cell::Cell<Duration> = const { std::cell::Cell::new(Duration::ZERO) };
+    /// The slowest frame of a phase and its tessellation.
+    static SLOW: std::cell::RefCell<Option<(Duration, Duration)>> = const { std::cell::RefCell::new(None) };
 }
 
 /// Frames until the lesson has the trees it asked for (at most `limit`), each one timed.
@@ -70,16 +78,20 @@ fn report(what: &str, times: &[Duration]) {
         .count();
     let total: Duration = times.iter().sum();
     let tessellation = TESSELLATION.with(|sum| sum.replace(Duration::ZERO));
+    let slowest_tessellation = SLOW
+        .with(|slow| slow.borrow_mut().take())
+        .map_or(Duration::ZERO, |(_, tessellation)| tessellation);
     let each: Vec<String> = times
         .iter()
         .map(|t| format!("{:.0}", t.as_secs_f64() * 1e3))
         .collect();
     println!(
-        "{what}: {} frames in {:.2} s ({:.2} s tessellating), slowest {:.1} ms, {over} over 100 ms; ms each: {}",
+        "{what}: {} frames in {:.2} s ({:.2} s tessellating), slowest {:.1} ms ({:.1} ms of it tessellating), {over} over 100 ms; ms each: {}",
         times.len(),
         total.as_secs_f64(),
         tessellation.as_secs_f64(),
         slowest.as_secs_f64() * 1e3,
+        slowest_tessellation.as_secs_f64() * 1e3,
         each.join(" ")
     );
 }

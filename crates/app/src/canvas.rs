@@ -171,12 +171,14 @@ pub struct Canvas {
     background: Color32,
 }
 
-/// The most vertices one canvas draws in a frame: more than a canvas has pixels (a box smaller
-/// than [`SMALLEST_DRAWN`] is not drawn at all), and few enough that egui hands three canvases
-/// of them to the GPU in a frame of lesson 7 at 100,000 shapes well under 100 ms (at a million
-/// each, frames took up to 400 ms). What does not fit is left out and the canvas says so
+/// The most vertices one canvas draws in a frame: about as many as a pane has pixels (a box
+/// smaller than [`SMALLEST_DRAWN`] is not drawn at all), and few enough that egui hands three
+/// canvases of them to the GPU in a frame of lesson 7 at 100,000 shapes near 100 ms: the frame
+/// that first tessellates three new meshes of 400,000 took 180–220 ms (of it 130–160 ms
+/// tessellating), of 200,000 85–115 ms; later frames 10–20 ms (at a million each, frames
+/// took up to 400 ms). What does not fit is left out and the canvas says so
 /// ([`Canvas::finish`]).
-pub const VERTEX_BUDGET: usize = 400_000;
+pub const VERTEX_BUDGET: usize = 200_000;
 
 /// Colours shared by every lesson, readable on the dark and the light theme.
 pub mod palette {
@@ -1079,18 +1081,36 @@ impl Labels {
                     + (self.area.bottom() - rect.bottom()).min(0.0),
             );
             let rect = rect.translate(shift);
-            let padded = rect.expand(2.0);
-            if self.placed.iter().any(|other| other.intersects(padded)) {
-                continue;
+            if self.is_free(rect, 2.0) {
+                return Some(self.put(painter, galley, color, rect, plate));
             }
-            if let Some(plate) = plate {
-                painter.rect_filled(rect.expand(2.0), 3.0, plate);
-            }
-            painter.galley(rect.min, galley, color);
-            self.placed.push(rect);
-            return Some(rect);
         }
         None
+    }
+
+    /// Whether `rect` keeps `gap` from every label placed.
+    fn is_free(&self, rect: Rect, gap: f32) -> bool {
+        !self
+            .placed
+            .iter()
+            .any(|other| other.intersects(rect.expand(gap)))
+    }
+
+    /// Draws `galley` at `rect` (on its plate) and keeps the spot taken.
+    fn put(
+        &mut self,
+        painter: &egui::Painter,
+        galley: std::sync::Arc<egui::Galley>,
+        color: Color32,
+        rect: Rect,
+        plate: Option<Color32>,
+    ) -> Rect {
+        if let Some(plate) = plate {
+            painter.rect_filled(rect.expand(2.0), 3.0, plate);
+        }
+        painter.galley(rect.min, galley, color);
+        self.placed.push(rect);
+        rect
     }
 
     /// Names the box drawn at `boxed` (on screen) by `text`, so that the name reads as that
@@ -1136,21 +1156,9 @@ impl Labels {
         spots.extend(spots_in(boxed.shrink(3.0), size));
         for (index, rect) in spots.into_iter().enumerate() {
             let gap = if index < outside_count { 10.0 } else { 2.0 };
-            let inside_area = self.area.contains_rect(rect);
-            if !inside_area
-                || self
-                    .placed
-                    .iter()
-                    .any(|other| other.intersects(rect.expand(gap)))
-            {
-                continue;
+            if self.area.contains_rect(rect) && self.is_free(rect, gap) {
+                return Some(self.put(painter, galley, color, rect, plate));
             }
-            if let Some(plate) = plate {
-                painter.rect_filled(rect.expand(2.0), 3.0, plate);
-            }
-            painter.galley(rect.min, galley, color);
-            self.placed.push(rect);
-            return Some(rect);
         }
         None
     }

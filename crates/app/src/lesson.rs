@@ -103,6 +103,13 @@ pub enum Parts<'a> {
     Only(&'a [&'static str]),
 }
 
+impl Part {
+    /// The part `name` (in a script), holding `what`.
+    pub const fn new(name: &'static str, what: &'static str) -> Self {
+        Self { name, what }
+    }
+}
+
 impl Parts<'_> {
     /// Whether the parts are squeezed to fit the screen (a slide's named parts, shown without
     /// scrolling) rather than drawn at their natural height in a scrolled inspector.

@@ -38,18 +38,11 @@ pub const PSEUDO_CODE: [&str; 9] = [
 ];
 
 /// The inspector's parts a lecture slide can name.
-const BUILD_PART: lesson::Part = lesson::Part {
-    name: "build",
-    what: "the kD build, leaf size and mailboxing",
-};
-const CODE_PART: lesson::Part = lesson::Part {
-    name: "code",
-    what: "the traversal's pseudo-code, the step's lines lit",
-};
-const TREE_PART: lesson::Part = lesson::Part {
-    name: "tree",
-    what: "the tree's numbers and diagram",
-};
+const BUILD_PART: lesson::Part =
+    lesson::Part::new("build", "the kD build, leaf size and mailboxing");
+const CODE_PART: lesson::Part =
+    lesson::Part::new("code", "the traversal's pseudo-code, the step's lines lit");
+const TREE_PART: lesson::Part = lesson::Part::new("tree", "the tree's numbers and diagram");
 const PARTS: [lesson::Part; 3] = [BUILD_PART, CODE_PART, TREE_PART];
 
 /// The colour of the part of the ray on the near side, and on the far side.

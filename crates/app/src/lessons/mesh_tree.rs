@@ -43,22 +43,11 @@ const PIXEL: &str = "pixel";
 const SMALL_TREE_NODES: usize = 63;
 
 /// The inspector's parts a lecture slide can name.
-const RAY_PART: lesson::Part = lesson::Part {
-    name: "ray",
-    what: "the clicked ray and the step's slab table",
-};
-const DEPTHS_PART: lesson::Part = lesson::Part {
-    name: "depths",
-    what: "the depths whose boxes are drawn",
-};
-const TREE_PART: lesson::Part = lesson::Part {
-    name: "tree",
-    what: "the tree's numbers and diagram",
-};
-const NODE_PART: lesson::Part = lesson::Part {
-    name: "node",
-    what: "the selected node",
-};
+const RAY_PART: lesson::Part =
+    lesson::Part::new("ray", "the clicked ray and the step's slab table");
+const DEPTHS_PART: lesson::Part = lesson::Part::new("depths", "the depths whose boxes are drawn");
+const TREE_PART: lesson::Part = lesson::Part::new("tree", "the tree's numbers and diagram");
+const NODE_PART: lesson::Part = lesson::Part::new("node", "the selected node");
 const PARTS: [lesson::Part; 4] = [RAY_PART, DEPTHS_PART, TREE_PART, NODE_PART];
 
 /// The depths a newly built tree opens on: every depth of a small tree; a big tree's first two
