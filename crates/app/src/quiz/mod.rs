@@ -13,7 +13,7 @@ pub mod store;
 use accelviz_quiz::{Expected, Level, Outcome, Response, Session, Verdict, option_letter};
 use egui::{Color32, Key, RichText, Ui};
 
-use crate::canvas::{View2d, palette};
+use crate::canvas::{View2d, palette, readable};
 use crate::stage::SceneTree;
 use figure::{FigureState, figure_ui, scene_tree};
 use store::{Loaded, ProgressStore};
@@ -43,6 +43,8 @@ pub struct QuizMode {
     pub count: usize,
     /// The number being typed.
     pub number_text: String,
+    /// Why the number typed could not be read, said under its field (which keeps the focus).
+    number_problem: Option<String>,
     /// The step whose number field has been given focus (focus is given once per step).
     focused_step: Option<(usize, usize)>,
     /// The step whose "Next" button has been given focus.
@@ -75,6 +77,7 @@ impl QuizMode {
             level: Level::Easy,
             count: DEFAULT_COUNT,
             number_text: String::new(),
+            number_problem: None,
             focused_step: None,
             confirm_new: false,
             next_focused: None,
@@ -205,6 +208,7 @@ impl QuizMode {
                 self.focused_step = None;
                 self.next_focused = None;
                 self.number_text.clear();
+                self.number_problem = None;
                 if say_so {
                     self.message = Some((
                         format!(
@@ -248,6 +252,7 @@ impl QuizMode {
         let moved = self.session.as_mut().is_some_and(Session::move_on);
         if moved {
             self.number_text.clear();
+            self.number_problem = None;
             self.save();
         }
         moved
@@ -534,40 +539,52 @@ impl QuizMode {
             Expected::Number { tolerance, .. } => {
                 let mut submit = false;
                 let within = *tolerance;
-                ui.horizontal(|ui| {
-                    let label = ui.label("Your answer:");
-                    let field = ui
-                        .add(
-                            egui::TextEdit::singleline(&mut self.number_text)
-                                .desired_width(110.0)
-                                .hint_text("a number"),
-                        )
-                        .labelled_by(label.id);
-                    if self.focused_step != Some(place) {
-                        self.focused_step = Some(place);
-                        field.request_focus();
-                    }
-                    if field.lost_focus() && ui.input(|input| input.key_pressed(Key::Enter)) {
-                        submit = true;
-                    }
-                    ui.label(tolerance_text(within))
-                        .on_hover_text("How far from the exact value an answer may be");
-                    if ui.button("Check").clicked() {
-                        submit = true;
-                    }
-                });
+                let field = ui
+                    .horizontal(|ui| {
+                        let label = ui.label("Your answer:");
+                        let field = ui
+                            .add(
+                                egui::TextEdit::singleline(&mut self.number_text)
+                                    .desired_width(110.0)
+                                    .hint_text("a number"),
+                            )
+                            .labelled_by(label.id);
+                        if self.focused_step != Some(place) {
+                            self.focused_step = Some(place);
+                            field.request_focus();
+                        }
+                        if field.lost_focus() && ui.input(|input| input.key_pressed(Key::Enter)) {
+                            submit = true;
+                        }
+                        if field.changed() {
+                            self.number_problem = None;
+                        }
+                        ui.label(tolerance_text(within))
+                            .on_hover_text("How far from the exact value an answer may be");
+                        if ui.button("Check").clicked() {
+                            submit = true;
+                        }
+                        field
+                    })
+                    .inner;
                 if submit {
                     match parse_number(&self.number_text) {
                         Some(value) => {
                             self.answer(Response::Number(value));
                         }
                         None => {
-                            self.message = Some((
-                                format!("'{}' is not a number.", self.number_text.trim()),
-                                true,
+                            // Said by the field, which keeps the focus: Enter had taken it
+                            // away, and a keyboard user could not type again.
+                            self.number_problem = Some(format!(
+                                "'{}' is not a number: type one, such as 2.5",
+                                self.number_text.trim()
                             ));
+                            field.request_focus();
                         }
                     }
+                }
+                if let Some(problem) = &self.number_problem {
+                    ui.colored_label(readable(ui, palette::MISS), problem);
                 }
             }
             expected => {

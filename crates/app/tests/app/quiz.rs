@@ -347,3 +347,53 @@ fn a_new_quiz_asks_before_it_replaces_one_under_way() {
     harness.run();
     assert_eq!(session(&harness).answered(), 0);
 }
+
+/// A number that cannot be read is said under its field, and the field keeps the focus: Enter
+/// had taken it away, and a keyboard user could type nothing more (found taking the quiz in
+/// the desktop window).
+#[test]
+fn a_number_that_cannot_be_read_keeps_the_field_focused() {
+    let path = progress_file("bad-number");
+    let mut harness = quiz_app(&path);
+    {
+        let quiz = &mut harness.state_mut().quiz;
+        quiz.seed_text = "1".into();
+        quiz.count = 9;
+        quiz.start();
+    }
+    harness.run();
+    // To the first step that asks for a number.
+    let mut steps = 0;
+    let value = loop {
+        let ask = session(&harness).ask().unwrap().clone();
+        if let Expected::Number { value, .. } = ask.expected {
+            break value;
+        }
+        answer_by_keyboard(&mut harness, true);
+        press(&mut harness, Key::Enter);
+        steps += 1;
+        assert!(steps < 40, "a number step");
+    };
+    harness.run();
+    type_text(&mut harness, "a2");
+    press(&mut harness, Key::Enter);
+    assert!(!session(&harness).is_revealed(), "nothing was answered");
+    harness.get_by_label_contains("'a2' is not a number");
+    harness.run();
+    assert!(
+        harness.get_by_label("Your answer:").is_focused(),
+        "the field keeps the focus"
+    );
+    press(&mut harness, Key::Backspace);
+    press(&mut harness, Key::Backspace);
+    type_text(&mut harness, &format!("{value}"));
+    press(&mut harness, Key::Enter);
+    assert!(
+        session(&harness).is_revealed(),
+        "the number typed again is taken"
+    );
+    assert!(
+        harness.query_by_label_contains("is not a number").is_none(),
+        "and the problem is gone"
+    );
+}
