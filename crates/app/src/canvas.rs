@@ -1133,7 +1133,6 @@ impl Labels {
     ) -> Option<Rect> {
         let galley = painter.layout_no_wrap(text.to_owned(), font, color);
         let size = galley.size();
-        // (spot, the gap it keeps from other labels).
         let mut spots = Vec::new();
         if outside {
             // Above the top edge's left corner, or below the bottom edge's; then along the

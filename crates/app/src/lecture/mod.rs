@@ -238,8 +238,6 @@ pub struct Lecture {
     pub blank: bool,
     /// The side panels are shown.
     pub panels: bool,
-    /// The inspector's parts the slide names (`panels code,tree`); empty: all of it.
-    pub parts: Vec<&'static str>,
     /// The pointer is lit.
     pub pointer: bool,
     /// The zoom (points per pixel at 1).
@@ -266,7 +264,6 @@ impl Lecture {
             slide: 0,
             blank: false,
             panels: false,
-            parts: Vec::new(),
             pointer: true,
             scale: LECTURE_SCALE,
             message: None,
@@ -282,6 +279,17 @@ impl Lecture {
     /// The slide shown.
     pub fn current(&self) -> &Slide {
         &self.script.slides[self.slide.min(self.script.slides.len() - 1)]
+    }
+
+    /// The inspector's parts the slide names (`panels code,tree`); empty: all of it.
+    pub fn parts(&self) -> &[&'static str] {
+        match self.current() {
+            Slide::Lesson {
+                panels: Panels::Only(parts),
+                ..
+            } => parts,
+            _ => &[],
+        }
     }
 
     /// The question of a question slide.
@@ -336,10 +344,6 @@ impl Lecture {
                 self.pending = Some(if at_end { StartStep::End } else { step });
                 // The panels the slide's point is in; I still turns them on or off.
                 self.panels = panels.on();
-                self.parts = match panels {
-                    Panels::Only(parts) => parts,
-                    Panels::Off | Panels::All => Vec::new(),
-                };
                 Some((index, show))
             }
             Slide::Question { kind, seed, level } => {

@@ -176,7 +176,7 @@ impl AccelvizApp {
                             let parts = self
                                 .lecture
                                 .as_ref()
-                                .map(|lecture| lecture.parts.clone())
+                                .map(|lecture| lecture.parts().to_vec())
                                 .unwrap_or_default();
                             self.lesson_panels_ui(ui, &parts);
                         });

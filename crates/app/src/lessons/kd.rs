@@ -390,7 +390,7 @@ impl KdLesson {
     }
 
     /// The lecture's pseudo-code with the lines the current step runs lit.
-    fn code_ui(&mut self, ui: &mut egui::Ui) {
+    fn code_ui(&self, ui: &mut egui::Ui) {
         ui.heading("The traversal, line by line");
         let view = self.view();
         let lines = view

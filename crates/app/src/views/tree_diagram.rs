@@ -84,11 +84,11 @@ pub fn diagram_ui<V: Vector>(
     // fit the height, rows as tall as the room left allows, down to a readable minimum (a
     // lecture slide's panel shows the tree below the ray's numbers without scrolling).
     let bottom_room = if labelled { 30.0 } else { 16.0 };
-    // And room after it for the notes lessons put under it (what the colours mean, the
-    // selected leaf): two lines of body text.
-    let notes_room =
-        2.0 * ui.text_style_height(&egui::TextStyle::Body) + 2.0 * ui.spacing().item_spacing.y;
     let row_height = if fit_height {
+        // And room after it for the notes lessons put under it (what the colours mean, the
+        // selected leaf): two lines of body text.
+        let notes_room =
+            2.0 * ui.text_style_height(&egui::TextStyle::Body) + 2.0 * ui.spacing().item_spacing.y;
         ((ui.available_height() - bottom_room - notes_room) / (shown_depth + 1) as f32)
             .clamp(MIN_ROW_HEIGHT, ROW_HEIGHT)
     } else {
@@ -145,7 +145,8 @@ pub fn diagram_ui<V: Vector>(
             under_pointer = Some(node);
         }
     }
-    if labelled && radius >= MIN_LABELLED_RADIUS {
+    // (A radius this large means the widest level left room: `labelled`.)
+    if radius >= MIN_LABELLED_RADIUS {
         let plate = ui.visuals().panel_fill;
         let below = radius + 8.0;
         for node in (0..facts.node_count() as u32).filter(|&node| visible(node)) {
