@@ -1,16 +1,20 @@
 //! `accelviz-cli tradeoff`: every structure and every speed/accuracy switch on the same rays,
-//! against the f64 brute-force answer; a table (Markdown, CSV) and two SVG plots.
+//! each ray's answer held to a reference on the same rounded inputs
+//! ([`accelviz_core::outcome`]); a table (Markdown, CSV, JSON), two SVG plots, and an example
+//! ray of each outcome.
 
 use accelviz_core::bvh::BuildParams;
+use accelviz_core::outcome::{Outcome, OutcomeCounts, Reference, ReferenceScene};
 use accelviz_core::{
-    Counters, HitTest, NoObserver, Order, PrimitiveSet, Query, Ray, Real, Structure, TraceOptions,
-    TriangleSet, Vector3, brute_force,
+    Counters, HitTest, Order, PrimitiveSet, Query, Ray, Structure, TraceOptions, TriangleSet,
+    Vector3,
 };
-use accelviz_scene::rays::{RaySpec, random_rays, surface_aim_rays};
+use accelviz_scene::rays::{RayKind, RaySpec, parse_resolution, ray_line};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use glam::{DVec3, Vec3};
 
+use crate::json::JsonObject;
 use crate::parallel::Workers;
 use crate::plot::{Point, Scatter};
 use crate::spec::{Accel, AccelSpec};
@@ -21,22 +25,41 @@ use crate::{BuildArgs, convert_rays, load_mesh};
 pub struct TradeoffArgs {
     #[arg(long, default_value = "builtin:lumpy-sphere", help = crate::mesh_help())]
     mesh: String,
-    /// How many random rays (origins outside the mesh's box, aimed at random points in it).
-    /// Every one is also traced by brute force in f64, which takes rays × triangles tests.
+    /// How many rays of the kind (`--ray-kind`). Every one is also decided by the reference
+    /// in each precision.
     #[arg(long, default_value_t = 10_000)]
     rays: usize,
-    /// Seed of the random rays.
+    /// Seed of the rays.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Instead of random rays, rays aimed exactly at triangle corners and edge points (the
-    /// watertightness test's rays, every k-th of them to make `--rays`): where fast triangle
-    /// tests and f32 slip through.
-    #[arg(long)]
+    /// What rays: random (from around the scene into its box), camera (the benchmark
+    /// camera's), aimed (exactly at triangle corners and edge points, where fast tests and
+    /// f32 slip through), shadow (from camera hits to a point light), ao (short rays from
+    /// camera hits), bounce (a diffuse bounce from each camera hit).
+    #[arg(long, default_value = "random", value_parser = parse_ray_kind)]
+    ray_kind: RayKind,
+    /// The same as `--ray-kind aimed`.
+    #[arg(long, conflicts_with = "ray_kind")]
     aimed: bool,
+    /// The camera image for `--ray-kind camera`, WIDTHxHEIGHT (else about `--rays` pixels).
+    #[arg(long)]
+    camera: Option<String>,
+    /// closest or any (is anything in the way?). Default: any for shadow and ao rays, closest
+    /// otherwise.
+    #[arg(long, value_parser = parse_query)]
+    query: Option<Query>,
     /// Write tradeoff.md, tradeoff.csv, build-vs-traversal.svg and predicted-vs-measured.svg
-    /// here (created if missing). Without it, the Markdown table goes to stdout.
+    /// here (created if missing). Without it, the table goes to stdout.
     #[arg(long)]
     out: Option<String>,
+    /// Print one JSON object per row instead of the table.
+    #[arg(long)]
+    json: bool,
+    /// Write one ray of each outcome per row here, as ray files
+    /// (`STRUCTURE_ORDER_PRECISION_TEST.rays`, a `# outcome` comment before each ray), to open
+    /// in the app or trace with `query`.
+    #[arg(long)]
+    examples: Option<String>,
     /// Rounds: every structure is built, and every row traced, once per round, the rounds
     /// interleaved; each figure is the median of its rounds, with the range it moved in.
     #[arg(long, default_value_t = 5)]
@@ -46,6 +69,34 @@ pub struct TradeoffArgs {
     threads: usize,
     #[command(flatten)]
     build: BuildArgs,
+}
+
+/// Parses `--ray-kind`.
+pub fn parse_ray_kind(name: &str) -> Result<RayKind, String> {
+    RayKind::from_name(name).ok_or_else(|| {
+        let names: Vec<&str> = RayKind::ALL.iter().map(|kind| kind.name()).collect();
+        format!(
+            "'{name}' is not a ray kind; ray kinds are {}",
+            names.join(", ")
+        )
+    })
+}
+
+/// Parses `--query`.
+pub fn parse_query(name: &str) -> Result<Query, String> {
+    match name {
+        "closest" => Ok(Query::Closest),
+        "any" => Ok(Query::Any),
+        _ => Err(format!("'{name}' is not a query; queries are closest, any")),
+    }
+}
+
+/// A query's name as `--query` spells it.
+pub fn query_name(query: Query) -> &'static str {
+    match query {
+        Query::Any => "any",
+        _ => "closest",
+    }
 }
 
 /// The switches, each against the first (near-first, f32, fast): `(order, f64, watertight)`.
@@ -70,8 +121,10 @@ struct Row {
     mrays_per_s: f64,
     /// Half the range of the trace times, in percent of their median.
     trace_spread_percent: f64,
-    wrong_per_million: f64,
-    missed_per_million: f64,
+    outcomes: OutcomeCounts,
+    /// The first ray of each outcome (in [`Outcome::ALL`]'s order), as the row's precision
+    /// rounded it.
+    examples: [Option<RaySpec>; 6],
 }
 
 impl Row {
@@ -81,9 +134,6 @@ impl Row {
             + params.cost.intersection_cost * self.primitives_per_ray
     }
 }
-
-/// A hit as compared: the primitive and the distance.
-type Answer = Option<(u32, f64)>;
 
 pub fn run(args: &TradeoffArgs) -> Result<String> {
     let params = args.build.params()?;
@@ -99,21 +149,26 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         .into_iter()
         .map(AccelSpec::Tree)
         .collect();
-    let (ray_specs, source) = if args.aimed {
-        let all = surface_aim_rays(&mesh.triangles, args.seed);
-        let stride = all.len().div_ceil(args.rays).max(1);
-        let chosen: Vec<RaySpec> = all.into_iter().step_by(stride).collect();
-        let source = format!("aimed:{}:seed{}", chosen.len(), args.seed);
-        (chosen, source)
+    let kind = if args.aimed {
+        RayKind::Aimed
     } else {
-        let rays = random_rays(&mesh.bounds(), args.rays, args.seed);
-        (rays, format!("random:{}:seed{}", args.rays, args.seed))
+        args.ray_kind
     };
-    let reference = brute_force_answers(&mesh.triangles, &ray_specs, &source)?;
+    let query = args.query.unwrap_or(kind.default_query());
+    let camera = args
+        .camera
+        .as_deref()
+        .map(|text| parse_resolution(text).map_err(|error| anyhow::anyhow!("--camera: {error}")))
+        .transpose()?;
+    let ray_specs = kind
+        .rays(&mesh, args.rays, args.seed, camera)
+        .map_err(|problem| anyhow::anyhow!("{}: {problem}", args.mesh))?;
+    let source = format!("{}:{}:seed{}", kind.name(), ray_specs.len(), args.seed);
     let repeat = args.repeat.max(1);
     let workers = Workers::new(args.threads)?;
     let single = Prepared::<Vec3>::new(&mesh.triangles, &ray_specs, &source)?;
     let double = Prepared::<DVec3>::new(&mesh.triangles, &ray_specs, &source)?;
+    let (reference32, reference64) = (single.references(), double.references());
     // Every structure built in both precisions once per round (a configuration is a structure
     // and a precision); the first round's trees are kept.
     let mut trees32: Vec<Option<Accel<Vec3, TriangleSet<Vec3>>>> =
@@ -138,7 +193,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         .collect();
     let traces = interleaved(repeat, keys.len(), |index| {
         let (spec, variant) = keys[index];
-        let options = variant_options(VARIANTS[variant]);
+        let options = variant_options(VARIANTS[variant], query);
         let hits = if VARIANTS[variant].1 {
             trees64[spec].count_hits(&double.rays, &options, &workers)
         } else {
@@ -149,11 +204,11 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     let mut rows = Vec::with_capacity(keys.len());
     for (index, &(spec, variant)) in keys.iter().enumerate() {
         let (order, is_f64, watertight) = VARIANTS[variant];
-        let options = variant_options(VARIANTS[variant]);
-        let (stats, counters, wrong, missed) = if is_f64 {
-            double.evaluate(&trees64[spec], &options, &reference, &params)
+        let options = variant_options(VARIANTS[variant], query);
+        let evaluated = if is_f64 {
+            double.evaluate(&trees64[spec], &options, &reference64, &params)
         } else {
-            single.evaluate(&trees32[spec], &options, &reference, &params)
+            single.evaluate(&trees32[spec], &options, &reference32, &params)
         };
         let count = ray_specs.len() as f64;
         let trace_ms = traces[index].median();
@@ -163,13 +218,13 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
             f64: is_f64,
             watertight,
             build_ms: builds[2 * spec + usize::from(is_f64)].median(),
-            sah_cost: stats.sah_cost,
-            nodes_per_ray: counters.nodes_visited as f64 / count,
-            primitives_per_ray: counters.primitive_tests as f64 / count,
+            sah_cost: evaluated.stats.sah_cost,
+            nodes_per_ray: evaluated.counters.nodes_visited as f64 / count,
+            primitives_per_ray: evaluated.counters.primitive_tests as f64 / count,
             mrays_per_s: count / (trace_ms * 1e3),
             trace_spread_percent: traces[index].spread_percent(),
-            wrong_per_million: wrong as f64 / count * 1e6,
-            missed_per_million: missed as f64 / count * 1e6,
+            outcomes: evaluated.outcomes,
+            examples: evaluated.examples,
         });
     }
     // Table order: by structure, then the variants in their listed order.
@@ -181,17 +236,28 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         (structure, variant)
     });
     let heading = format!(
-        "{} ({} triangles), {} {} rays (seed {}), C_trav {}, C_isect {}, kD empty bonus {}, {} thread(s), median of {repeat} interleaved rounds (±: half their range; rows whose ranges overlap are not shown to differ)",
+        "{} ({} triangles), {} {} rays (seed {}), {} hit, C_trav {}, C_isect {}, kD empty bonus {}, {} thread(s), median of {repeat} interleaved rounds (±: half their range; rows whose ranges overlap are not shown to differ)",
         args.mesh,
         mesh.triangles.len(),
         ray_specs.len(),
-        if args.aimed { "aimed" } else { "random" },
+        kind.name(),
         args.seed,
+        query_name(query),
         params.cost.traversal_cost,
         params.cost.intersection_cost,
         params.cost.empty_bonus,
         args.threads,
     );
+    if let Some(dir) = &args.examples {
+        write_examples(dir, &rows, &heading)?;
+    }
+    if args.json {
+        let lines: Vec<String> = rows
+            .iter()
+            .map(|row| row.json(&params, kind, query))
+            .collect();
+        return Ok(lines.join("\n") + "\n");
+    }
     let markdown = markdown(&rows, &heading, &params);
     let Some(out) = &args.out else {
         return Ok(markdown);
@@ -262,51 +328,11 @@ fn short_name(mesh: &str) -> &str {
     mesh.rsplit('/').next().unwrap_or(mesh)
 }
 
-/// The closest hit of every ray by brute force in f64 with the watertight test: the answer
-/// every configuration is held to. Split over the machine's cores.
-fn brute_force_answers(
-    triangles: &[[[f64; 3]; 3]],
-    ray_specs: &[RaySpec],
-    source: &str,
-) -> Result<Vec<Answer>> {
-    let triangles = TriangleSet::<DVec3>::from_f64(triangles);
-    let rays = convert_rays::<DVec3>(ray_specs, source)?;
-    let options = TraceOptions {
-        query: Query::Closest,
-        ..TraceOptions::default()
-    }
-    .with_robust(true);
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let chunk = rays.len().div_ceil(threads).max(1);
-    let answers = std::thread::scope(|scope| {
-        let workers: Vec<_> = rays
-            .chunks(chunk)
-            .map(|rays| {
-                let triangles = &triangles;
-                scope.spawn(move || {
-                    rays.iter()
-                        .map(|ray| {
-                            brute_force(triangles, ray, &options, &mut NoObserver)
-                                .map(|hit| (hit.primitive, hit.t))
-                        })
-                        .collect::<Vec<Answer>>()
-                })
-            })
-            .collect();
-        workers
-            .into_iter()
-            .map(|worker| worker.join())
-            .collect::<Result<Vec<_>, _>>()
-    });
-    let answers = answers.map_err(|_| anyhow::anyhow!("a brute-force thread failed"))?;
-    Ok(answers.into_iter().flatten().collect())
-}
-
 /// The options of a switch setting `(order, f64, watertight)` (the precision is the tree's).
-fn variant_options((order, _, watertight): (Order, bool, bool)) -> TraceOptions {
+fn variant_options((order, _, watertight): (Order, bool, bool), query: Query) -> TraceOptions {
     let options = TraceOptions {
         order,
-        query: Query::Closest,
+        query,
         ..TraceOptions::default()
     }
     .with_robust(watertight);
@@ -314,58 +340,154 @@ fn variant_options((order, _, watertight): (Order, bool, bool)) -> TraceOptions 
     options
 }
 
-/// The mesh and the rays in one precision.
+/// The mesh and the rays in one precision, and the reference that decides their outcomes.
 struct Prepared<V: Vector3> {
     triangles: TriangleSet<V>,
     rays: Vec<Ray<V>>,
+    reference: ReferenceScene,
+}
+
+/// What an untimed pass over a row's rays found.
+struct Evaluated {
+    stats: accelviz_core::TreeStats,
+    counters: Counters,
+    outcomes: OutcomeCounts,
+    examples: [Option<RaySpec>; 6],
 }
 
 impl<V: Vector3> Prepared<V> {
     fn new(triangles: &[[[f64; 3]; 3]], ray_specs: &[RaySpec], source: &str) -> Result<Self> {
+        let triangles = TriangleSet::from_f64(triangles);
+        let reference = ReferenceScene::new(&triangles);
         Ok(Self {
-            triangles: TriangleSet::from_f64(triangles),
+            triangles,
             rays: convert_rays::<V>(ray_specs, source)?,
+            reference,
         })
     }
 
-    /// Untimed: the tree's statistics, the work counted, and the rays answered wrongly or
-    /// missed against `reference`.
+    /// The reference's answer for every ray, on the machine's cores.
+    fn references(&self) -> Vec<Option<Reference>> {
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let chunk = self.rays.len().div_ceil(threads).max(1);
+        std::thread::scope(|scope| {
+            let workers: Vec<_> = self
+                .rays
+                .chunks(chunk)
+                .map(|rays| {
+                    scope.spawn(move || {
+                        rays.iter()
+                            .map(|ray| self.reference.reference(ray))
+                            .collect::<Vec<_>>()
+                    })
+                })
+                .collect();
+            workers
+                .into_iter()
+                .flat_map(|worker| worker.join().unwrap_or_default())
+                .collect()
+        })
+    }
+
+    /// Untimed: the tree's statistics, the work counted, and every ray's outcome against
+    /// `references`, with the first ray of each.
     fn evaluate(
         &self,
         accel: &Accel<V, TriangleSet<V>>,
         options: &TraceOptions,
-        reference: &[Answer],
+        references: &[Option<Reference>],
         params: &BuildParams,
-    ) -> (accelviz_core::TreeStats, Counters, usize, usize) {
+    ) -> Evaluated {
         let stats = accel.stats(self.triangles.len(), &params.cost);
         let mut stacks = accelviz_core::TraversalStacks::default();
         let mut counters = Counters::default();
-        let (mut wrong, mut missed) = (0usize, 0usize);
-        for (ray, expected) in self.rays.iter().zip(reference) {
+        let mut outcomes = OutcomeCounts::default();
+        let mut examples: [Option<RaySpec>; 6] = Default::default();
+        for (ray, reference) in self.rays.iter().zip(references) {
             let got = accel
                 .trace(ray, options, &mut stacks, &mut counters)
-                .map(|hit| (hit.primitive, hit.t.to_f64()));
-            match (got, expected) {
-                (None, Some(_)) => missed += 1,
-                (Some(_), None) => wrong += 1,
-                (Some((primitive, t)), Some((expected_primitive, expected_t))) => {
-                    // Another primitive at the same distance (a shared edge) is a tie, not
-                    // an error; the tolerance covers f32 rounding of t.
-                    let same_t = (t - expected_t).abs() <= 1e-5 * expected_t.abs().max(1e-30);
-                    if primitive != *expected_primitive && !same_t {
-                        wrong += 1;
-                    }
-                }
-                (None, None) => {}
+                .map(|hit| hit.primitive);
+            let outcome = self
+                .reference
+                .classify(ray, reference.as_ref(), got, options.query);
+            outcomes.add(outcome);
+            let slot = &mut examples[Outcome::ALL
+                .iter()
+                .position(|&each| each == outcome)
+                .unwrap_or(0)];
+            if slot.is_none() {
+                // The ray as this precision rounded it: the ray file names exactly it.
+                let exact = ray.cast::<DVec3>();
+                *slot = Some(RaySpec {
+                    line: 0,
+                    origin: exact.origin.to_array(),
+                    direction: exact.direction.to_array(),
+                    t_min: exact.t_min,
+                    t_max: exact.t_max,
+                });
             }
         }
-        (stats, counters, wrong, missed)
+        Evaluated {
+            stats,
+            counters,
+            outcomes,
+            examples,
+        }
     }
 }
 
+/// Writes each row's example rays to `dir`, one ray file per row.
+fn write_examples(dir: &str, rows: &[Row], heading: &str) -> Result<()> {
+    let dir = std::path::Path::new(dir);
+    std::fs::create_dir_all(dir)
+        .with_context(|| format!("{}: cannot create the directory", dir.display()))?;
+    for row in rows {
+        let mut text = format!(
+            "# accelviz-cli tradeoff: one ray of each outcome of {} {} {} {}\n# {heading}\n",
+            row.structure,
+            row.order.name(),
+            row.precision(),
+            row.test()
+        );
+        for (outcome, example) in Outcome::ALL.iter().zip(&row.examples) {
+            if let Some(ray) = example {
+                text.push_str(&format!(
+                    "# {}: {}\n{}\n",
+                    outcome.name(),
+                    outcome.about(),
+                    ray_line(ray)
+                ));
+            }
+        }
+        let name = format!(
+            "{}_{}_{}_{}.rays",
+            row.structure.replace(':', "-"),
+            row.order.name(),
+            row.precision(),
+            row.test()
+        );
+        let path = dir.join(name);
+        std::fs::write(&path, text)
+            .with_context(|| format!("{}: cannot write the file", path.display()))?;
+    }
+    Ok(())
+}
+
 impl Row {
+    fn precision(&self) -> &'static str {
+        if self.f64 { "f64" } else { "f32" }
+    }
+
+    fn test(&self) -> &'static str {
+        if self.watertight {
+            "watertight"
+        } else {
+            "fast"
+        }
+    }
+
     /// The table's cells: rounded for reading, or every digit (for CSV).
-    fn cells(&self, params: &BuildParams, rounded: bool) -> [String; 13] {
+    fn cells(&self, params: &BuildParams, rounded: bool) -> Vec<String> {
         let number = |value: f64, digits: usize| {
             if rounded {
                 format!("{value:.digits$}")
@@ -373,16 +495,11 @@ impl Row {
                 format!("{value}")
             }
         };
-        [
+        let mut cells = vec![
             self.structure.clone(),
             self.order.name().to_owned(),
-            (if self.f64 { "f64" } else { "f32" }).to_owned(),
-            (if self.watertight {
-                "watertight"
-            } else {
-                "fast"
-            })
-            .to_owned(),
+            self.precision().to_owned(),
+            self.test().to_owned(),
             number(self.build_ms, 1),
             number(self.sah_cost, 1),
             number(self.measured_cost(params), 1),
@@ -390,17 +507,56 @@ impl Row {
             number(self.primitives_per_ray, 1),
             number(self.mrays_per_s, 2),
             number(self.trace_spread_percent, 0),
-            number(self.wrong_per_million, 0),
-            number(self.missed_per_million, 0),
-        ]
+        ];
+        cells.extend(
+            Outcome::ALL
+                .iter()
+                .map(|&outcome| number(self.outcomes.per_million(outcome), 0)),
+        );
+        cells
+    }
+
+    /// The row as one JSON object.
+    fn json(&self, params: &BuildParams, kind: RayKind, query: Query) -> String {
+        let outcomes = Outcome::ALL
+            .iter()
+            .fold(JsonObject::new(), |object, &outcome| {
+                object.number(outcome.name(), self.outcomes.per_million(outcome))
+            })
+            .finish();
+        JsonObject::new()
+            .string("structure", &self.structure)
+            .string("order", self.order.name())
+            .string("precision", self.precision())
+            .string("test", self.test())
+            .string("ray_kind", kind.name())
+            .string("query", query_name(query))
+            .number("build_ms", self.build_ms)
+            .number("sah_cost", self.sah_cost)
+            .number("measured_cost", self.measured_cost(params))
+            .number("nodes_per_ray", self.nodes_per_ray)
+            .number("prims_per_ray", self.primitives_per_ray)
+            .number("mrays_per_s", self.mrays_per_s)
+            .number("spread_pct", self.trace_spread_percent)
+            .raw("outcomes", &outcomes)
+            .finish()
     }
 }
 
+/// The outcome columns' headings, in [`Outcome::ALL`]'s order.
+const OUTCOME_HEADINGS: [&str; 6] = ["agree", "tie", "graze", "leak", "false hit", "wrong"];
+
 fn markdown(rows: &[Row], heading: &str, params: &BuildParams) -> String {
+    let outcomes: Vec<String> = OUTCOME_HEADINGS
+        .iter()
+        .map(|name| format!("{name} /M"))
+        .collect();
     let mut out = format!(
-        "{heading}. Wrong and missed: against brute force in f64 with the watertight test, per million rays. Measured cost: C_trav·nodes + C_isect·primitives per ray, comparable with the SAH cost.\n\n\
-         | structure | order | precision | triangle test | build ms | SAH cost | measured cost | nodes/ray | prims/ray | Mrays/s | ±% | wrong /M | missed /M |\n\
-         |---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n"
+        "{heading}. Outcomes per million rays, against a reference on the same rounded inputs: agree, tie (another triangle at the same point), graze (a silhouette point missed: rounding decides), leak (slipped through the surface), false hit, wrong. Measured cost: C_trav·nodes + C_isect·primitives per ray, comparable with the SAH cost.\n\n\
+         | structure | order | precision | triangle test | build ms | SAH cost | measured cost | nodes/ray | prims/ray | Mrays/s | ±% | {} |\n\
+         |---|---|---|---|---:|---:|---:|---:|---:|---:|---:|{}\n",
+        outcomes.join(" | "),
+        "---:|".repeat(Outcome::ALL.len())
     );
     for row in rows {
         out.push_str(&format!("| {} |\n", row.cells(params, true).join(" | ")));
@@ -410,8 +566,12 @@ fn markdown(rows: &[Row], heading: &str, params: &BuildParams) -> String {
 
 fn csv(rows: &[Row], params: &BuildParams) -> String {
     let mut out = String::from(
-        "structure,order,precision,triangle_test,build_ms,sah_cost,measured_cost,nodes_per_ray,prims_per_ray,mrays_per_s,trace_spread_percent,wrong_per_million,missed_per_million\n",
+        "structure,order,precision,triangle_test,build_ms,sah_cost,measured_cost,nodes_per_ray,prims_per_ray,mrays_per_s,trace_spread_percent",
     );
+    for outcome in Outcome::ALL {
+        out.push_str(&format!(",{}_per_million", outcome.name()));
+    }
+    out.push('\n');
     for row in rows {
         out.push_str(&row.cells(params, false).join(","));
         out.push('\n');

@@ -638,25 +638,30 @@ fn sah_lists_every_candidate_with_its_parts() {
     );
 }
 
-/// `tradeoff`: every structure × switch row, in Markdown and CSV, and two plots; the
-/// watertight rows never disagree with f64 brute force, even on rays aimed at vertices and
-/// edges.
+/// `tradeoff`: every structure × switch row, in Markdown and CSV, and two plots; on rays aimed
+/// at the vertices and edges of a closed mesh the watertight rows have no leaks, false hits
+/// or wrong answers, and the fast rows leak somewhere.
 #[test]
 fn tradeoff_writes_the_table_and_the_plots() {
     let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("tradeoff");
     let _ = std::fs::remove_dir_all(&out);
     let out_text = out.to_string_lossy().into_owned();
+    let examples = out.join("examples");
+    let examples_text = examples.to_string_lossy().into_owned();
     let output = cli(&[
         "tradeoff",
         "--mesh",
         "builtin:icosphere",
-        "--aimed",
+        "--ray-kind",
+        "aimed",
         "--rays",
         "600",
         "--repeat",
         "1",
         "--out",
         &out_text,
+        "--examples",
+        &examples_text,
     ]);
     assert!(output.status.success(), "{}", stderr(&output));
     assert!(stdout(&output).contains("| kd:sah-perfect | near-first | f64 | watertight |"));
@@ -682,15 +687,32 @@ fn tradeoff_writes_the_table_and_the_plots() {
             let value: f64 = row[column(name)].parse().unwrap();
             assert!(value.is_finite() && value > 0.0, "{name} in {row:?}");
         }
+        let outcomes: f64 = accelviz_core::outcome::Outcome::ALL
+            .iter()
+            .map(|outcome| {
+                row[column(&format!("{}_per_million", outcome.name()))]
+                    .parse::<f64>()
+                    .unwrap()
+            })
+            .sum();
+        assert!((outcomes - 1e6).abs() < 1e-3, "{row:?}");
         if row[column("triangle_test")] == "watertight" {
-            assert_eq!(row[column("wrong_per_million")], "0", "{row:?}");
-            assert_eq!(row[column("missed_per_million")], "0", "{row:?}");
+            for name in ["leak", "false_hit", "wrong"] {
+                assert_eq!(row[column(&format!("{name}_per_million"))], "0", "{row:?}");
+            }
         }
     }
     // The fast test leaks on these rays somewhere: the table shows the trade.
     assert!(rows.iter().any(
-        |row| row[column("triangle_test")] == "fast" && row[column("wrong_per_million")] != "0"
+        |row| row[column("triangle_test")] == "fast" && row[column("leak_per_million")] != "0"
     ));
+    // One ray of each outcome a row had, in a ray file that reads back; a fast f32 leak is
+    // among them.
+    let leak =
+        std::fs::read_to_string(examples.join("bvh-sah-sweep_near-first_f32_fast.rays")).unwrap();
+    assert!(leak.contains("# leak: "), "{leak}");
+    let rays = accelviz_scene::rays::parse_rays(&leak, "examples").unwrap();
+    assert!(rays.len() >= 2, "agree and leak at least: {leak}");
     for plot in ["build-vs-traversal.svg", "predicted-vs-measured.svg"] {
         let svg = std::fs::read_to_string(out.join(plot)).unwrap();
         assert!(
@@ -730,6 +752,58 @@ fn tradeoff_writes_the_table_and_the_plots() {
     );
     assert_fails(&["tradeoff", "--rays", "0"], "--rays must be at least 1");
     assert_fails(&["tradeoff", "--mesh", "/no/such.obj"], "/no/such.obj");
+}
+
+/// `tradeoff --json`: one object per row with the ray kind, the query and every outcome per
+/// million (adding up to a million); shadow rays default to the any-hit query.
+#[test]
+fn tradeoff_json_names_the_rays_the_query_and_the_outcomes() {
+    let output = cli(&[
+        "tradeoff",
+        "--mesh",
+        "builtin:teapot",
+        "--ray-kind",
+        "shadow",
+        "--rays",
+        "300",
+        "--repeat",
+        "1",
+        "--json",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let text = stdout(&output);
+    let rows: Vec<serde_json::Value> = text
+        .lines()
+        .map(|line| serde_json::from_str(line).unwrap())
+        .collect();
+    assert_eq!(rows.len(), accelviz_core::Structure::compared().len() * 5);
+    for row in &rows {
+        assert_eq!(row["ray_kind"], "shadow", "{row}");
+        assert_eq!(row["query"], "any", "{row}");
+        assert!(["fast", "watertight"].contains(&row["test"].as_str().unwrap()));
+        for field in [
+            "build_ms",
+            "sah_cost",
+            "measured_cost",
+            "mrays_per_s",
+            "spread_pct",
+        ] {
+            assert!(row[field].as_f64().unwrap().is_finite(), "{field}: {row}");
+        }
+        let sum: f64 = ["agree", "tie", "graze", "leak", "false_hit", "wrong"]
+            .iter()
+            .map(|name| row["outcomes"][name].as_f64().unwrap())
+            .sum();
+        assert!((sum - 1e6).abs() < 1e-3, "{row}");
+    }
+    assert_fails(
+        &["tradeoff", "--ray-kind", "sideways"],
+        "'sideways' is not a ray kind; ray kinds are random, camera, aimed, shadow, ao, bounce",
+    );
+    assert_fails(
+        &["tradeoff", "--query", "nearest"],
+        "'nearest' is not a query",
+    );
 }
 
 #[test]

@@ -21,6 +21,8 @@
 //! - [`structure`]: the catalogue of every structure (`bvh:middle` … `kd:sah-perfect`), built
 //!   into a [`Tree`]; [`build_observer`]: how a builder reports each node and why it made each
 //!   leaf; [`facts`]: what views show about a tree (boxes, cells, paths, depths), computed once.
+//! - [`outcome`]: a traced ray's answer against a reference that is sure of itself on the
+//!   same rounded inputs: agree, tie, graze, leak, false hit or wrong.
 //! - [`camera`]: which ray goes through which pixel (the benchmark's camera rays, the app's
 //!   3D view and clicks); [`heatmap`]: every pixel's traversal cost, counted by the one
 //!   traversal.
@@ -40,6 +42,7 @@ pub mod heatmap;
 pub mod kd;
 pub mod math;
 pub mod observer;
+pub mod outcome;
 pub mod primitive;
 pub mod query;
 pub mod ray;

@@ -478,6 +478,236 @@ pub fn surface_aim_rays(triangles: &[[[f64; 3]; 3]], seed: u64) -> Vec<RaySpec> 
     rays
 }
 
+/// The kinds of rays accelviz makes, from a seed, the same on every machine: what a renderer
+/// traces, from the coherent to the incoherent (`--ray-kind` wherever rays are made).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum RayKind {
+    /// From a sphere around the scene towards random points in its box ([`random_rays`]).
+    #[default]
+    Random,
+    /// The benchmark camera's primary rays ([`camera_rays`]): coherent.
+    Camera,
+    /// Aimed exactly at triangle corners and edge points ([`surface_aim_rays`]): where
+    /// rounding decides.
+    Aimed,
+    /// From camera rays' hits, just off the surface, to a point light; `t_max` at the light.
+    Shadow,
+    /// A few short cosine-distributed rays from each camera ray's hit (ambient occlusion);
+    /// `t_max` a small share of the scene's size.
+    Ao,
+    /// One diffuse bounce from each camera ray's hit: incoherent secondary rays.
+    Bounce,
+}
+
+/// Ambient occlusion rays made at each hit.
+pub const AO_RAYS_PER_HIT: usize = 4;
+
+/// The reach of an ambient occlusion ray, as a share of the scene's bounding radius.
+pub const AO_REACH: f64 = 0.1;
+
+impl RayKind {
+    /// Every kind.
+    pub const ALL: [RayKind; 6] = [
+        RayKind::Random,
+        RayKind::Camera,
+        RayKind::Aimed,
+        RayKind::Shadow,
+        RayKind::Ao,
+        RayKind::Bounce,
+    ];
+
+    /// Its name on the command line and in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            RayKind::Random => "random",
+            RayKind::Camera => "camera",
+            RayKind::Aimed => "aimed",
+            RayKind::Shadow => "shadow",
+            RayKind::Ao => "ao",
+            RayKind::Bounce => "bounce",
+        }
+    }
+
+    /// The kind of that [`RayKind::name`].
+    pub fn from_name(name: &str) -> Option<RayKind> {
+        RayKind::ALL.into_iter().find(|kind| kind.name() == name)
+    }
+
+    /// One line on what the rays are.
+    pub fn about(self) -> &'static str {
+        match self {
+            RayKind::Random => "from around the scene to random points in its box",
+            RayKind::Camera => "the benchmark camera's primary rays (coherent)",
+            RayKind::Aimed => "aimed exactly at triangle corners and edge points",
+            RayKind::Shadow => "from camera hits to a point light, any hit",
+            RayKind::Ao => "short cosine-distributed rays from camera hits, any hit",
+            RayKind::Bounce => "one diffuse bounce from each camera hit (incoherent)",
+        }
+    }
+
+    /// The query a renderer asks of these rays: any hit for shadow and occlusion rays (is
+    /// anything in the way?), the closest hit otherwise.
+    pub fn default_query(self) -> accelviz_core::Query {
+        match self {
+            RayKind::Shadow | RayKind::Ao => accelviz_core::Query::Any,
+            _ => accelviz_core::Query::Closest,
+        }
+    }
+
+    /// `count` rays of this kind for `mesh` from `seed` (a camera's are its `camera` image
+    /// if given, else about `count` pixels; aimed rays are every k-th of all of them, to make
+    /// about `count`). Fails only when the camera sees too little of the mesh to start
+    /// secondary rays from.
+    pub fn rays(
+        self,
+        mesh: &crate::Mesh,
+        count: usize,
+        seed: u64,
+        camera: Option<(usize, usize)>,
+    ) -> Result<Vec<RaySpec>, String> {
+        Ok(match self {
+            RayKind::Random => random_rays(&mesh.bounds(), count, seed),
+            RayKind::Camera => {
+                let (width, height) = camera.unwrap_or_else(|| square_image(count));
+                camera_rays(&mesh.bounds(), width, height)
+            }
+            RayKind::Aimed => {
+                let all = surface_aim_rays(&mesh.triangles, seed);
+                let stride = all.len().div_ceil(count.max(1)).max(1);
+                all.into_iter().step_by(stride).collect()
+            }
+            RayKind::Shadow | RayKind::Ao | RayKind::Bounce => {
+                secondary_rays(self, mesh, count, seed)?
+            }
+        })
+    }
+}
+
+/// An image of about `pixels` pixels, as square as can be.
+fn square_image(pixels: usize) -> (usize, usize) {
+    let width = (pixels.max(1) as f64).sqrt().ceil() as usize;
+    (width, pixels.max(1).div_ceil(width))
+}
+
+/// Where the shadow rays' point light is: above, right of and in front of the scene, as the
+/// benchmark camera sees it, three bounding radii from its centre.
+pub fn light_position(bounds: &Aabb<DVec3>) -> DVec3 {
+    let (center, radius) = bounding_sphere_of_box(bounds);
+    center + DVec3::new(0.6, 1.2, 0.9).normalize() * (3.0 * radius)
+}
+
+/// How far secondary rays start off the surface, along its normal, towards the side the
+/// camera ray came from: a share of the scene's size, and never less than a few units in the
+/// last place of the hit point (so that rounding cannot put the origin back on the surface).
+pub fn surface_offset(bounds: &Aabb<DVec3>, point: DVec3) -> f64 {
+    let (_, radius) = bounding_sphere_of_box(bounds);
+    (1e-5 * radius).max(point.abs().max_element() * 64.0 * f32::EPSILON as f64)
+}
+
+/// Shadow, ambient occlusion or bounce rays: camera rays through seeded random points of
+/// the benchmark camera's image are traced (in f64, watertight) until `count` rays are made
+/// from their hits.
+fn secondary_rays(
+    kind: RayKind,
+    mesh: &crate::Mesh,
+    count: usize,
+    seed: u64,
+) -> Result<Vec<RaySpec>, String> {
+    use accelviz_core::bvh::{BinnedSah, BuildParams, Builder, TraversalStack, traverse};
+    use accelviz_core::{NoObserver, PrimitiveSet, TraceOptions, TriangleSet};
+
+    let bounds = mesh.bounds();
+    let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
+    let bvh = BinnedSah::default().build(&triangles.all_bounds(), &BuildParams::default());
+    let camera = accelviz_core::camera::Camera::framing(&bounds);
+    let light = light_position(&bounds);
+    let (_, radius) = bounding_sphere_of_box(&bounds);
+    let options = TraceOptions::default().with_robust(true);
+    let mut stack = TraversalStack::new();
+    let mut rng = SplitMix64::new(seed);
+    let mut rays = Vec::with_capacity(count);
+    // A camera that sees the mesh hits it often; one that sees a sliver may never make
+    // `count` rays: give up after many tries.
+    let attempts = 64 * count.max(16);
+    const IMAGE: usize = 1 << 16;
+    for _ in 0..attempts {
+        if rays.len() >= count {
+            break;
+        }
+        let (x, y) = (rng.next_f64() * IMAGE as f64, rng.next_f64() * IMAGE as f64);
+        let (origin, direction) = camera.ray_through(x, y, IMAGE, IMAGE);
+        let Ok(primary) = Ray::try_new(origin, direction) else {
+            continue;
+        };
+        let Some(hit) = traverse(
+            &bvh,
+            &triangles,
+            &primary,
+            &options,
+            &mut stack,
+            &mut NoObserver,
+        ) else {
+            continue;
+        };
+        let [a, b, c] = triangles.triangles()[hit.primitive as usize];
+        let mut normal = (b - a).cross(c - a).normalize_or_zero();
+        if normal == DVec3::ZERO {
+            continue;
+        }
+        // The side the camera sees.
+        if normal.dot(direction) > 0.0 {
+            normal = -normal;
+        }
+        let point = primary.at(hit.t);
+        let start = point + normal * surface_offset(&bounds, point);
+        match kind {
+            RayKind::Shadow => {
+                let to_light = light - start;
+                // A light behind the surface casts no shadow ray (a renderer would not trace
+                // one).
+                if to_light.dot(normal) <= 0.0 {
+                    continue;
+                }
+                rays.push(RaySpec {
+                    t_max: 1.0,
+                    ..RaySpec::generated(start, to_light)
+                });
+            }
+            RayKind::Ao => {
+                for _ in 0..AO_RAYS_PER_HIT.min(count - rays.len()) {
+                    let direction = cosine_direction(&mut rng, normal);
+                    rays.push(RaySpec {
+                        t_max: AO_REACH * radius,
+                        ..RaySpec::generated(start, direction)
+                    });
+                }
+            }
+            _ => rays.push(RaySpec::generated(
+                start,
+                cosine_direction(&mut rng, normal),
+            )),
+        }
+    }
+    if rays.len() < count {
+        return Err(format!(
+            "the benchmark camera sees too little of the mesh to start {count} {} rays from its hits",
+            kind.name()
+        ));
+    }
+    Ok(rays)
+}
+
+/// A unit direction about `normal`, with density proportional to the cosine of its angle
+/// to it (Malley's method: a uniform point of the unit disc lifted onto the hemisphere).
+fn cosine_direction(rng: &mut SplitMix64, normal: DVec3) -> DVec3 {
+    let radius = rng.next_f64().sqrt();
+    let angle = rng.next_f64() * std::f64::consts::TAU;
+    let (x, y) = (radius * angle.cos(), radius * angle.sin());
+    let z = (1.0 - x * x - y * y).max(0.0).sqrt();
+    let (tangent, bitangent) = normal.any_orthonormal_pair();
+    (tangent * x + bitangent * y + normal * z).normalize()
+}
+
 #[cfg(test)]
 mod tests {
     #[test]

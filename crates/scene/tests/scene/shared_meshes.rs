@@ -13,7 +13,7 @@ use accelviz_scene::obj::load_obj;
 use accelviz_scene::rays::random_rays;
 use glam::{DVec3, Vec3};
 
-fn shared_mesh(name: &str) -> Mesh {
+pub fn shared_mesh(name: &str) -> Mesh {
     let path = format!(
         "{}/../../../shared/meshes/{name}",
         env!("CARGO_MANIFEST_DIR")
@@ -70,7 +70,7 @@ fn agree<V: Vector3>(mesh: &Mesh, ray_count: usize, options: TraceOptions) -> us
 }
 
 #[test]
-fn shared_meshes_load_and_agree_with_brute_force() {
+pub fn shared_meshes_load_and_agree_with_brute_force() {
     for (name, triangle_count, rays) in [
         ("suzanne.obj", 968, 4000),
         ("rocker-arm.obj", 20_088, 2000),
