@@ -1,5 +1,6 @@
-//! Scatter plots as standalone SVG: labelled points in two colour families, round-number
-//! ticks, an optional `y = x` line. Sized and lettered to be read on a projected slide.
+//! Plots as standalone SVG: scatter plots of labelled points in two colour families, with
+//! round-number ticks and an optional `y = x` line, and lines on log-log axes with marks.
+//! Sized and lettered to be read on a projected slide.
 
 use std::fmt::Write;
 
@@ -326,6 +327,159 @@ impl Scatter {
     }
 }
 
+/// Lines on log-log axes (total time against rays), each named at its right end, with
+/// vertical marks (the crossovers) labelled at the top.
+pub struct Lines {
+    pub title: String,
+    pub x_label: String,
+    pub y_label: String,
+    /// Each line: its name and its points, left to right (positive coordinates).
+    pub lines: Vec<(String, Vec<(f64, f64)>)>,
+    /// Vertical marks: where, and what to write there.
+    pub marks: Vec<(f64, String)>,
+}
+
+/// Colours of [`Lines`], told apart on a projector and by most colour-blind readers.
+const LINE_COLOURS: [&str; 8] = [
+    "#1f6fb4", "#d1542b", "#2a9d3c", "#8e44ad", "#b8860b", "#17a2b8", "#555555", "#e83e8c",
+];
+
+impl Lines {
+    /// The plot as an SVG document.
+    pub fn to_svg(&self) -> String {
+        let points = self.lines.iter().flat_map(|(_, points)| points.iter());
+        let positive: Vec<&(f64, f64)> = points
+            .filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
+            .collect();
+        let range = |value: fn(&(f64, f64)) -> f64| {
+            let (low, high) = positive
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |acc, p| {
+                    (acc.0.min(value(p)), acc.1.max(value(p)))
+                });
+            if low > high { (1.0, 10.0) } else { (low, high) }
+        };
+        let (x_low, x_high) = range(|p| p.0);
+        let (y_low, y_high) = range(|p| p.1);
+        let (y_low, y_high) = (y_low / 1.5, y_high * 1.5);
+        // Room on the right for the lines' names.
+        let right = 190.0;
+        let plot_width = WIDTH - LEFT - right;
+        let plot_height = HEIGHT - TOP - BOTTOM;
+        let to_x = |x: f64| LEFT + (x / x_low).ln() / (x_high / x_low).ln().max(1e-12) * plot_width;
+        let to_y = |y: f64| {
+            TOP + plot_height - (y / y_low).ln() / (y_high / y_low).ln().max(1e-12) * plot_height
+        };
+        let mut svg = String::new();
+        let _ = writeln!(
+            svg,
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" viewBox="0 0 {WIDTH} {HEIGHT}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#
+        );
+        let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
+        let _ = writeln!(
+            svg,
+            r#"<text x="{}" y="38" font-size="24" text-anchor="middle" font-weight="bold">{}</text>"#,
+            WIDTH / 2.0,
+            escape(&self.title)
+        );
+        // Decades only: a log-log plot over six decades has room for no more.
+        let decades = |low: f64, high: f64| {
+            log_ticks(low, high)
+                .into_iter()
+                .filter(|tick| (tick.log10() - tick.log10().round()).abs() < 1e-9)
+                .collect::<Vec<_>>()
+        };
+        for x in decades(x_low, x_high) {
+            let px = to_x(x);
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{px:.1}" y1="{TOP}" x2="{px:.1}" y2="{:.1}" stroke="#e4e4e4"/><text x="{px:.1}" y="{:.1}" font-size="16" text-anchor="middle">{}</text>"##,
+                TOP + plot_height,
+                TOP + plot_height + 24.0,
+                tick_text(x)
+            );
+        }
+        for y in decades(y_low, y_high) {
+            let py = to_y(y);
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{LEFT}" y1="{py:.1}" x2="{:.1}" y2="{py:.1}" stroke="#e4e4e4"/><text x="{:.1}" y="{:.1}" font-size="16" text-anchor="end">{}</text>"##,
+                LEFT + plot_width,
+                LEFT - 10.0,
+                py + 5.0,
+                tick_text(y)
+            );
+        }
+        let _ = writeln!(
+            svg,
+            r##"<rect x="{LEFT}" y="{TOP}" width="{plot_width}" height="{plot_height}" fill="none" stroke="#444"/>"##
+        );
+        for (x, label) in &self.marks {
+            if !(x_low..=x_high).contains(x) {
+                continue;
+            }
+            let px = to_x(*x);
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{px:.1}" y1="{TOP}" x2="{px:.1}" y2="{:.1}" stroke="#888" stroke-dasharray="6 5"/><text x="{:.1}" y="{:.1}" font-size="14" fill="#444" transform="rotate(-90 {:.1} {:.1})" text-anchor="end">{}</text>"##,
+                TOP + plot_height,
+                px - 6.0,
+                TOP + 8.0,
+                px - 6.0,
+                TOP + 8.0,
+                escape(label)
+            );
+        }
+        // The lines, then their names at their right ends, kept apart.
+        let mut ends: Vec<(f64, usize)> = Vec::new();
+        for (index, (_, points)) in self.lines.iter().enumerate() {
+            let colour = LINE_COLOURS[index % LINE_COLOURS.len()];
+            let path: Vec<String> = points
+                .iter()
+                .filter(|(x, y)| *x > 0.0 && *y > 0.0)
+                .map(|&(x, y)| format!("{:.1},{:.1}", to_x(x), to_y(y)))
+                .collect();
+            let _ = writeln!(
+                svg,
+                r#"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="3"/>"#,
+                path.join(" ")
+            );
+            if let Some(&(_, y)) = points.last() {
+                ends.push((to_y(y), index));
+            }
+        }
+        ends.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut last = f64::NEG_INFINITY;
+        for (y, index) in ends {
+            let y = y.max(last + 18.0);
+            last = y;
+            let colour = LINE_COLOURS[index % LINE_COLOURS.len()];
+            let _ = writeln!(
+                svg,
+                r#"<text x="{:.1}" y="{:.1}" font-size="15" fill="{colour}">{}</text>"#,
+                LEFT + plot_width + 8.0,
+                y + 5.0,
+                escape(&self.lines[index].0)
+            );
+        }
+        let _ = writeln!(
+            svg,
+            r#"<text x="{:.1}" y="{:.1}" font-size="18" text-anchor="middle">{}</text>"#,
+            LEFT + plot_width / 2.0,
+            HEIGHT - 24.0,
+            escape(&self.x_label)
+        );
+        let _ = writeln!(
+            svg,
+            r#"<text transform="translate(28 {:.1}) rotate(-90)" font-size="18" text-anchor="middle">{}</text>"#,
+            TOP + plot_height / 2.0,
+            escape(&self.y_label)
+        );
+        svg.push_str("</svg>\n");
+        svg
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -378,5 +532,24 @@ mod tests {
         );
         assert!(svg.contains("t &lt;1&gt;") && svg.contains("b&amp;c"));
         assert!(!svg.contains("skipped") && !svg.contains("NaN"));
+    }
+
+    #[test]
+    fn lines_draw_every_line_its_name_and_the_marks_in_range() {
+        let plot = Lines {
+            title: "total".into(),
+            x_label: "rays".into(),
+            y_label: "ms".into(),
+            lines: vec![
+                ("quick".into(), vec![(1e3, 11.0), (1e9, 1e6)]),
+                ("good".into(), vec![(1e3, 100.0), (1e9, 5e5)]),
+            ],
+            marks: vec![(1.8e5, "1.8e5: good".into()), (1e12, "outside".into())],
+        };
+        let svg = plot.to_svg();
+        assert_eq!(svg.matches("<polyline").count(), 2);
+        assert!(svg.contains(">quick</text>") && svg.contains(">good</text>"));
+        assert!(svg.contains("1.8e5: good") && !svg.contains("outside"));
+        assert!(svg.contains(">1e6</text>"), "decade ticks");
     }
 }

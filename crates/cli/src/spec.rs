@@ -136,6 +136,20 @@ impl<V: Vector, P: PrimitiveSet<V>> Accel<'_, V, P> {
     }
 }
 
+impl<V: accelviz_core::Vector3, P: PrimitiveSet<V>> Accel<'_, V, P> {
+    /// The tree's end-point overlap over `triangles` (in their own numbering), for a BVH (a
+    /// wide one's is the binary tree's it was collapsed from); `None` for a kD-tree, whose
+    /// cells do not overlap, and for brute force.
+    pub fn epo(&self, triangles: &[[V; 3]], cost: &SahCost) -> Option<f64> {
+        match self {
+            Accel::Tree(tree @ (Tree::Bvh(_) | Tree::Bvh4(_) | Tree::Bvh8(_)), _) => {
+                Some(accelviz_core::quality::epo(tree, triangles, cost))
+            }
+            _ => None,
+        }
+    }
+}
+
 impl<V: Vector, P: PrimitiveSet<V> + Sync> Accel<'_, V, P> {
     /// Traces every ray on `workers` with the observer that does nothing (what benchmarks
     /// time); returns the number of hits. (Kept out of line so profiles can single it out.)

@@ -3,6 +3,7 @@
 //! ([`accelviz_core::outcome`]); a table (Markdown, CSV, JSON), two SVG plots, and an example
 //! ray of each outcome.
 
+use accelviz_core::break_even::{Contender, Crossover, Fastest, crossovers, fastest_at};
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::outcome::{Outcome, OutcomeCounts, Reference, ReferenceScene};
 use accelviz_core::{
@@ -16,7 +17,7 @@ use glam::{DVec3, Vec3};
 
 use crate::json::JsonObject;
 use crate::parallel::Workers;
-use crate::plot::{Point, Scatter};
+use crate::plot::{Lines, Point, Scatter};
 use crate::spec::{Accel, AccelSpec};
 use crate::timing::interleaved;
 use crate::{BuildArgs, convert_rays, load_mesh};
@@ -116,6 +117,8 @@ struct Row {
     watertight: bool,
     build_ms: f64,
     sah_cost: f64,
+    /// End-point overlap (BVHs only).
+    epo: Option<f64>,
     nodes_per_ray: f64,
     primitives_per_ray: f64,
     mrays_per_s: f64,
@@ -219,6 +222,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
             watertight,
             build_ms: builds[2 * spec + usize::from(is_f64)].median(),
             sah_cost: evaluated.stats.sah_cost,
+            epo: evaluated.epo,
             nodes_per_ray: evaluated.counters.nodes_visited as f64 / count,
             primitives_per_ray: evaluated.counters.primitive_tests as f64 / count,
             mrays_per_s: count / (trace_ms * 1e3),
@@ -251,14 +255,16 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     if let Some(dir) = &args.examples {
         write_examples(dir, &rows, &heading)?;
     }
+    let break_even = BreakEven::of(&rows);
     if args.json {
-        let lines: Vec<String> = rows
+        let mut lines: Vec<String> = rows
             .iter()
             .map(|row| row.json(&params, kind, query))
             .collect();
+        lines.push(break_even.json());
         return Ok(lines.join("\n") + "\n");
     }
-    let markdown = markdown(&rows, &heading, &params);
+    let markdown = markdown(&rows, &heading, &params) + &break_even.markdown();
     let Some(out) = &args.out else {
         return Ok(markdown);
     };
@@ -308,6 +314,10 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     };
     let files = [
         ("tradeoff.md", markdown.clone()),
+        (
+            "total-vs-rays.svg",
+            break_even.plot(short_name(&args.mesh)).to_svg(),
+        ),
         ("tradeoff.csv", csv(&rows, &params)),
         ("build-vs-traversal.svg", build_plot.to_svg()),
         ("predicted-vs-measured.svg", sah_plot.to_svg()),
@@ -350,6 +360,7 @@ struct Prepared<V: Vector3> {
 /// What an untimed pass over a row's rays found.
 struct Evaluated {
     stats: accelviz_core::TreeStats,
+    epo: Option<f64>,
     counters: Counters,
     outcomes: OutcomeCounts,
     examples: [Option<RaySpec>; 6],
@@ -399,6 +410,7 @@ impl<V: Vector3> Prepared<V> {
         params: &BuildParams,
     ) -> Evaluated {
         let stats = accel.stats(self.triangles.len(), &params.cost);
+        let epo = accel.epo(self.triangles.triangles(), &params.cost);
         let mut stacks = accelviz_core::TraversalStacks::default();
         let mut counters = Counters::default();
         let mut outcomes = OutcomeCounts::default();
@@ -429,6 +441,7 @@ impl<V: Vector3> Prepared<V> {
         }
         Evaluated {
             stats,
+            epo,
             counters,
             outcomes,
             examples,
@@ -502,6 +515,7 @@ impl Row {
             self.test().to_owned(),
             number(self.build_ms, 1),
             number(self.sah_cost, 1),
+            self.epo.map_or_else(|| "".to_owned(), |epo| number(epo, 1)),
             number(self.measured_cost(params), 1),
             number(self.nodes_per_ray, 1),
             number(self.primitives_per_ray, 1),
@@ -533,6 +547,7 @@ impl Row {
             .string("query", query_name(query))
             .number("build_ms", self.build_ms)
             .number("sah_cost", self.sah_cost)
+            .number("epo", self.epo.unwrap_or(f64::NAN))
             .number("measured_cost", self.measured_cost(params))
             .number("nodes_per_ray", self.nodes_per_ray)
             .number("prims_per_ray", self.primitives_per_ray)
@@ -552,9 +567,9 @@ fn markdown(rows: &[Row], heading: &str, params: &BuildParams) -> String {
         .map(|name| format!("{name} /M"))
         .collect();
     let mut out = format!(
-        "{heading}. Outcomes per million rays, against a reference on the same rounded inputs: agree, tie (another triangle at the same point), graze (a silhouette point missed: rounding decides), leak (slipped through the surface), false hit, wrong. Measured cost: C_trav·nodes + C_isect·primitives per ray, comparable with the SAH cost.\n\n\
-         | structure | order | precision | triangle test | build ms | SAH cost | measured cost | nodes/ray | prims/ray | Mrays/s | ±% | {} |\n\
-         |---|---|---|---|---:|---:|---:|---:|---:|---:|---:|{}\n",
+        "{heading}. Outcomes per million rays, against a reference on the same rounded inputs: agree, tie (another triangle at the same point), graze (a silhouette point missed: rounding decides), leak (slipped through the surface), false hit, wrong. EPO: end-point overlap (Aila, Karras & Laine 2013), the cost of the surface inside boxes that is not theirs, in the SAH's units (BVHs, a wide one's that of the binary tree it was collapsed from; a kD-tree's cells do not overlap, so it has none). Measured cost: C_trav·nodes + C_isect·primitives per ray, comparable with the SAH cost.\n\n\
+         | structure | order | precision | triangle test | build ms | SAH cost | EPO | measured cost | nodes/ray | prims/ray | Mrays/s | ±% | {} |\n\
+         |---|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|{}\n",
         outcomes.join(" | "),
         "---:|".repeat(Outcome::ALL.len())
     );
@@ -566,7 +581,7 @@ fn markdown(rows: &[Row], heading: &str, params: &BuildParams) -> String {
 
 fn csv(rows: &[Row], params: &BuildParams) -> String {
     let mut out = String::from(
-        "structure,order,precision,triangle_test,build_ms,sah_cost,measured_cost,nodes_per_ray,prims_per_ray,mrays_per_s,trace_spread_percent",
+        "structure,order,precision,triangle_test,build_ms,sah_cost,epo,measured_cost,nodes_per_ray,prims_per_ray,mrays_per_s,trace_spread_percent",
     );
     for outcome in Outcome::ALL {
         out.push_str(&format!(",{}_per_million", outcome.name()));
@@ -577,4 +592,157 @@ fn csv(rows: &[Row], params: &BuildParams) -> String {
         out.push('\n');
     }
     out
+}
+
+/// The numbers of rays the break-even is reported at: 10³ to 10⁹.
+const BREAK_EVEN_RAYS: [f64; 7] = [1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
+
+/// Which structure is fastest overall (its build, then every ray) for each number of rays,
+/// with the default switches (near first, f32, fast test): the rows' own figures.
+struct BreakEven {
+    contenders: Vec<Contender>,
+    fastest: Vec<Fastest>,
+    crossovers: Vec<Crossover>,
+}
+
+impl BreakEven {
+    fn of(rows: &[Row]) -> Self {
+        let contenders: Vec<Contender> = rows
+            .iter()
+            .filter(|row| (row.order, row.f64, row.watertight) == VARIANTS[0])
+            .map(|row| Contender {
+                name: row.structure.clone(),
+                build_ms: row.build_ms,
+                // Mrays/s is rays per microsecond: a thousand of them a millisecond.
+                ms_per_ray: 1.0 / (row.mrays_per_s * 1e3),
+            })
+            .collect();
+        let fastest = fastest_at(&contenders, &BREAK_EVEN_RAYS);
+        let crossovers = crossovers(
+            &contenders,
+            BREAK_EVEN_RAYS[0],
+            BREAK_EVEN_RAYS[BREAK_EVEN_RAYS.len() - 1],
+        );
+        Self {
+            contenders,
+            fastest,
+            crossovers,
+        }
+    }
+
+    fn name(&self, index: usize) -> &str {
+        &self.contenders[index].name
+    }
+
+    fn markdown(&self) -> String {
+        let mut out = String::from(
+            "\nBreak-even: the total time of a build and N rays (build ms + N / (Mrays/s · 1000)), near first, f32, fast test; the fastest structure for each N and how much slower the next is.\n\n| rays | fastest | total ms | next fastest | slower by |\n|---:|---|---:|---|---:|\n",
+        );
+        for row in &self.fastest {
+            let (next, ratio) = row.runner_up.map_or(("", String::new()), |(next, ratio)| {
+                (self.name(next), format!("{ratio:.2}×"))
+            });
+            out.push_str(&format!(
+                "| {:.0e} | {} | {:.1} | {next} | {ratio} |\n",
+                row.rays,
+                self.name(row.fastest),
+                row.total_ms
+            ));
+        }
+        if !self.crossovers.is_empty() {
+            out.push_str("\nCrossovers: ");
+            let said: Vec<String> = self
+                .crossovers
+                .iter()
+                .map(|crossing| {
+                    format!(
+                        "{} gives way to {} at {:.3e} rays",
+                        self.name(crossing.from),
+                        self.name(crossing.to),
+                        crossing.rays
+                    )
+                })
+                .collect();
+            out.push_str(&said.join("; "));
+            out.push_str(".\n");
+        }
+        out
+    }
+
+    /// `{"break_even": [{"rays", "fastest", "total_ms"}, ...], "crossovers": [...]}`.
+    fn json(&self) -> String {
+        let rows: Vec<String> = self
+            .fastest
+            .iter()
+            .map(|row| {
+                JsonObject::new()
+                    .number("rays", row.rays)
+                    .string("fastest", self.name(row.fastest))
+                    .number("total_ms", row.total_ms)
+                    .finish()
+            })
+            .collect();
+        let crossings: Vec<String> = self
+            .crossovers
+            .iter()
+            .map(|crossing| {
+                JsonObject::new()
+                    .number("rays", crossing.rays)
+                    .string("from", self.name(crossing.from))
+                    .string("to", self.name(crossing.to))
+                    .finish()
+            })
+            .collect();
+        JsonObject::new()
+            .raw("break_even", &format!("[{}]", rows.join(",")))
+            .raw("crossovers", &format!("[{}]", crossings.join(",")))
+            .finish()
+    }
+
+    /// Total time against rays: the structures fastest somewhere, and the lecture's three
+    /// rules' BVHs for comparison, with the crossovers marked.
+    fn plot(&self, mesh: &str) -> Lines {
+        let mut shown: Vec<usize> = self.fastest.iter().map(|row| row.fastest).collect();
+        shown.extend(
+            self.crossovers
+                .iter()
+                .flat_map(|crossing| [crossing.from, crossing.to]),
+        );
+        for name in ["bvh:middle", "bvh:median", "bvh:sah-sweep", "kd:sah"] {
+            if let Some(index) = self.contenders.iter().position(|c| c.name == name) {
+                shown.push(index);
+            }
+        }
+        shown.sort_unstable();
+        shown.dedup();
+        let samples: Vec<f64> = (0..=60)
+            .map(|step| 10f64.powf(3.0 + 0.1 * step as f64))
+            .collect();
+        Lines {
+            title: format!("Build + N rays: the fastest overall ({mesh})"),
+            x_label: "rays traced (log scale)".into(),
+            y_label: "total time, ms (log scale)".into(),
+            lines: shown
+                .iter()
+                .map(|&index| {
+                    let contender = &self.contenders[index];
+                    let points = samples
+                        .iter()
+                        .map(|&rays| (rays, contender.total_ms(rays)))
+                        .collect();
+                    (contender.name.clone(), points)
+                })
+                .collect(),
+            marks: self
+                .crossovers
+                .iter()
+                .map(|crossing| {
+                    (
+                        crossing.rays,
+                        format!("{:.2e}: {}", crossing.rays, self.name(crossing.to)),
+                    )
+                })
+                .collect(),
+        }
+    }
 }

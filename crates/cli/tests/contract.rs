@@ -713,6 +713,9 @@ fn tradeoff_writes_the_table_and_the_plots() {
     assert!(leak.contains("# leak: "), "{leak}");
     let rays = accelviz_scene::rays::parse_rays(&leak, "examples").unwrap();
     assert!(rays.len() >= 2, "agree and leak at least: {leak}");
+    let total = std::fs::read_to_string(out.join("total-vs-rays.svg")).unwrap();
+    assert!(total.contains("<polyline") && total.contains(">bvh:middle</text>"));
+    assert!(stdout(&output).contains("| rays | fastest | total ms |"));
     for plot in ["build-vs-traversal.svg", "predicted-vs-measured.svg"] {
         let svg = std::fs::read_to_string(out.join(plot)).unwrap();
         assert!(
@@ -772,11 +775,45 @@ fn tradeoff_json_names_the_rays_the_query_and_the_outcomes() {
     ]);
     assert!(output.status.success(), "{}", stderr(&output));
     let text = stdout(&output);
-    let rows: Vec<serde_json::Value> = text
+    let mut rows: Vec<serde_json::Value> = text
         .lines()
         .map(|line| serde_json::from_str(line).unwrap())
         .collect();
+    // The last object is the break-even, recomputed here from the rows' own figures: the
+    // default switches' build time and speed.
+    let break_even = rows.pop().unwrap();
     assert_eq!(rows.len(), accelviz_core::Structure::compared().len() * 5);
+    let defaults: Vec<&serde_json::Value> = rows
+        .iter()
+        .filter(|row| {
+            (
+                row["order"].as_str(),
+                row["precision"].as_str(),
+                row["test"].as_str(),
+            ) == (Some("near-first"), Some("f32"), Some("fast"))
+        })
+        .collect();
+    let entries = break_even["break_even"].as_array().unwrap();
+    assert_eq!(entries.len(), 7, "10^3 to 10^9 rays");
+    let mut previous = 0.0;
+    for entry in entries {
+        let rays = entry["rays"].as_f64().unwrap();
+        assert!(rays > previous, "rays ascending");
+        previous = rays;
+        let total = |row: &serde_json::Value| {
+            row["build_ms"].as_f64().unwrap() + rays / (row["mrays_per_s"].as_f64().unwrap() * 1e3)
+        };
+        let best = defaults
+            .iter()
+            .min_by(|a, b| total(a).total_cmp(&total(b)))
+            .unwrap();
+        assert_eq!(entry["fastest"], best["structure"], "{entry}");
+        let total_ms = entry["total_ms"].as_f64().unwrap();
+        assert!((total_ms - total(best)).abs() <= 1e-9 * total_ms, "{entry}");
+    }
+    for crossing in break_even["crossovers"].as_array().unwrap() {
+        assert!(crossing["rays"].as_f64().unwrap() >= 1e3, "{crossing}");
+    }
     for row in &rows {
         assert_eq!(row["ray_kind"], "shadow", "{row}");
         assert_eq!(row["query"], "any", "{row}");
@@ -789,6 +826,13 @@ fn tradeoff_json_names_the_rays_the_query_and_the_outcomes() {
             "spread_pct",
         ] {
             assert!(row[field].as_f64().unwrap().is_finite(), "{field}: {row}");
+        }
+        // The end-point overlap: a BVH's, none for a kD-tree.
+        let structure = row["structure"].as_str().unwrap();
+        if structure.starts_with("kd:") {
+            assert!(row["epo"].is_null(), "{row}");
+        } else {
+            assert!(row["epo"].as_f64().unwrap() > 0.0, "{row}");
         }
         let sum: f64 = ["agree", "tie", "graze", "leak", "false_hit", "wrong"]
             .iter()

@@ -21,6 +21,8 @@
 //! - [`structure`]: the catalogue of every structure (`bvh:middle` … `kd:sah-perfect`), built
 //!   into a [`Tree`]; [`build_observer`]: how a builder reports each node and why it made each
 //!   leaf; [`facts`]: what views show about a tree (boxes, cells, paths, depths), computed once.
+//! - [`break_even`]: which structure is fastest overall for N rays (build + N × trace).
+//! - [`quality`]: what a tree is worth beyond its SAH cost (end-point overlap).
 //! - [`outcome`]: a traced ray's answer against a reference that is sure of itself on the
 //!   same rounded inputs: agree, tie, graze, leak, false hit or wrong.
 //! - [`camera`]: which ray goes through which pixel (the benchmark's camera rays, the app's
@@ -31,6 +33,7 @@
 
 pub mod aabb;
 pub mod bounding;
+pub mod break_even;
 pub mod brute;
 pub mod build_observer;
 pub mod bvh;
@@ -44,6 +47,7 @@ pub mod math;
 pub mod observer;
 pub mod outcome;
 pub mod primitive;
+pub mod quality;
 pub mod query;
 pub mod ray;
 pub mod sah;

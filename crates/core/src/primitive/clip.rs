@@ -14,7 +14,39 @@ use crate::math::{Real, Vector};
 /// needs to be where nothing was rounded.
 pub(crate) fn clipped_bounds<V: Vector>(corners: &[V], cell: &Aabb<V>) -> Option<Aabb<V>> {
     let dimensions = V::DIM;
-    // Each point with a mask of its rounded coordinates.
+    let (low, high) = (cell.min.to_f64_array(), cell.max.to_f64_array());
+    let polygon = clip_polygon(corners, cell)?;
+    // Rounded coordinates are widened by their roundoff (relative, in the scene's precision,
+    // so that converting back cannot make the box smaller); then the box is kept in the cell.
+    let widen = 4.0 * V::Scalar::UNIT_ROUNDOFF.to_f64();
+    let mut min = [f64::INFINITY; 3];
+    let mut max = [f64::NEG_INFINITY; 3];
+    for (point, rounded) in &polygon {
+        for axis in 0..dimensions {
+            let margin = if rounded & (1 << axis) != 0 {
+                widen * point[axis].abs() + f64::MIN_POSITIVE
+            } else {
+                0.0
+            };
+            min[axis] = min[axis].min(point[axis] - margin);
+            max[axis] = max[axis].max(point[axis] + margin);
+        }
+    }
+    for axis in 0..dimensions {
+        min[axis] = min[axis].max(low[axis]);
+        max[axis] = max[axis].min(high[axis]);
+    }
+    Some(Aabb::new(
+        V::from_f64_slice(&min[..dimensions]),
+        V::from_f64_slice(&max[..dimensions]),
+    ))
+}
+
+/// The convex polygon `corners` clipped to the closed box `cell` (Sutherland & Hodgman 1974,
+/// one slab side at a time, in f64), each point with a mask of its coordinates that were
+/// rounded (crossings' coordinates other than the side's); `None` if no part is inside.
+fn clip_polygon<V: Vector>(corners: &[V], cell: &Aabb<V>) -> Option<Vec<([f64; 3], u8)>> {
+    let dimensions = V::DIM;
     let mut polygon: Vec<([f64; 3], u8)> = corners
         .iter()
         .map(|corner| (corner.to_f64_array(), 0))
@@ -61,30 +93,21 @@ pub(crate) fn clipped_bounds<V: Vector>(corners: &[V], cell: &Aabb<V>) -> Option
             std::mem::swap(&mut polygon, &mut clipped);
         }
     }
-    // Rounded coordinates are widened by their roundoff (relative, in the scene's precision,
-    // so that converting back cannot make the box smaller); then the box is kept in the cell.
-    let widen = 4.0 * V::Scalar::UNIT_ROUNDOFF.to_f64();
-    let mut min = [f64::INFINITY; 3];
-    let mut max = [f64::NEG_INFINITY; 3];
-    for (point, rounded) in &polygon {
-        for axis in 0..dimensions {
-            let margin = if rounded & (1 << axis) != 0 {
-                widen * point[axis].abs() + f64::MIN_POSITIVE
-            } else {
-                0.0
-            };
-            min[axis] = min[axis].min(point[axis] - margin);
-            max[axis] = max[axis].max(point[axis] + margin);
-        }
+    Some(polygon)
+}
+
+/// The area of the part of triangle `corners` inside the closed box `cell` (0 when none is).
+pub(crate) fn clipped_area<V: Vector>(corners: &[V; 3], cell: &Aabb<V>) -> f64 {
+    let Some(polygon) = clip_polygon(corners, cell) else {
+        return 0.0;
+    };
+    // Half the length of the sum of the edges' cross products (the polygon is planar).
+    let mut sum = glam::DVec3::ZERO;
+    for (index, (start, _)) in polygon.iter().enumerate() {
+        let end = glam::DVec3::from_array(polygon[(index + 1) % polygon.len()].0);
+        sum += glam::DVec3::from_array(*start).cross(end);
     }
-    for axis in 0..dimensions {
-        min[axis] = min[axis].max(low[axis]);
-        max[axis] = max[axis].min(high[axis]);
-    }
-    Some(Aabb::new(
-        V::from_f64_slice(&min[..dimensions]),
-        V::from_f64_slice(&max[..dimensions]),
-    ))
+    0.5 * sum.length()
 }
 
 #[cfg(test)]
