@@ -4,7 +4,7 @@ use accelviz_core::bvh::BuildParams;
 use accelviz_core::simd::Isa;
 use accelviz_core::{Counters, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
-use accelviz_scene::rays::{RaySource, RaySpec, pixel_tiles};
+use accelviz_scene::rays::{RayKind, RaySource, RaySpec, pixel_tiles};
 use anyhow::{Result, bail};
 use clap::Args;
 
@@ -38,6 +38,11 @@ pub struct BenchArgs {
     /// Seed of the random rays.
     #[arg(long, default_value_t = 1)]
     seed: u64,
+    /// What rays: random, camera, aimed, shadow (from camera hits to a point light), ao
+    /// (short rays from camera hits), bounce (a diffuse bounce from each camera hit).
+    /// Default: camera with --camera, aimed with --aimed, else random.
+    #[arg(long, value_parser = crate::tradeoff::parse_ray_kind, conflicts_with = "rays_file")]
+    ray_kind: Option<RayKind>,
     #[command(flatten)]
     trace: TraceArgs,
     #[command(flatten)]
@@ -79,11 +84,13 @@ impl BenchArgs {
             repeat: 5,
             isa: None,
             seed: 1,
+            ray_kind: None,
             trace: TraceArgs {
                 order: crate::OrderArg::NearFirst,
                 precision: Precision::F32,
                 robust: false,
                 mailbox: false,
+                query: None,
             },
             build: BuildArgs::default(),
             threads: "1".into(),
@@ -115,6 +122,11 @@ struct Figures {
     mean_leaf_size: f64,
     max_leaf_size: usize,
     sah_cost: f64,
+    epo: Option<f64>,
+    bytes: usize,
+    fill_rate: Option<f64>,
+    /// Leaves of each size (element `k`: leaves of `k` primitives).
+    leaf_sizes: Vec<u64>,
     rays: usize,
     trace: Samples,
     counters: Counters,
@@ -173,10 +185,15 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     let threads = parse_counts(&args.threads, "--threads", 1, usize::MAX)?;
     let packets = parse_counts(&args.packet, "--packet", 1, accelviz_core::bvh::MAX_PACKET)?;
     let mesh = load_mesh(&args.mesh)?;
-    let source = RaySource::from_options(
+    let kind = args.ray_kind.unwrap_or(match (&args.camera, args.aimed) {
+        (Some(_), _) => RayKind::Camera,
+        (None, true) => RayKind::Aimed,
+        (None, false) => RayKind::Random,
+    });
+    let source = RaySource::of_kind(
         args.rays_file.as_deref(),
         args.camera.as_deref(),
-        args.aimed,
+        kind,
         args.rays,
         args.seed,
     )
@@ -197,14 +214,15 @@ pub fn run(args: &BenchArgs) -> Result<String> {
             measure::<glam::DVec3>(&specs, &axes, &params, &mesh, &rays, &ray_source, args)?
         }
     };
-    let options = args.trace.options();
+    let options = args.trace.options_for(source.kind());
     let mut output = String::new();
     if !args.json {
         output.push_str(&format!(
-            "mesh {} ({} triangles), {} rays ({ray_source}), {} order, {}, {}, median of {} interleaved rounds (±: half their range)\n",
+            "mesh {} ({} triangles), {} rays ({ray_source}), {} hit, {} order, {}, {}, median of {} interleaved rounds (±: half their range)\n",
             mesh.name,
             mesh.triangles.len(),
             rays.len(),
+            crate::tradeoff::query_name(options.query),
             options.order.name(),
             precision_name(args.trace.precision),
             if args.trace.robust { "robust" } else { "fast" },
@@ -250,8 +268,18 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .number("mean_leaf_size", f.mean_leaf_size)
                 .integer("max_leaf_size", f.max_leaf_size as u64)
                 .number("sah_cost", f.sah_cost)
+                .number("epo", f.epo.unwrap_or(f64::NAN))
+                .integer("bytes", f.bytes as u64)
+                .number(
+                    "bytes_per_primitive",
+                    f.bytes as f64 / f.triangles.max(1) as f64,
+                )
+                .number("fill_rate", f.fill_rate.unwrap_or(f64::NAN))
+                .raw("leaf_sizes", &format!("{:?}", f.leaf_sizes))
                 .integer("rays", f.rays as u64)
                 .string("ray_source", &ray_source)
+                .string("ray_kind", source.kind().map_or("file", RayKind::name))
+                .string("query", crate::tradeoff::query_name(options.query))
                 .number("trace_ms", trace_ms)
                 .number("trace_ms_min", f.trace.min())
                 .number("trace_ms_max", f.trace.max())
@@ -316,7 +344,7 @@ fn measure<V: Vector3>(
 ) -> Result<Vec<Figures>> {
     let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
     let rays = convert_rays::<V>(ray_specs, ray_source)?;
-    let options = args.trace.options();
+    let options = args.trace.options_for(axes.source.kind());
     let rounds = args.repeat.max(1);
     let workers = axes
         .threads
@@ -402,9 +430,14 @@ fn measure<V: Vector3>(
             counters
         })
         .collect();
+    let epos: Vec<Option<f64>> = accels
+        .iter()
+        .map(|accel| accel.epo(triangles.triangles(), &params.cost))
+        .collect();
     let mut all = Vec::with_capacity(configurations.len());
     for (index, &(spec, isa, threads, packet)) in configurations.iter().enumerate() {
         let stats = accels[spec].stats(triangles.triangles().len(), &params.cost);
+        let (footprint, leaf_sizes) = accels[spec].footprint();
         all.push(Figures {
             accel: specs[spec].name(),
             isa,
@@ -418,6 +451,10 @@ fn measure<V: Vector3>(
             mean_leaf_size: stats.mean_leaf_size,
             max_leaf_size: stats.max_leaf_size,
             sah_cost: stats.sah_cost,
+            epo: epos[spec],
+            bytes: footprint.bytes,
+            fill_rate: footprint.fill_rate,
+            leaf_sizes,
             rays: rays.len(),
             trace: traces[index].clone(),
             counters: counted[spec],

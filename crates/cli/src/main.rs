@@ -92,6 +92,10 @@ pub struct TraceArgs {
     /// kD-trees: test a primitive listed in several leaves once per ray (a mailbox).
     #[arg(long)]
     mailbox: bool,
+    /// closest, or any (is anything in the way?). Default: any for shadow and ao rays,
+    /// closest otherwise.
+    #[arg(long, value_parser = tradeoff::parse_query)]
+    query: Option<accelviz_core::Query>,
 }
 
 /// The build parameters shared by `query` and `bench`.
@@ -149,9 +153,19 @@ impl Default for BuildArgs {
 }
 
 impl TraceArgs {
-    /// The core's options for a closest-hit query.
+    /// The core's options, with `--query` or else the closest hit.
     pub fn options(&self) -> TraceOptions {
+        self.options_for(None)
+    }
+
+    /// The core's options for rays of `kind`: `--query`, or else the query such rays ask.
+    pub fn options_for(&self, kind: Option<accelviz_scene::rays::RayKind>) -> TraceOptions {
+        let query = self
+            .query
+            .or(kind.map(|kind| kind.default_query()))
+            .unwrap_or_default();
         TraceOptions {
+            query,
             order: match self.order {
                 OrderArg::NearFirst => Order::NearFirst,
                 OrderArg::FileOrder => Order::FileOrder,

@@ -136,6 +136,26 @@ impl<V: Vector, P: PrimitiveSet<V>> Accel<'_, V, P> {
     }
 }
 
+impl<V: Vector, P: PrimitiveSet<V>> Accel<'_, V, P> {
+    /// The tree's memory and fill rate, and its leaves' sizes (brute force: nothing, and one
+    /// leaf of everything is not counted).
+    pub fn footprint(&self) -> (accelviz_core::quality::Footprint, Vec<u64>) {
+        match self {
+            Accel::Brute(_) => (
+                accelviz_core::quality::Footprint {
+                    bytes: 0,
+                    fill_rate: None,
+                },
+                Vec::new(),
+            ),
+            Accel::Tree(tree, _) => (
+                accelviz_core::quality::Footprint::of(tree),
+                accelviz_core::quality::leaf_size_histogram(tree),
+            ),
+        }
+    }
+}
+
 impl<V: accelviz_core::Vector3, P: PrimitiveSet<V>> Accel<'_, V, P> {
     /// The tree's end-point overlap over `triangles` (in their own numbering), for a BVH (a
     /// wide one's is the binary tree's it was collapsed from); `None` for a kD-tree, whose

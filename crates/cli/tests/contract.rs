@@ -161,6 +161,78 @@ fn bench_reports_one_json_object_per_spec() {
     assert_eq!(lines[0]["avg_prims_tested"], 5120.0);
 }
 
+/// `bench --ray-kind`: shadow and ambient occlusion rays ask for any hit unless told, and the
+/// JSON echoes the kind and the query, with the tree's quality beside its speed: EPO (BVHs),
+/// bytes, the fill rate (wide trees) and the leaves' sizes. Any-hit never visits more nodes
+/// than closest-hit on the same rays, and finds them blocked as often.
+#[test]
+fn bench_ray_kinds_queries_and_quality() {
+    let run = |extra: &[&str]| -> Vec<serde_json::Value> {
+        let mut args = vec![
+            "bench",
+            "--mesh",
+            "builtin:teapot",
+            "--accel",
+            "bvh:sah-binned,bvh8:sah-binned,kd:sah",
+            "--repeat",
+            "1",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let output = cli(&args);
+        assert!(output.status.success(), "{}", stderr(&output));
+        stdout(&output)
+            .lines()
+            .map(|line| serde_json::from_str(line).unwrap())
+            .collect()
+    };
+    let any = run(&["--ray-kind", "ao", "--rays", "2000"]);
+    let closest = run(&["--ray-kind", "ao", "--rays", "2000", "--query", "closest"]);
+    for (any, closest) in any.iter().zip(&closest) {
+        assert_eq!(any["ray_kind"], "ao");
+        assert_eq!(any["query"], "any");
+        assert_eq!(closest["query"], "closest");
+        assert_eq!(any["hits"], closest["hits"], "{any}");
+        assert!(
+            any["avg_nodes_visited"].as_f64().unwrap()
+                <= closest["avg_nodes_visited"].as_f64().unwrap(),
+            "{any}"
+        );
+        assert!(any["bytes"].as_u64().unwrap() > 0);
+        let per = any["bytes_per_primitive"].as_f64().unwrap();
+        assert!(
+            (per - any["bytes"].as_f64().unwrap() / any["triangles"].as_f64().unwrap()).abs()
+                < 1e-9
+        );
+        let leaves: u64 = any["leaf_sizes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|count| count.as_u64().unwrap())
+            .sum();
+        let accel = any["accel"].as_str().unwrap();
+        match accel {
+            "kd:sah" => {
+                assert!(any["epo"].is_null() && any["fill_rate"].is_null());
+                assert_eq!(leaves, any["leaves"].as_u64().unwrap());
+            }
+            "bvh8:sah-binned:16" => {
+                let fill = any["fill_rate"].as_f64().unwrap();
+                assert!(fill > 0.0 && fill <= 1.0, "{any}");
+                assert!(any["epo"].as_f64().unwrap() > 0.0);
+            }
+            _ => {
+                assert!(any["fill_rate"].is_null(), "{any}");
+                assert!(any["epo"].as_f64().unwrap() > 0.0);
+                assert_eq!(leaves, any["leaves"].as_u64().unwrap());
+            }
+        }
+    }
+    let camera = run(&["--ray-kind", "camera", "--rays", "100"]);
+    assert_eq!(camera[0]["rays"], 100, "a 10 x 10 camera");
+    assert_eq!(camera[0]["query"], "closest");
+}
+
 #[test]
 fn bench_aimed_rays_never_slip_through_in_robust_mode() {
     let output = cli(&[

@@ -1,4 +1,5 @@
-//! Quality metrics of a built tree beyond its SAH cost.
+//! Quality metrics of a built tree beyond its SAH cost: its end-point overlap, its memory
+//! and how full its nodes are, its leaves' sizes.
 //!
 //! The SAH charges every node the chance that a ray crossing the root enters its box, as if
 //! nothing stopped rays early. Aila, Karras & Laine 2013 ("On quality metrics of bounding
@@ -16,9 +17,10 @@
 
 use crate::aabb::Aabb;
 use crate::facts::{Hierarchy, TreeFacts};
-use crate::math::Vector3;
+use crate::math::{Vector, Vector3};
 use crate::primitive::clip::clipped_area;
 use crate::sah::SahCost;
+use crate::structure::Tree;
 
 /// The end-point overlap of a tree over `triangles` (the primitives its leaves list, by
 /// number), in the SAH's units; 0 for a tree without surface.
@@ -77,6 +79,64 @@ pub fn epo<V: Vector3>(tree: &impl Hierarchy<V>, triangles: &[[V; 3]], cost: &Sa
     overlap / total_area
 }
 
+/// What a tree takes in memory for traversal, and how full a wide tree's nodes are.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Footprint {
+    /// Bytes of the nodes and the leaves' primitive lists that traversal reads (not the
+    /// primitives themselves, nor a wide tree's binary source kept for views).
+    pub bytes: usize,
+    /// A wide BVH's share of child slots in use (1 when every node has all its children).
+    pub fill_rate: Option<f64>,
+}
+
+impl Footprint {
+    /// Measures `tree`.
+    pub fn of<V: Vector>(tree: &Tree<V>) -> Self {
+        fn fill<V: Vector, const W: usize>(wide: &crate::bvh::WideBvh<V, W>) -> f64 {
+            let used: usize = wide.nodes.iter().map(|node| node.slots_used()).sum();
+            used as f64 / (wide.nodes.len() * W).max(1) as f64
+        }
+        match tree {
+            Tree::Bvh(bvh) => Self {
+                bytes: size_of_val(bvh.nodes.as_slice())
+                    + size_of_val(bvh.primitive_indices.as_slice()),
+                fill_rate: None,
+            },
+            Tree::Bvh4(wide) => Self {
+                bytes: size_of_val(wide.nodes.as_slice())
+                    + size_of_val(wide.primitive_indices.as_slice()),
+                fill_rate: Some(fill(wide)),
+            },
+            Tree::Bvh8(wide) => Self {
+                bytes: size_of_val(wide.nodes.as_slice())
+                    + size_of_val(wide.primitive_indices.as_slice()),
+                fill_rate: Some(fill(wide)),
+            },
+            Tree::Kd(kd) => Self {
+                bytes: size_of_val(kd.nodes.as_slice())
+                    + size_of_val(kd.primitive_indices.as_slice()),
+                fill_rate: None,
+            },
+        }
+    }
+}
+
+/// How many leaves hold each number of primitives: element `k` counts the leaves of `k`
+/// (up to the largest leaf).
+pub fn leaf_size_histogram<V: Vector>(tree: &impl Hierarchy<V>) -> Vec<u64> {
+    let mut histogram: Vec<u64> = Vec::new();
+    for node in 0..tree.node_count() as u32 {
+        if tree.children(node).is_none() {
+            let size = tree.leaf_primitives(node).len();
+            if histogram.len() <= size {
+                histogram.resize(size + 1, 0);
+            }
+            histogram[size] += 1;
+        }
+    }
+    histogram
+}
+
 fn area<V: Vector3>([a, b, c]: &[V; 3]) -> f64 {
     let to = |point: &V| glam::DVec3::from_array(point.to_f64_array());
     0.5 * (to(b) - to(a)).cross(to(c) - to(a)).length()
@@ -117,6 +177,41 @@ mod tests {
             ..cost
         };
         assert!((epo(&bvh, triangles.triangles(), &doubled) - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn footprint_and_leaf_sizes_of_a_small_tree() {
+        let triangles = TriangleSet::<DVec3>::from_f64(&[
+            [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+            [[5.0, 5.0, 0.0], [6.0, 5.0, 0.0], [5.0, 6.0, 0.0]],
+            [[9.0, 9.0, 0.0], [9.5, 9.0, 0.0], [9.0, 9.5, 0.0]],
+        ]);
+        let params = BuildParams {
+            max_leaf_size: 1,
+            ..BuildParams::default()
+        };
+        let tree = crate::Structure::BvhMiddle {
+            width: crate::Width::Binary,
+        }
+        .build(&triangles, &params);
+        // Five nodes (two inner, three leaves of one) and three primitive numbers.
+        let crate::Tree::Bvh(bvh) = &tree else {
+            panic!("a binary BVH")
+        };
+        assert_eq!(bvh.nodes.len(), 5);
+        let footprint = Footprint::of(&tree);
+        assert_eq!(
+            footprint.bytes,
+            5 * size_of::<crate::bvh::BvhNode<DVec3>>() + 3 * 4
+        );
+        assert_eq!(footprint.fill_rate, None);
+        assert_eq!(leaf_size_histogram(&tree), [0, 3]);
+        // Collapsed into four children a node: one node, three slots of four used.
+        let wide = crate::Structure::BvhMiddle {
+            width: crate::Width::Four,
+        }
+        .build(&triangles, &params);
+        assert_eq!(Footprint::of(&wide).fill_rate, Some(0.75));
     }
 
     #[test]

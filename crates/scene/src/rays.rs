@@ -332,6 +332,15 @@ pub enum RaySource {
         /// The generator's seed.
         seed: u64,
     },
+    /// Shadow, ambient occlusion or bounce rays ([`RayKind::rays`]) with this count and seed.
+    Secondary {
+        /// Which.
+        kind: RayKind,
+        /// How many rays.
+        count: usize,
+        /// The generator's seed.
+        seed: u64,
+    },
     /// A ray file.
     File(String),
 }
@@ -358,9 +367,53 @@ impl RaySource {
         })
     }
 
+    /// The kind of rays it makes (`None` for a file).
+    pub fn kind(&self) -> Option<RayKind> {
+        match self {
+            Self::Random { .. } => Some(RayKind::Random),
+            Self::Camera { .. } => Some(RayKind::Camera),
+            Self::Aimed { .. } => Some(RayKind::Aimed),
+            Self::Secondary { kind, .. } => Some(*kind),
+            Self::File(_) => None,
+        }
+    }
+
+    /// Chooses from command-line options with a ray kind: a file, else `kind` (a camera's
+    /// image `camera`, `WIDTHxHEIGHT`, or about `count` pixels).
+    pub fn of_kind(
+        file: Option<&str>,
+        camera: Option<&str>,
+        kind: RayKind,
+        count: usize,
+        seed: u64,
+    ) -> Result<Self, String> {
+        if let Some(path) = file {
+            return Ok(Self::File(path.to_owned()));
+        }
+        Ok(match kind {
+            RayKind::Random => Self::Random { count, seed },
+            RayKind::Aimed => Self::Aimed { seed },
+            RayKind::Camera => {
+                let (width, height) = match camera {
+                    Some(camera) => {
+                        parse_resolution(camera).map_err(|error| format!("--camera: {error}"))?
+                    }
+                    None => square_image(count),
+                };
+                Self::Camera { width, height }
+            }
+            RayKind::Shadow | RayKind::Ao | RayKind::Bounce => {
+                Self::Secondary { kind, count, seed }
+            }
+        })
+    }
+
     /// The rays, for `mesh`.
     pub fn rays(&self, mesh: &crate::Mesh) -> Result<Vec<RaySpec>, LoadError> {
         Ok(match self {
+            Self::Secondary { kind, count, seed } => kind
+                .rays(mesh, *count, *seed, None)
+                .map_err(|problem| LoadError::in_file(&mesh.name, problem))?,
             Self::Random { count, seed } => random_rays(&mesh.bounds(), *count, *seed),
             Self::Camera { width, height } => camera_rays(&mesh.bounds(), *width, *height),
             Self::Aimed { seed } => surface_aim_rays(&mesh.triangles, *seed),
@@ -368,13 +421,14 @@ impl RaySource {
         })
     }
 
-    /// A short label for reports: `random:100000:seed1`, `camera:512x512`, `aimed:seed1`, or
-    /// the file's path.
+    /// A short label for reports: `random:100000:seed1`, `camera:512x512`, `aimed:seed1`,
+    /// `shadow:100000:seed1`, or the file's path.
     pub fn label(&self) -> String {
         match self {
             Self::Random { count, seed } => format!("random:{count}:seed{seed}"),
             Self::Camera { width, height } => format!("camera:{width}x{height}"),
             Self::Aimed { seed } => format!("aimed:seed{seed}"),
+            Self::Secondary { kind, count, seed } => format!("{}:{count}:seed{seed}", kind.name()),
             Self::File(path) => path.clone(),
         }
     }
@@ -584,7 +638,7 @@ impl RayKind {
 }
 
 /// An image of about `pixels` pixels, as square as can be.
-fn square_image(pixels: usize) -> (usize, usize) {
+pub fn square_image(pixels: usize) -> (usize, usize) {
     let width = (pixels.max(1) as f64).sqrt().ceil() as usize;
     (width, pixels.max(1).div_ceil(width))
 }
