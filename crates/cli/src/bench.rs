@@ -1,8 +1,9 @@
 //! `accelviz-cli bench`: build each structure, trace the same rays, report the figures.
 
 use accelviz_core::bvh::BuildParams;
+use accelviz_core::quality::{NodeEntries, SahCheck};
 use accelviz_core::simd::Isa;
-use accelviz_core::{Counters, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
+use accelviz_core::{Counters, MaxStack, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
 use accelviz_scene::rays::{RayKind, RaySource, RaySpec, pixel_tiles};
 use anyhow::{Result, bail};
@@ -130,6 +131,10 @@ struct Figures {
     rays: usize,
     trace: Samples,
     counters: Counters,
+    /// The deepest traversal stack a ray needed (one ray at a time).
+    max_stack: usize,
+    /// The SAH's chances against the rays' (binary trees).
+    sah_check: Option<SahCheck>,
     hits: usize,
 }
 
@@ -289,6 +294,13 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .number("avg_box_tests", f.counters.box_tests as f64 / rays)
                 .number("avg_prims_tested", avg_prims)
                 .number("avg_mailbox_skips", f.counters.mailbox_skips as f64 / rays)
+                .integer("max_stack", f.max_stack as u64)
+                .raw(
+                    "sah_check",
+                    &f.sah_check
+                        .as_ref()
+                        .map_or_else(|| "null".to_owned(), sah_check_json),
+                )
                 .integer("hits", f.hits as u64)
                 .integer("misses", (f.rays - f.hits) as u64)
                 .string("order", options.order.name())
@@ -419,15 +431,30 @@ fn measure<V: Vector3>(
     Isa::set_active(Isa::detect()).unwrap_or_else(|_| unreachable!("detected"));
     // Count in a separate, untimed pass, one ray at a time (the counts are the same whatever
     // the kernels and threads).
-    let counted: Vec<Counters> = accels
+    // ... with the deepest stack, and how often each node of a binary tree was entered (the
+    // SAH's chances, checked).
+    let counted: Vec<(Counters, (MaxStack, NodeEntries))> = accels
         .iter()
         .map(|accel| {
-            let mut counters = Counters::default();
+            let nodes = accel.binary_facts().map_or(0, |facts| facts.bounds.len());
+            let mut observer = (
+                Counters::default(),
+                (MaxStack::default(), NodeEntries::new(nodes)),
+            );
             let mut stack = accelviz_core::TraversalStacks::default();
             for ray in &rays {
-                accel.trace(ray, &options, &mut stack, &mut counters);
+                accel.trace(ray, &options, &mut stack, &mut observer);
             }
-            counters
+            observer
+        })
+        .collect();
+    let sah_checks: Vec<Option<SahCheck>> = accels
+        .iter()
+        .zip(&counted)
+        .map(|(accel, (_, (_, entries)))| {
+            accel
+                .binary_facts()
+                .map(|facts| SahCheck::of(&facts, entries, &params.cost))
         })
         .collect();
     let epos: Vec<Option<f64>> = accels
@@ -457,7 +484,9 @@ fn measure<V: Vector3>(
             leaf_sizes,
             rays: rays.len(),
             trace: traces[index].clone(),
-            counters: counted[spec],
+            counters: counted[spec].0,
+            max_stack: counted[spec].1.0.0,
+            sah_check: sah_checks[spec].clone(),
             hits: hits[index],
         });
     }
@@ -495,4 +524,26 @@ fn trace_packets<V: Vector3>(
         },
     );
     counts.into_iter().sum()
+}
+
+/// `{"rays_entering", "sah_cost", "measured_chance_cost", "per_depth": [[depth, predicted,
+/// measured], ...]}`.
+pub fn sah_check_json(check: &SahCheck) -> String {
+    let depths: Vec<String> = check
+        .per_depth
+        .iter()
+        .map(|(depth, predicted, measured)| {
+            format!(
+                "[{depth},{},{}]",
+                crate::json::number(*predicted),
+                crate::json::number(*measured)
+            )
+        })
+        .collect();
+    JsonObject::new()
+        .integer("rays_entering", check.rays_entering)
+        .number("sah_cost", check.sah_cost)
+        .number("measured_chance_cost", check.measured_chance_cost)
+        .raw("per_depth", &format!("[{}]", depths.join(",")))
+        .finish()
 }

@@ -327,8 +327,8 @@ impl Scatter {
     }
 }
 
-/// Lines on log-log axes (total time against rays), each named at its right end, with
-/// vertical marks (the crossovers) labelled at the top.
+/// Lines on log-log axes (total time against rays) or linear ones, each named at its right
+/// end, with vertical marks (the crossovers) labelled at the top.
 pub struct Lines {
     pub title: String,
     pub x_label: String,
@@ -337,6 +337,8 @@ pub struct Lines {
     pub lines: Vec<(String, Vec<(f64, f64)>)>,
     /// Vertical marks: where, and what to write there.
     pub marks: Vec<(f64, String)>,
+    /// Logarithmic axes (else linear ones from zero).
+    pub log: bool,
 }
 
 /// Colours of [`Lines`], told apart on a projector and by most colour-blind readers.
@@ -349,7 +351,9 @@ impl Lines {
     pub fn to_svg(&self) -> String {
         let points = self.lines.iter().flat_map(|(_, points)| points.iter());
         let positive: Vec<&(f64, f64)> = points
-            .filter(|(x, y)| x.is_finite() && y.is_finite() && *x > 0.0 && *y > 0.0)
+            .filter(|(x, y)| {
+                x.is_finite() && y.is_finite() && (!self.log || (*x > 0.0 && *y > 0.0))
+            })
             .collect();
         let range = |value: fn(&(f64, f64)) -> f64| {
             let (low, high) = positive
@@ -359,17 +363,27 @@ impl Lines {
                 });
             if low > high { (1.0, 10.0) } else { (low, high) }
         };
+        let log = self.log;
         let (x_low, x_high) = range(|p| p.0);
         let (y_low, y_high) = range(|p| p.1);
-        let (y_low, y_high) = (y_low / 1.5, y_high * 1.5);
+        let (x_low, y_low, y_high) = if log {
+            (x_low, y_low / 1.5, y_high * 1.5)
+        } else {
+            (x_low.min(0.0), 0.0, y_high * 1.1)
+        };
         // Room on the right for the lines' names.
         let right = 190.0;
         let plot_width = WIDTH - LEFT - right;
         let plot_height = HEIGHT - TOP - BOTTOM;
-        let to_x = |x: f64| LEFT + (x / x_low).ln() / (x_high / x_low).ln().max(1e-12) * plot_width;
-        let to_y = |y: f64| {
-            TOP + plot_height - (y / y_low).ln() / (y_high / y_low).ln().max(1e-12) * plot_height
+        let fraction = |value: f64, low: f64, high: f64| {
+            if log {
+                (value / low).ln() / (high / low).ln().max(1e-12)
+            } else {
+                (value - low) / (high - low).max(1e-12)
+            }
         };
+        let to_x = |x: f64| LEFT + fraction(x, x_low, x_high) * plot_width;
+        let to_y = |y: f64| TOP + plot_height - fraction(y, y_low, y_high) * plot_height;
         let mut svg = String::new();
         let _ = writeln!(
             svg,
@@ -384,6 +398,9 @@ impl Lines {
         );
         // Decades only: a log-log plot over six decades has room for no more.
         let decades = |low: f64, high: f64| {
+            if !log {
+                return ticks(low, high);
+            }
             log_ticks(low, high)
                 .into_iter()
                 .filter(|tick| (tick.log10() - tick.log10().round()).abs() < 1e-9)
@@ -436,7 +453,7 @@ impl Lines {
             let colour = LINE_COLOURS[index % LINE_COLOURS.len()];
             let path: Vec<String> = points
                 .iter()
-                .filter(|(x, y)| *x > 0.0 && *y > 0.0)
+                .filter(|(x, y)| !log || (*x > 0.0 && *y > 0.0))
                 .map(|&(x, y)| format!("{:.1},{:.1}", to_x(x), to_y(y)))
                 .collect();
             let _ = writeln!(
@@ -444,7 +461,11 @@ impl Lines {
                 r#"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="3"/>"#,
                 path.join(" ")
             );
-            if let Some(&(_, y)) = points.last() {
+            // Log-log lines (totals) part at their right ends; linear ones (profiles that
+            // fall back to zero) are named in a column from the top.
+            if !log {
+                ends.push((TOP + 10.0 + 22.0 * index as f64, index));
+            } else if let Some(&(_, y)) = points.last() {
                 ends.push((to_y(y), index));
             }
         }
@@ -545,6 +566,7 @@ mod tests {
                 ("good".into(), vec![(1e3, 100.0), (1e9, 5e5)]),
             ],
             marks: vec![(1.8e5, "1.8e5: good".into()), (1e12, "outside".into())],
+            log: true,
         };
         let svg = plot.to_svg();
         assert_eq!(svg.matches("<polyline").count(), 2);

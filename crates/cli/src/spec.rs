@@ -156,6 +156,20 @@ impl<V: Vector, P: PrimitiveSet<V>> Accel<'_, V, P> {
     }
 }
 
+impl<V: Vector, P: PrimitiveSet<V>> Accel<'_, V, P> {
+    /// The facts of a binary tree (a BVH of two children a node, or a kD-tree), whose every
+    /// node a traversal enters: what the SAH's chances are checked on. `None` for a wide BVH
+    /// (its traversal skips the binary nodes it collapsed) and for brute force.
+    pub fn binary_facts(&self) -> Option<accelviz_core::TreeFacts<V>> {
+        match self {
+            Accel::Tree(tree @ (Tree::Bvh(_) | Tree::Kd(_)), _) => {
+                Some(accelviz_core::TreeFacts::of(tree))
+            }
+            _ => None,
+        }
+    }
+}
+
 impl<V: accelviz_core::Vector3, P: PrimitiveSet<V>> Accel<'_, V, P> {
     /// The tree's end-point overlap over `triangles` (in their own numbering), for a BVH (a
     /// wide one's is the binary tree's it was collapsed from); `None` for a kD-tree, whose

@@ -6,6 +6,7 @@
 use accelviz_core::break_even::{Contender, Crossover, Fastest, crossovers, fastest_at};
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::outcome::{Outcome, OutcomeCounts, Reference, ReferenceScene};
+use accelviz_core::quality::{NodeEntries, SahCheck};
 use accelviz_core::{
     Counters, HitTest, Order, PrimitiveSet, Query, Ray, Structure, TraceOptions, TriangleSet,
     Vector3,
@@ -256,6 +257,25 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         write_examples(dir, &rows, &heading)?;
     }
     let break_even = BreakEven::of(&rows);
+    // The SAH's chances against these rays', for the binned SAH's BVH and the kD SAH tree.
+    let checks: Vec<(String, SahCheck)> = ["bvh:sah-binned:16", "kd:sah"]
+        .iter()
+        .filter_map(|name| {
+            let index = specs.iter().position(|spec| spec.name() == *name)?;
+            let accel = &trees32[index];
+            let facts = accel.binary_facts()?;
+            let mut entries = NodeEntries::new(facts.bounds.len());
+            let mut stacks = accelviz_core::TraversalStacks::default();
+            let options = variant_options(VARIANTS[0], query);
+            for ray in &single.rays {
+                accel.trace(ray, &options, &mut stacks, &mut entries);
+            }
+            Some((
+                (*name).to_owned(),
+                SahCheck::of(&facts, &entries, &params.cost),
+            ))
+        })
+        .collect();
     if args.json {
         let mut lines: Vec<String> = rows
             .iter()
@@ -264,7 +284,8 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         lines.push(break_even.json());
         return Ok(lines.join("\n") + "\n");
     }
-    let markdown = markdown(&rows, &heading, &params) + &break_even.markdown();
+    let markdown =
+        markdown(&rows, &heading, &params) + &break_even.markdown() + &sah_checks_markdown(&checks);
     let Some(out) = &args.out else {
         return Ok(markdown);
     };
@@ -317,6 +338,10 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         (
             "total-vs-rays.svg",
             break_even.plot(short_name(&args.mesh)).to_svg(),
+        ),
+        (
+            "sah-assumption.svg",
+            sah_checks_plot(&checks, short_name(&args.mesh), kind).to_svg(),
         ),
         ("tradeoff.csv", csv(&rows, &params)),
         ("build-vs-traversal.svg", build_plot.to_svg()),
@@ -743,6 +768,55 @@ impl BreakEven {
                     )
                 })
                 .collect(),
+            log: true,
         }
+    }
+}
+
+/// The SAH's assumption against the rays: nodes entered per depth, predicted and measured.
+fn sah_checks_markdown(checks: &[(String, SahCheck)]) -> String {
+    let mut out = String::from(
+        "\nThe SAH's assumption, checked (near first, f32, fast test): the nodes a ray entering the root enters at each depth, as the SAH predicts from the areas (rays from outside, uniformly spread, crossing the whole tree) and as these rays did; and the SAH cost again with the measured chances.\n\n",
+    );
+    for (name, check) in checks {
+        out.push_str(&format!(
+            "{name}: SAH cost {:.1}; with the measured chances {:.1} ({} rays entered the root).\n\n| depth | predicted | measured |\n|---:|---:|---:|\n",
+            check.sah_cost, check.measured_chance_cost, check.rays_entering
+        ));
+        for (depth, predicted, measured) in &check.per_depth {
+            out.push_str(&format!("| {depth} | {predicted:.2} | {measured:.2} |\n"));
+        }
+        out.push('\n');
+    }
+    out
+}
+
+fn sah_checks_plot(checks: &[(String, SahCheck)], mesh: &str, kind: RayKind) -> Lines {
+    let mut lines = Vec::new();
+    for (name, check) in checks {
+        for (what, pick) in [
+            (
+                "SAH",
+                (|entry: &(usize, f64, f64)| entry.1) as fn(&(usize, f64, f64)) -> f64,
+            ),
+            ("rays", |entry: &(usize, f64, f64)| entry.2),
+        ] {
+            lines.push((
+                format!("{name} {what}"),
+                check
+                    .per_depth
+                    .iter()
+                    .map(|entry| (entry.0 as f64, pick(entry)))
+                    .collect(),
+            ));
+        }
+    }
+    Lines {
+        title: format!("Nodes per depth: SAH and {} rays ({mesh})", kind.name()),
+        x_label: "depth".into(),
+        y_label: "nodes entered at that depth, per ray".into(),
+        lines,
+        marks: Vec::new(),
+        log: false,
     }
 }

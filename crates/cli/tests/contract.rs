@@ -199,6 +199,15 @@ fn bench_ray_kinds_queries_and_quality() {
             "{any}"
         );
         assert!(any["bytes"].as_u64().unwrap() > 0);
+        // The deepest stack: one waiting node a level at most, seven for an 8-wide node.
+        let stack = any["max_stack"].as_u64().unwrap();
+        let depth = any["max_depth"].as_u64().unwrap();
+        let per_level = if any["accel"].as_str().unwrap().starts_with("bvh8") {
+            7
+        } else {
+            1
+        };
+        assert!(stack >= 1 && stack <= per_level * depth, "{any}");
         let per = any["bytes_per_primitive"].as_f64().unwrap();
         assert!(
             (per - any["bytes"].as_f64().unwrap() / any["triangles"].as_f64().unwrap()).abs()
@@ -211,6 +220,27 @@ fn bench_ray_kinds_queries_and_quality() {
             .map(|count| count.as_u64().unwrap())
             .sum();
         let accel = any["accel"].as_str().unwrap();
+        // The SAH's chances against the rays' (binary trees): every ray entering the root is
+        // one entry at depth 0, and the measured entries over all depths are the nodes
+        // visited.
+        let check = &any["sah_check"];
+        if accel.starts_with("bvh8") {
+            assert!(check.is_null());
+        } else {
+            let depths = check["per_depth"].as_array().unwrap();
+            assert_eq!(depths[0][0], 0);
+            assert_eq!(depths[0][1].as_f64(), Some(1.0));
+            assert_eq!(depths[0][2].as_f64(), Some(1.0));
+            let entered: f64 = depths.iter().map(|depth| depth[2].as_f64().unwrap()).sum();
+            let rays_entering = check["rays_entering"].as_f64().unwrap();
+            let visited =
+                any["avg_nodes_visited"].as_f64().unwrap() * any["rays"].as_f64().unwrap();
+            assert!(
+                (entered * rays_entering - visited).abs() < 1e-6 * visited,
+                "{check}"
+            );
+            assert!(check["measured_chance_cost"].as_f64().unwrap() > 0.0);
+        }
         match accel {
             "kd:sah" => {
                 assert!(any["epo"].is_null() && any["fill_rate"].is_null());
@@ -785,6 +815,9 @@ fn tradeoff_writes_the_table_and_the_plots() {
     assert!(leak.contains("# leak: "), "{leak}");
     let rays = accelviz_scene::rays::parse_rays(&leak, "examples").unwrap();
     assert!(rays.len() >= 2, "agree and leak at least: {leak}");
+    let assumption = std::fs::read_to_string(out.join("sah-assumption.svg")).unwrap();
+    assert!(assumption.contains(">kd:sah rays</text>"), "{assumption}");
+    assert!(stdout(&output).contains("The SAH's assumption, checked"));
     let total = std::fs::read_to_string(out.join("total-vs-rays.svg")).unwrap();
     assert!(total.contains("<polyline") && total.contains(">bvh:middle</text>"));
     assert!(stdout(&output).contains("| rays | fastest | total ms |"));

@@ -62,7 +62,7 @@ pub use brute::brute_force;
 pub use build_observer::{BuildObserver, BuildRecorder, BuildStep, LeafReason, NoBuildObserver};
 pub use facts::{Hierarchy, TreeFacts};
 pub use math::{Real, Vector, Vector3};
-pub use observer::{Counters, NoObserver, Observer, Recorder, Step, counters_of};
+pub use observer::{Counters, MaxStack, NoObserver, Observer, Recorder, Step, counters_of};
 pub use primitive::{
     HitTest, LeafOrdered, LeafPrimitives, PrimitiveSet, Shape, ShapeSet, Sphere, TriangleSet,
 };

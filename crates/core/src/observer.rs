@@ -42,6 +42,10 @@ pub trait Observer<S: Real> {
     /// `primitive` was not tested again: the mailbox shows it was tested for this ray.
     #[inline(always)]
     fn primitive_skipped(&mut self, _primitive: u32) {}
+    /// The traversal's stack now holds `waiting` nodes (told after every push): the deepest
+    /// stack a ray needs is the largest of these.
+    #[inline(always)]
+    fn stack_depth(&mut self, _waiting: usize) {}
     /// A wide traversal tested the boxes of `node`'s `tested` children together (the
     /// `tested` box tests just told, one SIMD test) and will visit the ones hit in `order`:
     /// nearest entry first, or in slot order.
@@ -105,6 +109,19 @@ impl<S: Real> Observer<S> for Counters {
     #[inline(always)]
     fn primitive_skipped(&mut self, _primitive: u32) {
         self.mailbox_skips += 1;
+    }
+}
+
+/// The deepest stack the rays traced needed: the most nodes waiting at once (what a
+/// fixed-size stack in a GPU kernel must hold). Not a step of the animation, so not in
+/// [`Counters`], which a recording replays.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MaxStack(pub usize);
+
+impl<S: Real> Observer<S> for MaxStack {
+    #[inline(always)]
+    fn stack_depth(&mut self, waiting: usize) {
+        self.0 = self.0.max(waiting);
     }
 }
 
@@ -324,6 +341,11 @@ impl<S: Real, A: Observer<S>, B: Observer<S>> Observer<S> for (A, B) {
     fn closest_hit_updated(&mut self, primitive: u32, t: S) {
         self.0.closest_hit_updated(primitive, t);
         self.1.closest_hit_updated(primitive, t);
+    }
+    #[inline(always)]
+    fn stack_depth(&mut self, waiting: usize) {
+        self.0.stack_depth(waiting);
+        self.1.stack_depth(waiting);
     }
     #[inline(always)]
     fn primitive_skipped(&mut self, primitive: u32) {

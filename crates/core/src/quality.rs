@@ -17,7 +17,7 @@
 
 use crate::aabb::Aabb;
 use crate::facts::{Hierarchy, TreeFacts};
-use crate::math::{Vector, Vector3};
+use crate::math::{Real, Vector, Vector3};
 use crate::primitive::clip::clipped_area;
 use crate::sah::SahCost;
 use crate::structure::Tree;
@@ -137,6 +137,89 @@ pub fn leaf_size_histogram<V: Vector>(tree: &impl Hierarchy<V>) -> Vec<u64> {
     histogram
 }
 
+/// Counts how many times each node is entered (an observer): what the SAH's chances are
+/// checked against.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct NodeEntries(pub Vec<u64>);
+
+impl NodeEntries {
+    /// Counts for a tree of `node_count` nodes (numbered as its facts are).
+    pub fn new(node_count: usize) -> Self {
+        Self(vec![0; node_count])
+    }
+}
+
+impl<S: Real> crate::observer::Observer<S> for NodeEntries {
+    #[inline(always)]
+    fn node_entered(&mut self, node: u32) {
+        if let Some(count) = self.0.get_mut(node as usize) {
+            *count += 1;
+        }
+    }
+}
+
+/// The SAH's assumption, checked: it takes the chance that a ray entering a node enters a
+/// child to be the ratio of their areas (rays from outside, uniformly distributed, crossing
+/// the whole tree). Measured rays stop at their first hit, start inside, or come from a
+/// camera, and enter other shares.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SahCheck {
+    /// For each depth: the nodes a ray entering the root is expected to enter there, as the
+    /// SAH predicts (`Σ A(n)/A(root)`) and as the rays did (`Σ entries(n)/entries(root)`).
+    pub per_depth: Vec<(usize, f64, f64)>,
+    /// The SAH cost of the tree (the predicted chances).
+    pub sah_cost: f64,
+    /// The same sum with the measured chances: the cost the SAH would have predicted had it
+    /// known where these rays go.
+    pub measured_chance_cost: f64,
+    /// Rays that entered the root.
+    pub rays_entering: u64,
+}
+
+impl SahCheck {
+    /// Compares `facts`'s areas with `entries` counted over some rays.
+    pub fn of<V: Vector>(facts: &TreeFacts<V>, entries: &NodeEntries, cost: &SahCost) -> Self {
+        let root_area = facts
+            .bounds
+            .first()
+            .map_or(0.0, |root| root.area().to_f64());
+        let root_entries = entries.0.first().copied().unwrap_or(0);
+        let mut per_depth: Vec<(usize, f64, f64)> = Vec::new();
+        let (mut sah_cost, mut measured_chance_cost) = (0.0, 0.0);
+        for node in 0..facts.bounds.len() {
+            let depth = facts.depth[node] as usize;
+            if per_depth.len() <= depth {
+                per_depth.extend((per_depth.len()..=depth).map(|depth| (depth, 0.0, 0.0)));
+            }
+            let predicted = if root_area > 0.0 {
+                facts.bounds[node].area().to_f64() / root_area
+            } else {
+                1.0
+            };
+            let measured = if root_entries > 0 {
+                entries.0.get(node).copied().unwrap_or(0) as f64 / root_entries as f64
+            } else {
+                0.0
+            };
+            per_depth[depth].1 += predicted;
+            per_depth[depth].2 += measured;
+            let node_cost = if facts.is_leaf(node as u32) {
+                cost.leaf_cost(facts.leaf_sizes[node] as usize)
+            } else {
+                cost.traversal_cost
+            };
+            sah_cost += predicted * node_cost;
+            measured_chance_cost += measured * node_cost;
+        }
+        Self {
+            per_depth,
+            sah_cost,
+            measured_chance_cost,
+            rays_entering: root_entries,
+        }
+    }
+}
+
 fn area<V: Vector3>([a, b, c]: &[V; 3]) -> f64 {
     let to = |point: &V| glam::DVec3::from_array(point.to_f64_array());
     0.5 * (to(b) - to(a)).cross(to(c) - to(a)).length()
@@ -212,6 +295,57 @@ mod tests {
         }
         .build(&triangles, &params);
         assert_eq!(Footprint::of(&wide).fill_rate, Some(0.75));
+    }
+
+    #[test]
+    fn rays_that_cross_everything_enter_what_the_sah_predicts_and_stopping_rays_less() {
+        use crate::TraversalStacks;
+        // Two unit squares side by side (x in [0,1] and [2,3]), facing +z, a leaf each under
+        // a root box [0,3] × [0,1] × [0,0]. Its area (a flat box: twice 3 × 1) is 6, each
+        // leaf's 2: the SAH gives each leaf a chance of 1/3.
+        let square = |x: f64| {
+            [
+                [[x, 0.0, 0.0], [x + 1.0, 0.0, 0.0], [x + 1.0, 1.0, 0.0]],
+                [[x, 0.0, 0.0], [x + 1.0, 1.0, 0.0], [x, 1.0, 0.0]],
+            ]
+        };
+        let mut corners = square(0.0).to_vec();
+        corners.extend(square(2.0));
+        let triangles = TriangleSet::<DVec3>::from_f64(&corners);
+        let params = BuildParams {
+            max_leaf_size: 2,
+            ..BuildParams::default()
+        };
+        let tree = crate::Structure::BvhMedian {
+            width: crate::Width::Binary,
+        }
+        .build(&triangles, &params);
+        let facts = TreeFacts::of(&tree);
+        assert_eq!(facts.bounds.len(), 3);
+        // Rays straight down through the left square: each enters the root and the left leaf.
+        let mut entries = NodeEntries::new(3);
+        let mut stacks = TraversalStacks::default();
+        for step in 0..10 {
+            let x = 0.05 + 0.09 * f64::from(step);
+            let ray = crate::Ray::try_new(DVec3::new(x, 0.5, 1.0), DVec3::NEG_Z).unwrap();
+            tree.trace(
+                &triangles,
+                &ray,
+                &Default::default(),
+                &mut stacks,
+                &mut entries,
+            );
+        }
+        let check = SahCheck::of(&facts, &entries, &SahCost::default());
+        assert_eq!(check.rays_entering, 10);
+        assert_eq!(check.per_depth.len(), 2);
+        let (depth, predicted, measured) = check.per_depth[1];
+        assert_eq!(depth, 1);
+        assert!((predicted - 2.0 / 3.0).abs() < 1e-12, "{predicted}");
+        assert_eq!(measured, 1.0, "one leaf of the two, every time");
+        // SAH: C_trav + 2 leaves · (2 · C_isect) · 1/3 = 3 + 4/3; measured: 3 + 2.
+        assert!((check.sah_cost - (3.0 + 4.0 / 3.0)).abs() < 1e-12);
+        assert!((check.measured_chance_cost - 5.0).abs() < 1e-12);
     }
 
     #[test]

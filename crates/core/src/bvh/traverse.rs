@@ -99,13 +99,16 @@ where
             (true, true) => {
                 // Visit one child next and keep the other on the stack for later.
                 let right_first = options.order == Order::NearFirst && right_enter < left_enter;
-                if right_first {
-                    entries.push((left, left_enter));
-                    Some((right, right_enter))
+                let (now, later) = if right_first {
+                    ((right, right_enter), (left, left_enter))
                 } else {
-                    entries.push((right, right_enter));
-                    Some((left, left_enter))
+                    ((left, left_enter), (right, right_enter))
+                };
+                entries.push(later);
+                if O::ACTIVE {
+                    observer.stack_depth(entries.len());
                 }
+                Some(now)
             }
             (true, false) => Some((left, left_enter)),
             (false, true) => Some((right, right_enter)),

@@ -104,6 +104,12 @@ impl<'a, S: Real> PendingStack<'a, S> {
         count > 0
     }
 
+    /// How many entries wait, spilled ones too.
+    #[inline(always)]
+    fn depth(&self) -> usize {
+        self.spilled.len() + self.top
+    }
+
     /// Pushes `entry` (after a [`reserve`](Self::reserve) for it).
     #[inline(always)]
     fn push(&mut self, entry: Pending<S>) {
@@ -447,6 +453,9 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
                     }
                     break 'visit;
                 };
+                if O::ACTIVE && pushed > 0 {
+                    observer.stack_depth(pending.depth());
+                }
                 if O::ACTIVE {
                     // The order chosen: the child visited next, then the ones just pushed,
                     // the nearest last on the stack.

@@ -167,6 +167,9 @@ where
                 entries.push((far, t_near, far_exit));
                 current = Some((near, t_near, t_far));
             }
+            if O::ACTIVE {
+                observer.stack_depth(entries.len());
+            }
             continue;
         }
         // The child the ray meets first, by the sign of its direction on this axis (the sign
@@ -206,6 +209,9 @@ where
                 (first_part, second_part)
             };
             entries.push(later);
+            if O::ACTIVE {
+                observer.stack_depth(entries.len());
+            }
             Some(now)
         };
     }

@@ -282,3 +282,55 @@ fn kd_traversal_reports_the_side_a_ray_never_reaches() {
         "a cell the ray misses is not visited"
     );
 }
+
+/// The deepest stack a ray needs: one node waits while the near disc's leaf is visited (the
+/// two-leaf tree), and over a row of discs a ray along the row keeps at most one waiting node
+/// a level, so never more than the tree's depth; every traversal tells it.
+#[test]
+fn the_deepest_stack_is_told_and_never_deeper_than_the_tree() {
+    use accelviz_core::{MaxStack, Structure, TraversalStacks, Width};
+    let row = ShapeSet {
+        shapes: (0..32)
+            .map(|index| {
+                Shape::Sphere(Sphere {
+                    center: DVec2::new(2.0 * index as f64, 0.0),
+                    radius: 0.6,
+                })
+            })
+            .collect(),
+    };
+    let params = BuildParams {
+        max_leaf_size: 1,
+        ..BuildParams::default()
+    };
+    // Along the row, from its left end: every box is hit, the far sides all wait.
+    let ray = Ray::try_new(DVec2::new(-5.0, 0.0), DVec2::new(1.0, 0.0)).unwrap();
+    let options = TraceOptions {
+        query: accelviz_core::Query::Closest,
+        ..TraceOptions::default()
+    };
+    for structure in [
+        Structure::BvhMedian {
+            width: Width::Binary,
+        },
+        Structure::KdMedian,
+    ] {
+        let tree = structure.build(&row, &params);
+        let depth = accelviz_core::TreeStats::of(&tree, &params.cost).max_depth;
+        let mut deepest = MaxStack::default();
+        let mut stacks = TraversalStacks::default();
+        let hit = tree.trace(&row, &ray, &options, &mut stacks, &mut deepest);
+        assert_eq!(
+            hit.map(|hit| hit.primitive),
+            Some(0),
+            "{}",
+            structure.name()
+        );
+        assert!(
+            deepest.0 >= 1 && deepest.0 <= depth,
+            "{}: {} waiting, depth {depth}",
+            structure.name(),
+            deepest.0
+        );
+    }
+}
