@@ -6,8 +6,10 @@ use std::time::Instant;
 
 use accelviz_core::camera::Camera;
 use accelviz_core::heatmap::{Counter, HeatMap};
-use accelviz_core::{TraversalStacks, TriangleSet, Vector3};
+use accelviz_core::{NoObserver, Query, TraceOptions, TraversalStacks, TriangleSet, Vector3};
 use accelviz_scene::output::{encode_png, write_all_or_nothing};
+use accelviz_scene::rays::{RayKind, rays_from_hit};
+use accelviz_scene::rng::SplitMix64;
 use anyhow::{Result, anyhow, bail};
 use clap::{Args, ValueEnum};
 
@@ -49,6 +51,11 @@ pub struct HeatmapArgs {
     /// What each pixel shows.
     #[arg(long, value_enum, default_value_t)]
     counter: CounterArg,
+    /// Whose cost each pixel shows: camera (its own ray), or the secondary rays from its
+    /// ray's hit: shadow (to a point light), ao (4 short rays), bounce (one diffuse bounce).
+    /// Pixels that miss the mesh, or whose light is behind the surface, show nothing.
+    #[arg(long, default_value = "camera", value_parser = crate::tradeoff::parse_ray_kind)]
+    ray_kind: RayKind,
     /// Threads tracing rows of pixels.
     #[arg(long, default_value_t = 1)]
     threads: usize,
@@ -87,6 +94,18 @@ pub fn run(args: &HeatmapArgs) -> Result<String> {
     };
     let (width, height) =
         accelviz_scene::rays::parse_resolution(&args.camera).map_err(anyhow::Error::msg)?;
+    match args.ray_kind {
+        RayKind::Camera => {}
+        RayKind::Shadow | RayKind::Ao | RayKind::Bounce if tile == 1 => {}
+        RayKind::Shadow | RayKind::Ao | RayKind::Bounce => bail!(
+            "--packet {}: secondary rays start at scattered hits, so they are traced one at a time (--packet 1)",
+            args.packet
+        ),
+        other => bail!(
+            "--ray-kind {}: a heat map shows the camera's pixels: camera, shadow, ao or bounce",
+            other.name()
+        ),
+    }
     let mesh = load_mesh(&args.mesh)?;
     let camera = Camera::framing(&mesh.bounds());
     let started = Instant::now();
@@ -111,10 +130,14 @@ pub fn run(args: &HeatmapArgs) -> Result<String> {
     }
     write_all_or_nothing(&files)?;
 
-    let order = args.trace.options().order.name();
+    let options = args.trace.options_for(Some(args.ray_kind));
+    let order = options.order.name();
+    let query = crate::tradeoff::query_name(options.query);
     Ok(if args.json {
         let object = JsonObject::new()
             .string("accel", &spec.name())
+            .string("ray_kind", args.ray_kind.name())
+            .string("query", query)
             .integer("width", width as u64)
             .integer("height", height as u64)
             .string("counter", counter.name())
@@ -138,11 +161,12 @@ pub fn run(args: &HeatmapArgs) -> Result<String> {
             String::new()
         };
         format!(
-            "{} on {} ({} triangles), {width}x{height} camera{packets}, {order}: {} per pixel: \
+            "{} on {} ({} triangles), {width}x{height} camera{packets}, {} rays, {query} hit, {order}: {} per pixel: \
              total {}, max {}, mean {:.2} ({ms:.1} ms); wrote {}{also}\n",
             spec.name(),
             mesh.name,
             mesh.triangles.len(),
+            args.ray_kind.name(),
             counter.label(),
             summary.total,
             summary.max,
@@ -164,7 +188,50 @@ fn trace<V: Vector3>(
 ) -> HeatMap {
     let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
     let (accel, _) = spec.build(&triangles, params);
-    let options = args.trace.options();
+    let options = args.trace.options_for(Some(args.ray_kind));
+    if args.ray_kind != RayKind::Camera {
+        // Each pixel's ray finds its hit (uncounted); the secondary rays from there are
+        // counted at that pixel. Their directions are drawn from a generator seeded by the
+        // pixel's ray, so a map is the same every time.
+        let bounds = mesh.bounds();
+        let primary = TraceOptions {
+            query: Query::Closest,
+            ..options
+        };
+        return HeatMap::compute(
+            camera,
+            width,
+            height,
+            args.threads,
+            &|ray: &accelviz_core::Ray<V>, stacks: &mut TraversalStacks<V::Scalar>, counters| {
+                let Some(hit) = accel.trace(ray, &primary, stacks, &mut NoObserver) else {
+                    return;
+                };
+                let wide = ray.cast::<glam::DVec3>();
+                let seed = wide
+                    .origin
+                    .to_array()
+                    .iter()
+                    .chain(&wide.direction.to_array())
+                    .fold(0u64, |seed, value| seed.rotate_left(13) ^ value.to_bits());
+                let triangle = mesh.triangles[hit.primitive as usize].map(glam::DVec3::from_array);
+                let point = wide.at(accelviz_core::Real::to_f64(hit.t));
+                let secondary = rays_from_hit(
+                    args.ray_kind,
+                    &bounds,
+                    triangle,
+                    point,
+                    wide.direction,
+                    &mut SplitMix64::new(seed),
+                );
+                for spec in secondary {
+                    if let Ok(ray) = spec.to_ray::<V>() {
+                        accel.trace(&ray, &options, stacks, counters);
+                    }
+                }
+            },
+        );
+    }
     HeatMap::compute_in_packets(
         camera,
         width,

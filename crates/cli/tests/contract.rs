@@ -955,6 +955,76 @@ fn tradeoff_json_names_the_rays_the_query_and_the_outcomes() {
     );
 }
 
+/// `heatmap --ray-kind`: each pixel shows the cost of the secondary rays from its ray's hit,
+/// the same every time; shadow and ao rays ask for any hit; kinds that are not a pixel's, and
+/// packets of scattered rays, are refused.
+#[test]
+fn heatmap_of_secondary_rays() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("contract-heatmap-kinds");
+    std::fs::create_dir_all(&dir).unwrap();
+    let png = dir.join("map.png").to_string_lossy().into_owned();
+    let run = |kind: &str| -> serde_json::Value {
+        let output = cli(&[
+            "heatmap",
+            "--mesh",
+            "builtin:teapot",
+            "--accel",
+            "bvh:sah-binned",
+            "--camera",
+            "64x64",
+            "--ray-kind",
+            kind,
+            "--out",
+            &png,
+            "--json",
+        ]);
+        assert!(output.status.success(), "{}", stderr(&output));
+        serde_json::from_str(stdout(&output).trim()).unwrap()
+    };
+    let camera = run("camera");
+    assert_eq!(camera["query"], "closest");
+    for kind in ["shadow", "ao", "bounce"] {
+        let map = run(kind);
+        assert_eq!(map["ray_kind"], kind);
+        let expected = if kind == "bounce" { "closest" } else { "any" };
+        assert_eq!(map["query"], expected);
+        assert!(map["total"].as_u64().unwrap() > 0, "{map}");
+        assert_eq!(
+            map["total"],
+            run(kind)["total"],
+            "{kind}: the same every time"
+        );
+    }
+    // Four short rays a hit cost more than the one camera ray.
+    assert!(run("ao")["total"].as_u64() > camera["total"].as_u64());
+    assert_fails(
+        &[
+            "heatmap",
+            "--accel",
+            "bvh:sah-binned",
+            "--ray-kind",
+            "aimed",
+            "--out",
+            &png,
+        ],
+        "a heat map shows the camera's pixels",
+    );
+    assert_fails(
+        &[
+            "heatmap",
+            "--accel",
+            "bvh:sah-binned",
+            "--ray-kind",
+            "ao",
+            "--packet",
+            "4",
+            "--out",
+            &png,
+        ],
+        "traced one at a time",
+    );
+}
+
 #[test]
 fn heatmap_totals_are_the_benchmarks_counts() {
     let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("contract-heatmap");

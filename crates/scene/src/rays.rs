@@ -674,8 +674,6 @@ fn secondary_rays(
     let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
     let bvh = BinnedSah::default().build(&triangles.all_bounds(), &BuildParams::default());
     let camera = accelviz_core::camera::Camera::framing(&bounds);
-    let light = light_position(&bounds);
-    let (_, radius) = bounding_sphere_of_box(&bounds);
     let options = TraceOptions::default().with_robust(true);
     let mut stack = TraversalStack::new();
     let mut rng = SplitMix64::new(seed);
@@ -703,44 +701,15 @@ fn secondary_rays(
         ) else {
             continue;
         };
-        let [a, b, c] = triangles.triangles()[hit.primitive as usize];
-        let mut normal = (b - a).cross(c - a).normalize_or_zero();
-        if normal == DVec3::ZERO {
-            continue;
-        }
-        // The side the camera sees.
-        if normal.dot(direction) > 0.0 {
-            normal = -normal;
-        }
-        let point = primary.at(hit.t);
-        let start = point + normal * surface_offset(&bounds, point);
-        match kind {
-            RayKind::Shadow => {
-                let to_light = light - start;
-                // A light behind the surface casts no shadow ray (a renderer would not trace
-                // one).
-                if to_light.dot(normal) <= 0.0 {
-                    continue;
-                }
-                rays.push(RaySpec {
-                    t_max: 1.0,
-                    ..RaySpec::generated(start, to_light)
-                });
-            }
-            RayKind::Ao => {
-                for _ in 0..AO_RAYS_PER_HIT.min(count - rays.len()) {
-                    let direction = cosine_direction(&mut rng, normal);
-                    rays.push(RaySpec {
-                        t_max: AO_REACH * radius,
-                        ..RaySpec::generated(start, direction)
-                    });
-                }
-            }
-            _ => rays.push(RaySpec::generated(
-                start,
-                cosine_direction(&mut rng, normal),
-            )),
-        }
+        let from_hit = rays_from_hit(
+            kind,
+            &bounds,
+            triangles.triangles()[hit.primitive as usize],
+            primary.at(hit.t),
+            direction,
+            &mut rng,
+        );
+        rays.extend(from_hit.into_iter().take(count - rays.len()));
     }
     if rays.len() < count {
         return Err(format!(
@@ -749,6 +718,56 @@ fn secondary_rays(
         ));
     }
     Ok(rays)
+}
+
+/// The secondary rays of `kind` (shadow, ambient occlusion or bounce; none for the other
+/// kinds) from a camera ray's hit at `point` on `triangle`, the camera ray going `incoming`:
+/// from just off the surface on the side it came from ([`surface_offset`]); a shadow ray to
+/// the [`light_position`] with `t_max` there (none when the light is behind the surface),
+/// [`AO_RAYS_PER_HIT`] cosine-distributed rays reaching [`AO_REACH`] of the scene's radius,
+/// or one cosine-distributed bounce. `rng` draws the directions.
+pub fn rays_from_hit(
+    kind: RayKind,
+    bounds: &Aabb<DVec3>,
+    triangle: [DVec3; 3],
+    point: DVec3,
+    incoming: DVec3,
+    rng: &mut SplitMix64,
+) -> Vec<RaySpec> {
+    let [a, b, c] = triangle;
+    let mut normal = (b - a).cross(c - a).normalize_or_zero();
+    if normal == DVec3::ZERO {
+        return Vec::new();
+    }
+    // The side the camera sees.
+    if normal.dot(incoming) > 0.0 {
+        normal = -normal;
+    }
+    let start = point + normal * surface_offset(bounds, point);
+    match kind {
+        RayKind::Shadow => {
+            let to_light = light_position(bounds) - start;
+            // A light behind the surface casts no shadow ray (a renderer would not trace one).
+            if to_light.dot(normal) <= 0.0 {
+                return Vec::new();
+            }
+            vec![RaySpec {
+                t_max: 1.0,
+                ..RaySpec::generated(start, to_light)
+            }]
+        }
+        RayKind::Ao => {
+            let (_, radius) = bounding_sphere_of_box(bounds);
+            (0..AO_RAYS_PER_HIT)
+                .map(|_| RaySpec {
+                    t_max: AO_REACH * radius,
+                    ..RaySpec::generated(start, cosine_direction(rng, normal))
+                })
+                .collect()
+        }
+        RayKind::Bounce => vec![RaySpec::generated(start, cosine_direction(rng, normal))],
+        RayKind::Random | RayKind::Camera | RayKind::Aimed => Vec::new(),
+    }
 }
 
 /// A unit direction about `normal`, with density proportional to the cosine of its angle
