@@ -1,6 +1,7 @@
 //! `accelviz-cli bench`: build each structure, trace the same rays, report the figures.
 
 use accelviz_core::bvh::BuildParams;
+use accelviz_core::outcome::{Outcome, OutcomeCounts, ReferenceScene};
 use accelviz_core::quality::{NodeEntries, SahCheck};
 use accelviz_core::simd::Isa;
 use accelviz_core::{Counters, MaxStack, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
@@ -135,6 +136,8 @@ struct Figures {
     max_stack: usize,
     /// The SAH's chances against the rays' (binary trees).
     sah_check: Option<SahCheck>,
+    /// Every ray's answer against the reference.
+    outcomes: OutcomeCounts,
     hits: usize,
 }
 
@@ -223,7 +226,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
     let mut output = String::new();
     if !args.json {
         output.push_str(&format!(
-            "mesh {} ({} triangles), {} rays ({ray_source}), {} hit, {} order, {}, {}, median of {} interleaved rounds (±: half their range)\n",
+            "mesh {} ({} triangles), {} rays ({ray_source}), {} hit, {} order, {}, {}, median of {} interleaved rounds (±: half their range); errors/M: leaks, false hits and wrong answers per million rays against the reference (the JSON has every outcome)\n",
             mesh.name,
             mesh.triangles.len(),
             rays.len(),
@@ -234,7 +237,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
             args.repeat.max(1)
         ));
         output.push_str(&format!(
-            "{:<22} {:<8} {:>7} {:>6} {:>10} {:>8} {:>8} {:>6} {:>9} {:>10} {:>6} {:>9} {:>11} {:>11} {:>8}\n",
+            "{:<22} {:<8} {:>7} {:>6} {:>10} {:>8} {:>8} {:>6} {:>9} {:>10} {:>6} {:>9} {:>11} {:>11} {:>8} {:>9}\n",
             "accel",
             "isa",
             "threads",
@@ -249,7 +252,8 @@ pub fn run(args: &BenchArgs) -> Result<String> {
             "Mrays/s",
             "nodes/ray",
             "prims/ray",
-            "hits"
+            "hits",
+            "errors/M"
         ));
     }
     for f in &figures {
@@ -295,6 +299,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .number("avg_prims_tested", avg_prims)
                 .number("avg_mailbox_skips", f.counters.mailbox_skips as f64 / rays)
                 .integer("max_stack", f.max_stack as u64)
+                .raw("outcomes", &outcomes_json(&f.outcomes))
                 .raw(
                     "sah_check",
                     &f.sah_check
@@ -315,7 +320,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
             output.push('\n');
         } else {
             output.push_str(&format!(
-                "{:<22} {:<8} {:>7} {:>6} {:>10.2} {:>8} {:>8} {:>6} {:>9.2} {:>10.2} {:>6.1} {:>9.3} {:>11.2} {:>11.2} {:>8}\n",
+                "{:<22} {:<8} {:>7} {:>6} {:>10.2} {:>8} {:>8} {:>6} {:>9.2} {:>10.2} {:>6.1} {:>9.3} {:>11.2} {:>11.2} {:>8} {:>9.0}\n",
                 f.accel,
                 f.isa.name(),
                 f.threads,
@@ -330,7 +335,12 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 mrays_per_s,
                 avg_nodes,
                 avg_prims,
-                f.hits
+                f.hits,
+                Outcome::ALL
+                    .iter()
+                    .filter(|outcome| outcome.is_error())
+                    .map(|&outcome| f.outcomes.per_million(outcome))
+                    .sum::<f64>()
             ));
         }
     }
@@ -433,7 +443,10 @@ fn measure<V: Vector3>(
     // the kernels and threads).
     // ... with the deepest stack, and how often each node of a binary tree was entered (the
     // SAH's chances, checked).
-    let counted: Vec<(Counters, (MaxStack, NodeEntries))> = accels
+    // Each ray's answer is held to the reference on the same rounded inputs, decided once.
+    let reference = ReferenceScene::new(&triangles);
+    let references: Vec<_> = rays.iter().map(|ray| reference.reference(ray)).collect();
+    let counted: Vec<(Counters, (MaxStack, NodeEntries), OutcomeCounts)> = accels
         .iter()
         .map(|accel| {
             let nodes = accel.binary_facts().map_or(0, |facts| facts.bounds.len());
@@ -441,17 +454,24 @@ fn measure<V: Vector3>(
                 Counters::default(),
                 (MaxStack::default(), NodeEntries::new(nodes)),
             );
+            let mut outcomes = OutcomeCounts::default();
             let mut stack = accelviz_core::TraversalStacks::default();
-            for ray in &rays {
-                accel.trace(ray, &options, &mut stack, &mut observer);
+            for (ray, expected) in rays.iter().zip(&references) {
+                let got = accel.trace(ray, &options, &mut stack, &mut observer);
+                outcomes.add(reference.classify(
+                    ray,
+                    expected.as_ref(),
+                    got.map(|hit| hit.primitive),
+                    options.query,
+                ));
             }
-            observer
+            (observer.0, observer.1, outcomes)
         })
         .collect();
     let sah_checks: Vec<Option<SahCheck>> = accels
         .iter()
         .zip(&counted)
-        .map(|(accel, (_, (_, entries)))| {
+        .map(|(accel, (_, (_, entries), _))| {
             accel
                 .binary_facts()
                 .map(|facts| SahCheck::of(&facts, entries, &params.cost))
@@ -487,6 +507,7 @@ fn measure<V: Vector3>(
             counters: counted[spec].0,
             max_stack: counted[spec].1.0.0,
             sah_check: sah_checks[spec].clone(),
+            outcomes: counted[spec].2,
             hits: hits[index],
         });
     }
@@ -545,5 +566,15 @@ pub fn sah_check_json(check: &SahCheck) -> String {
         .number("sah_cost", check.sah_cost)
         .number("measured_chance_cost", check.measured_chance_cost)
         .raw("per_depth", &format!("[{}]", depths.join(",")))
+        .finish()
+}
+
+/// `{"agree": …, "tie": …, …}`: each outcome per million rays.
+pub fn outcomes_json(outcomes: &OutcomeCounts) -> String {
+    Outcome::ALL
+        .iter()
+        .fold(JsonObject::new(), |object, &outcome| {
+            object.number(outcome.name(), outcomes.per_million(outcome))
+        })
         .finish()
 }

@@ -557,12 +557,7 @@ impl Row {
 
     /// The row as one JSON object.
     fn json(&self, params: &BuildParams, kind: RayKind, query: Query) -> String {
-        let outcomes = Outcome::ALL
-            .iter()
-            .fold(JsonObject::new(), |object, &outcome| {
-                object.number(outcome.name(), self.outcomes.per_million(outcome))
-            })
-            .finish();
+        let outcomes = crate::bench::outcomes_json(&self.outcomes);
         JsonObject::new()
             .string("structure", &self.structure)
             .string("order", self.order.name())

@@ -279,6 +279,29 @@ fn bench_aimed_rays_never_slip_through_in_robust_mode() {
     let value: serde_json::Value = serde_json::from_str(stdout(&output).trim()).unwrap();
     assert_eq!(value["misses"], 0);
     assert_eq!(value["rays"], 5120 * 18);
+    // Held to the reference: no leak, false hit or wrong answer; and the outcomes add up.
+    let outcomes = &value["outcomes"];
+    for name in ["leak", "false_hit", "wrong"] {
+        assert_eq!(outcomes[name].as_f64(), Some(0.0), "{outcomes}");
+    }
+    let sum: f64 = ["agree", "tie", "graze"]
+        .iter()
+        .map(|name| outcomes[name].as_f64().unwrap())
+        .sum();
+    assert!((sum - 1e6).abs() < 1e-3, "{outcomes}");
+    // The fast test leaks through the same sphere.
+    let fast = cli(&[
+        "bench",
+        "--mesh",
+        "builtin:icosphere",
+        "--ray-kind",
+        "aimed",
+        "--accel",
+        "bvh:sah-binned",
+        "--json",
+    ]);
+    let fast: serde_json::Value = serde_json::from_str(stdout(&fast).trim()).unwrap();
+    assert!(fast["outcomes"]["leak"].as_f64().unwrap() > 0.0, "{fast}");
 }
 
 #[test]
