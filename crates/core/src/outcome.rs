@@ -714,6 +714,7 @@ mod tests {
     use super::*;
     use crate::brute_force;
     use crate::observer::NoObserver;
+    use crate::primitive::PrimitiveSet;
     use glam::Vec3;
 
     fn scene(triangles: &[[[f64; 3]; 3]]) -> (TriangleSet<Vec3>, ReferenceScene) {
@@ -884,6 +885,28 @@ mod tests {
             brute_force(&set, &ray, &options, &mut NoObserver).map(|hit| hit.primitive)
         };
         assert_eq!(answer(HitTest::Fast), None, "the fast test slips through");
+        // Why: for each half, a barycentric coordinate the fast test computed falls just
+        // outside [0, 1]; the watertight test's edge functions for one half share a sign.
+        for index in 0..2 {
+            let fast = set.explain(&set.prepare(&ray, HitTest::Fast), index, 0.0, f32::INFINITY);
+            let [u, v, sum] = fast.coordinates;
+            let outside = u.is_some_and(|u| !(0.0..=1.0).contains(&u))
+                || v.is_some_and(|v| v < 0.0)
+                || sum.is_some_and(|sum| sum > 1.0);
+            assert!(!fast.hit && outside, "half {index}: {fast:?}");
+        }
+        let watertight_hits = (0..2)
+            .filter(|&index| {
+                set.explain(
+                    &set.prepare(&ray, HitTest::Watertight),
+                    index,
+                    0.0,
+                    f32::INFINITY,
+                )
+                .hit
+            })
+            .count();
+        assert!(watertight_hits >= 1);
         assert_eq!(
             reference.classify(&ray, Some(&found), answer(HitTest::Fast), Query::Closest),
             Outcome::Leak

@@ -9,7 +9,7 @@ mod shape;
 mod triangle;
 
 pub use shape::{Shape, ShapeSet, Sphere};
-pub use triangle::{TriangleBlock, TriangleRay, TriangleSet};
+pub use triangle::{TriangleBlock, TriangleRay, TriangleSet, TriangleTestValues};
 
 use std::any::Any;
 

@@ -52,6 +52,25 @@ impl<V: Vector3> TriangleSet<V> {
     pub fn degenerate_count(&self) -> usize {
         self.degenerate_count
     }
+
+    /// The test of triangle `index` against `ray` (prepared for its test), with what it
+    /// computed on the way: the same computation as [`PrimitiveSet::intersect`], which gives
+    /// the same answer.
+    pub fn explain(
+        &self,
+        ray: &TriangleRay<V>,
+        index: usize,
+        t_min: V::Scalar,
+        t_max: V::Scalar,
+    ) -> TriangleTestValues<V::Scalar> {
+        let mut values = TriangleTestValues::default();
+        let corners = &self.triangles[index];
+        match ray.test {
+            HitTest::Fast => moller_trumbore(&ray.ray, corners, t_min, t_max, Some(&mut values)),
+            HitTest::Watertight => watertight(ray, corners, t_min, t_max, Some(&mut values)),
+        };
+        values
+    }
 }
 
 /// A ray prepared for triangle tests.
@@ -111,19 +130,46 @@ impl<V: Vector3> TriangleRay<V> {
     }
 }
 
-/// Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection".
+/// What a ray/triangle test computed on its way to its answer: the numbers a lesson on cracks
+/// shows and a question on leaks asks about. The tests fill it in as they go, in the same
+/// computation (the traversal's calls pass `None`, and that code is compiled away).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct TriangleTestValues<S> {
+    /// Which test.
+    pub test: HitTest,
+    /// Möller–Trumbore: the determinant `e1 · (d × e2)`; watertight: `U + V + W`.
+    pub det: Option<S>,
+    /// Möller–Trumbore: the barycentric coordinates `u`, `v` and `u + v` (the hit needs
+    /// `u ≥ 0`, `v ≥ 0`, `u + v ≤ 1`); watertight: the edge functions `U`, `V`, `W` (the hit
+    /// needs no two of opposite signs). `None` where the test stopped before computing it.
+    pub coordinates: [Option<S>; 3],
+    /// Watertight: an edge function was zero, so all three were computed again in f64.
+    pub recomputed: bool,
+    /// Where the ray meets the triangle's plane, when the test got that far.
+    pub t: Option<S>,
+    /// The answer: a hit within the interval.
+    pub hit: bool,
+}
+
+/// Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection". `values`, if
+/// given, is told what was computed.
 #[inline(always)]
 fn moller_trumbore<V: Vector3>(
     ray: &Ray<V>,
     [v0, v1, v2]: &[V; 3],
     t_min: V::Scalar,
     t_max: V::Scalar,
+    mut values: Option<&mut TriangleTestValues<V::Scalar>>,
 ) -> Option<V::Scalar> {
     let zero = V::Scalar::ZERO;
     let edge1 = *v1 - *v0;
     let edge2 = *v2 - *v0;
     let p = ray.direction.cross(edge2);
     let det = edge1.dot(p);
+    if let Some(values) = values.as_deref_mut() {
+        values.test = HitTest::Fast;
+        values.det = Some(det);
+    }
     // A zero determinant: the ray is parallel to the plane, or the triangle is degenerate.
     if det == zero {
         return None;
@@ -131,16 +177,28 @@ fn moller_trumbore<V: Vector3>(
     let inv_det = V::Scalar::ONE / det;
     let s = ray.origin - *v0;
     let u = s.dot(p) * inv_det;
+    if let Some(values) = values.as_deref_mut() {
+        values.coordinates[0] = Some(u);
+    }
     if u < zero || u > V::Scalar::ONE {
         return None;
     }
     let q = s.cross(edge1);
     let v = ray.direction.dot(q) * inv_det;
+    if let Some(values) = values.as_deref_mut() {
+        values.coordinates[1] = Some(v);
+        values.coordinates[2] = Some(u + v);
+    }
     if v < zero || u + v > V::Scalar::ONE {
         return None;
     }
     let t = edge2.dot(q) * inv_det;
-    (t >= t_min && t <= t_max).then_some(t)
+    let hit = t >= t_min && t <= t_max;
+    if let Some(values) = values {
+        values.t = Some(t);
+        values.hit = hit;
+    }
+    hit.then_some(t)
 }
 
 /// Four triangles stored lane by lane (each corner's coordinates a row of four), so that one
@@ -217,8 +275,8 @@ impl<S: Real> TriangleBlock<S> {
     ) -> Option<S> {
         let triangle = self.triangle(lane);
         match ray.test {
-            HitTest::Fast => moller_trumbore(&ray.ray, &triangle, t_min, t_max),
-            HitTest::Watertight => watertight(ray, &triangle, t_min, t_max),
+            HitTest::Fast => moller_trumbore(&ray.ray, &triangle, t_min, t_max, None),
+            HitTest::Watertight => watertight(ray, &triangle, t_min, t_max, None),
         }
     }
 }
@@ -234,6 +292,7 @@ fn watertight<V: Vector3>(
     corners: &[V; 3],
     t_min: V::Scalar,
     t_max: V::Scalar,
+    mut values: Option<&mut TriangleTestValues<V::Scalar>>,
 ) -> Option<V::Scalar> {
     let zero = V::Scalar::ZERO;
     let (kx, ky, kz) = (prepared.axis_x, prepared.axis_y, prepared.axis_z);
@@ -256,7 +315,8 @@ fn watertight<V: Vector3>(
     let mut v = ax * cy - ay * cx;
     let mut w = bx * ay - by * ax;
     // On an edge the products can cancel; redo them in f64 so the sign is exact for f32 input.
-    if u == zero || v == zero || w == zero {
+    let recompute = u == zero || v == zero || w == zero;
+    if recompute {
         let (ax, ay, bx, by, cx, cy) = (
             ax.to_f64(),
             ay.to_f64(),
@@ -268,6 +328,12 @@ fn watertight<V: Vector3>(
         u = V::Scalar::from_f64(cx * by - cy * bx);
         v = V::Scalar::from_f64(ax * cy - ay * cx);
         w = V::Scalar::from_f64(bx * ay - by * ax);
+    }
+    if let Some(values) = values.as_deref_mut() {
+        values.test = HitTest::Watertight;
+        values.coordinates = [Some(u), Some(v), Some(w)];
+        values.recomputed = recompute;
+        values.det = Some(u + v + w);
     }
     // Mixed signs: the ray passes outside an edge.
     if (u < zero || v < zero || w < zero) && (u > zero || v > zero || w > zero) {
@@ -281,6 +347,14 @@ fn watertight<V: Vector3>(
     let bz = sz * b[kz];
     let cz = sz * c[kz];
     let t_scaled = u * az + v * bz + w * cz;
+    if let Some(values) = values {
+        values.t = Some(t_scaled / det);
+        values.hit = if det < zero {
+            !(t_scaled > t_min * det || t_scaled < t_max * det)
+        } else {
+            !(t_scaled < t_min * det || t_scaled > t_max * det)
+        };
+    }
     // Compare t against the interval before dividing, with the sign of det folded in.
     if det < zero {
         if t_scaled > t_min * det || t_scaled < t_max * det {
@@ -336,8 +410,8 @@ impl<V: Vector3> PrimitiveSet<V> for TriangleSet<V> {
     ) -> Option<V::Scalar> {
         let corners = &self.triangles[index];
         match ray.test {
-            HitTest::Fast => moller_trumbore(&ray.ray, corners, t_min, t_max),
-            HitTest::Watertight => watertight(ray, corners, t_min, t_max),
+            HitTest::Fast => moller_trumbore(&ray.ray, corners, t_min, t_max, None),
+            HitTest::Watertight => watertight(ray, corners, t_min, t_max, None),
         }
     }
 }
@@ -361,6 +435,57 @@ mod tests {
             // A t_max before the hit rejects it.
             assert_eq!(set.intersect(&prepared, 0, 0.0, 1.5), None);
         }
+    }
+
+    #[test]
+    fn an_explained_test_gives_the_tests_answer_and_its_numbers() {
+        // Random triangles near the unit square and rays aimed near them, both tests, both
+        // precisions' worth of f32: the explanation's answer is the test's.
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..2000 {
+            let mut corner = || [next() * 2.0 - 1.0, next() * 2.0 - 1.0, next() * 0.5];
+            let triangle = [corner(), corner(), corner()];
+            let set = TriangleSet::<Vec3>::from_f64(&[triangle]);
+            let origin = Vec3::new(next() as f32 - 0.5, next() as f32 - 0.5, 3.0);
+            let target = Vec3::new(next() as f32 * 2.0 - 1.0, next() as f32 * 2.0 - 1.0, 0.2);
+            let ray = Ray::try_new(origin, target - origin).unwrap();
+            for test in [HitTest::Fast, HitTest::Watertight] {
+                let prepared = set.prepare(&ray, test);
+                let hit = set.intersect(&prepared, 0, 0.0, f32::INFINITY);
+                let values = set.explain(&prepared, 0, 0.0, f32::INFINITY);
+                assert_eq!(values.test, test);
+                assert_eq!(values.hit, hit.is_some(), "{values:?}");
+                if let Some(t) = hit {
+                    assert_eq!(values.t, Some(t));
+                }
+                if test == HitTest::Fast && values.hit {
+                    let [u, v, sum] = values.coordinates.map(Option::unwrap);
+                    assert!(u >= 0.0 && v >= 0.0 && sum <= 1.0);
+                }
+            }
+        }
+        // Inside the unit triangle at (0.25, 0.25): u = 0.25, v = 0.25 (and so 0.5).
+        let set = TriangleSet::<Vec3>::from_f64(&[unit_triangle()]);
+        let ray = Ray::try_new(Vec3::new(0.25, 0.25, 2.0), Vec3::new(0.0, 0.0, -1.0)).unwrap();
+        let values = set.explain(&set.prepare(&ray, HitTest::Fast), 0, 0.0, f32::INFINITY);
+        assert_eq!(values.coordinates, [Some(0.25), Some(0.25), Some(0.5)]);
+        assert_eq!(values.t, Some(2.0));
+        // The watertight test's edge functions: all of one sign inside.
+        let values = set.explain(
+            &set.prepare(&ray, HitTest::Watertight),
+            0,
+            0.0,
+            f32::INFINITY,
+        );
+        let [a, b, c] = values.coordinates.map(Option::unwrap);
+        assert!(values.hit && (a > 0.0) == (b > 0.0) && (b > 0.0) == (c > 0.0));
+        assert!(!values.recomputed);
     }
 
     #[test]
