@@ -172,7 +172,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     let workers = Workers::new(args.threads)?;
     let single = Prepared::<Vec3>::new(&mesh.triangles, &ray_specs, &source)?;
     let double = Prepared::<DVec3>::new(&mesh.triangles, &ray_specs, &source)?;
-    let (reference32, reference64) = (single.references(), double.references());
+    let (reference32, reference64) = (single.references()?, double.references()?);
     // Every structure built in both precisions once per round (a configuration is a structure
     // and a precision); the first round's trees are kept.
     let mut trees32: Vec<Option<Accel<Vec3, TriangleSet<Vec3>>>> =
@@ -403,7 +403,7 @@ impl<V: Vector3> Prepared<V> {
     }
 
     /// The reference's answer for every ray, on the machine's cores.
-    fn references(&self) -> Vec<Option<Reference>> {
+    fn references(&self) -> Result<Vec<Option<Reference>>> {
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
         let chunk = self.rays.len().div_ceil(threads).max(1);
         std::thread::scope(|scope| {
@@ -418,10 +418,15 @@ impl<V: Vector3> Prepared<V> {
                     })
                 })
                 .collect();
-            workers
-                .into_iter()
-                .flat_map(|worker| worker.join().unwrap_or_default())
-                .collect()
+            let mut all = Vec::with_capacity(self.rays.len());
+            for worker in workers {
+                all.extend(
+                    worker
+                        .join()
+                        .map_err(|_| anyhow::anyhow!("a reference thread failed"))?,
+                );
+            }
+            Ok(all)
         })
     }
 
@@ -448,10 +453,7 @@ impl<V: Vector3> Prepared<V> {
                 .reference
                 .classify(ray, reference.as_ref(), got, options.query);
             outcomes.add(outcome);
-            let slot = &mut examples[Outcome::ALL
-                .iter()
-                .position(|&each| each == outcome)
-                .unwrap_or(0)];
+            let slot = &mut examples[outcome.index()];
             if slot.is_none() {
                 // The ray as this precision rounded it: the ray file names exactly it.
                 let exact = ray.cast::<DVec3>();

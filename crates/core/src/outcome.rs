@@ -99,7 +99,8 @@ impl Outcome {
         matches!(self, Outcome::Leak | Outcome::FalseHit | Outcome::Wrong)
     }
 
-    fn index(self) -> usize {
+    /// Its place in [`Outcome::ALL`].
+    pub fn index(self) -> usize {
         self as usize
     }
 }
