@@ -307,7 +307,7 @@ try {
   await page.mouse.click(60, quizY);
   await page.waitForFunction(() => document.title.includes('quiz seed'), null, { timeout: 20_000 })
     .catch(() => {});
-  check((await quizTitle()).includes('quiz seed 1, question 1 of 9, step 1'), `the quiz opens at its start: "${await quizTitle()}"`);
+  check((await quizTitle()).includes('quiz seed 1, question 1 of 10, step 1'), `the quiz opens at its start: "${await quizTitle()}"`);
   await page.screenshot({ path: path.join(shotDir, 'web-quiz.png') });
   for (let answer = 0; answer < 3; answer++) {
     // A moment for the step's controls (a number's field takes the keys once focused).

@@ -100,6 +100,11 @@ impl Gen {
         self.round(value)
     }
 
+    /// Uniform in [0, 1), not rounded (for coordinates whose every digit matters).
+    pub(crate) fn uniform(&mut self) -> f64 {
+        self.rng.next_f64()
+    }
+
     /// A whole number in `low..=high`.
     pub(crate) fn integer(&mut self, low: i64, high: i64) -> i64 {
         let span = (high - low + 1) as u64;

@@ -98,6 +98,42 @@ pub enum Figure {
     Scene(Box<SceneFigure>),
     /// A tree for the student to build, as it starts.
     Build(Box<crate::build::BuildExercise>),
+    /// Two triangles sharing an edge and a ray aimed at it, seen along the ray.
+    Crack(Box<CrackFigure>),
+}
+
+/// Two triangles, A and B, that share an edge, and a ray aimed at a point of it, with what a
+/// ray/triangle test in one precision computed for each (the leak question).
+#[derive(Clone, Debug)]
+pub struct CrackFigure {
+    /// A and B seen along the ray: their corners in a plane across it, the point aimed at
+    /// in the middle of the figure's world and the triangles scaled to fill it.
+    pub seen: [[DVec2; 3]; 2],
+    /// Where the ray is in the figure (the point aimed at).
+    pub ray_at: DVec2,
+    /// A's and B's corners as the test stores them (in its precision).
+    pub corners: [[[f64; 3]; 3]; 2],
+    /// The ray's origin and direction as the test sees them.
+    pub origin: [f64; 3],
+    /// The ray's direction.
+    pub direction: [f64; 3],
+    /// `f32` or `f64`.
+    pub precision: &'static str,
+    /// The test.
+    pub test: accelviz_core::HitTest,
+    /// What the test computed for A and for B: `u`, `v` and `w = 1 − u − v` (fast), or the
+    /// edge functions `U`, `V`, `W` (watertight). `None` where the test stopped before it.
+    pub computed: [[Option<f64>; 3]; 2],
+}
+
+impl CrackFigure {
+    /// The names of what it computed: `u`, `v`, `w` or `U`, `V`, `W`.
+    pub fn value_names(&self) -> [&'static str; 3] {
+        match self.test {
+            accelviz_core::HitTest::Fast => ["u", "v", "w = 1 − u − v"],
+            accelviz_core::HitTest::Watertight => ["U", "V", "W"],
+        }
+    }
 }
 
 /// A 2D scene for a question.
@@ -242,6 +278,53 @@ impl Figure {
                     list(origin),
                     list(direction)
                 ));
+            }
+            Figure::Crack(crack) => {
+                let point = |corner: &[f64; 3]| {
+                    let written: Vec<String> = corner
+                        .iter()
+                        // Every digit the precision holds: the test's inputs exactly.
+                        .map(|value| {
+                            if crack.precision == "f32" {
+                                format!("{}", *value as f32)
+                            } else {
+                                format!("{value}")
+                            }
+                        })
+                        .collect();
+                    format!("({})", written.join(", "))
+                };
+                for (name, corners) in ["A", "B"].iter().zip(&crack.corners) {
+                    let written: Vec<String> = corners.iter().map(point).collect();
+                    lines.push(format!("triangle {name}: {}", written.join(" ")));
+                }
+                lines.push(format!(
+                    "ray from {} in direction {}",
+                    point(&crack.origin),
+                    point(&crack.direction)
+                ));
+                lines.push(match crack.test {
+                    accelviz_core::HitTest::Fast => format!(
+                        "the fast test (Möller–Trumbore) in {}: a hit needs u, v and w all ≥ 0",
+                        crack.precision
+                    ),
+                    accelviz_core::HitTest::Watertight => format!(
+                        "the watertight test (Woop et al.) in {}: a hit needs U, V, W not of opposite signs (a zero goes with either)",
+                        crack.precision
+                    ),
+                });
+                let names = crack.value_names();
+                for (name, values) in ["A", "B"].iter().zip(&crack.computed) {
+                    let written: Vec<String> = names
+                        .iter()
+                        .zip(values)
+                        .map(|(label, value)| match value {
+                            Some(value) => format!("{label} = {}", num(*value)),
+                            None => format!("{label}: not computed (the test had its answer)"),
+                        })
+                        .collect();
+                    lines.push(format!("{name}: {}", written.join(", ")));
+                }
             }
             Figure::Scene(scene) => {
                 for (index, shape) in scene.shapes.shapes.iter().enumerate() {

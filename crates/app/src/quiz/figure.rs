@@ -90,7 +90,55 @@ pub fn figure_ui(
             canvas.finish();
             picked
         }
+        Figure::Crack(crack) => {
+            let canvas = Canvas::allocate(ui, ui.available_size(), view, &scene_bounds(), true);
+            crack_ui(&canvas, state, crack);
+            canvas.finish();
+            None
+        }
     }
+}
+
+/// The two triangles seen along the ray, the ray a point where they meet; once answered, the
+/// triangle hit lit, or the ray marked as slipping through.
+fn crack_ui(canvas: &Canvas, state: &FigureState, crack: &accelviz_quiz::CrackFigure) {
+    let lit = highlight(state);
+    let colours = [palette::BOX, palette::SPHERE];
+    for (index, (corners, colour)) in crack.seen.iter().zip(colours).enumerate() {
+        let hit = lit.is_some_and(|lit| lit.shapes.contains(&(index as u32)));
+        let points: Vec<egui::Pos2> = corners
+            .iter()
+            .map(|&corner| canvas.to_screen(corner))
+            .collect();
+        let stroke = if hit {
+            Stroke::new(4.0, palette::HIT)
+        } else {
+            Stroke::new(2.0, colour)
+        };
+        canvas.painter.add(egui::Shape::convex_polygon(
+            points,
+            faded(colour, 40),
+            stroke,
+        ));
+        let centroid = (corners[0] + corners[1] + corners[2]) / 3.0;
+        canvas.label(centroid, ["A", "B"][index], colour);
+    }
+    let ray = canvas.to_screen(crack.ray_at);
+    let (colour, said) = match lit {
+        Some(lit) if lit.shapes.is_empty() => (palette::MISS, "the ray slips through"),
+        Some(_) => (palette::HIT, "the ray: a hit"),
+        None => (palette::RAY, "the ray, seen along itself"),
+    };
+    canvas.painter.circle_filled(ray, 6.0, colour);
+    canvas.label(crack.ray_at + DVec2::new(0.0, -1.2), said, colour);
+    canvas.note(&format!(
+        "seen along the ray · {} test in {}",
+        match crack.test {
+            accelviz_core::HitTest::Fast => "fast",
+            accelviz_core::HitTest::Watertight => "watertight",
+        },
+        crack.precision
+    ));
 }
 
 /// The step's highlight, once answered, and only once the traversal shown has reached what it

@@ -18,8 +18,8 @@ use crate::stage::SceneTree;
 use figure::{FigureState, figure_ui, scene_tree};
 use store::{Loaded, ProgressStore};
 
-/// How many questions a quiz has unless the student asks for more or fewer.
-pub const DEFAULT_COUNT: usize = 9;
+/// How many questions a quiz has unless the student asks for more or fewer: one of each kind.
+pub const DEFAULT_COUNT: usize = accelviz_quiz::KINDS.len();
 
 /// The mistake being reviewed, and how far through its model answer.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -248,12 +248,12 @@ fn a_question_and_an_explanation_match_their_snapshots() {
     let mut harness = quiz_app(&path);
     {
         let quiz = &mut harness.state_mut().quiz;
-        quiz.seed_text = "11".into();
+        quiz.seed_text = "12".into();
         quiz.count = 9;
         quiz.start();
     }
     harness.run();
-    // Seed 11 opens with a BVH traversal question: the tree paused before the first step.
+    // Seed 12 opens with a BVH traversal question: the tree paused before the first step.
     assert_eq!(session(&harness).question().kind, "visit-order");
     harness.run();
     let mut failures = Vec::new();
@@ -267,7 +267,7 @@ fn a_question_and_an_explanation_match_their_snapshots() {
     // A hard slab question is in 3D: the box and ray in the 3D view, t_enter lit once given.
     {
         let quiz = &mut harness.state_mut().quiz;
-        quiz.seed_text = "9".into();
+        quiz.seed_text = "10".into();
         quiz.level = Level::Hard;
         quiz.start();
     }
@@ -278,6 +278,24 @@ fn a_question_and_an_explanation_match_their_snapshots() {
     answer_by_keyboard(&mut harness, false);
     harness.run_steps(2);
     if let Err(error) = harness.try_snapshot("quiz_slab_3d") {
+        failures.push(error.to_string());
+    }
+    // A leak question: two triangles seen along the ray, what the fast f32 test computed for
+    // each listed; once answered, the ray marked as slipping through.
+    {
+        let quiz = &mut harness.state_mut().quiz;
+        quiz.seed_text = "18".into();
+        quiz.level = Level::Easy;
+        quiz.start();
+    }
+    harness.run();
+    assert_eq!(session(&harness).question().kind, "leak");
+    if let Err(error) = harness.try_snapshot("quiz_leak_question") {
+        failures.push(error.to_string());
+    }
+    answer_by_keyboard(&mut harness, true);
+    harness.run_steps(2);
+    if let Err(error) = harness.try_snapshot("quiz_leak_explanation") {
         failures.push(error.to_string());
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));

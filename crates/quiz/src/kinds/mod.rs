@@ -4,6 +4,7 @@ mod build_yourself;
 mod first_hit;
 mod kd_traversal;
 mod leaf_or_split;
+mod leak;
 mod lecture;
 mod near_vs_file;
 mod sah_split;
@@ -77,6 +78,12 @@ pub const KINDS: &[KindEntry] = &[
         title: "The lecture's quiz",
         about: "Why visit the near side first? What happens in file order?",
         generate: lecture::generate,
+    },
+    KindEntry {
+        name: "leak",
+        title: "Does the ray slip through?",
+        about: "A ray through the edge two triangles share: does this test, in this precision, hit either?",
+        generate: leak::generate,
     },
     KindEntry {
         name: "build",

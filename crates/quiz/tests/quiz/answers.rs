@@ -682,6 +682,84 @@ fn check_build(question: &Value) {
 
 /// What every question has: the fixed fields, steps with a right answer among the options,
 /// and the same question again from the same seed.
+/// The leak question: traced again through a BVH (not the generator's brute force) in the
+/// stated precision and test, the answer is the same; the reference on the same rounded
+/// inputs says the ray meets the surface where it goes on (a shared edge), so a miss is a
+/// leak, and the watertight test never misses.
+fn check_leak(question: &Value) {
+    use accelviz_core::outcome::{Outcome, ReferenceScene, SurfacePoint};
+    use accelviz_core::{HitTest, Ray, Structure, TraceOptions, TraversalStacks, TriangleSet};
+    fn trace<V: accelviz_core::Vector3>(question: &Value, test: HitTest) -> (bool, Outcome) {
+        let triangles: Vec<[[f64; 3]; 3]> =
+            serde_json::from_value(question["triangles"].clone()).unwrap();
+        let vector = |value: &Value| {
+            let values: Vec<f64> = serde_json::from_value(value.clone()).unwrap();
+            V::from_f64_slice(&values)
+        };
+        let set = TriangleSet::<V>::from_f64(&triangles);
+        let ray = Ray::try_new(
+            vector(&question["ray"]["origin"]),
+            vector(&question["ray"]["direction"]),
+        )
+        .unwrap();
+        let tree = Structure::BvhMedian {
+            width: accelviz_core::Width::Binary,
+        }
+        .build(&set, &Default::default());
+        let options = TraceOptions {
+            hit_test: test,
+            ..TraceOptions::default()
+        };
+        let hit = tree.trace(
+            &set,
+            &ray,
+            &options,
+            &mut TraversalStacks::default(),
+            &mut accelviz_core::NoObserver,
+        );
+        let reference = ReferenceScene::new(&set);
+        let found = reference
+            .reference(&ray)
+            .expect("the ray meets the triangles");
+        assert_eq!(
+            found.point,
+            SurfacePoint::Crossing,
+            "aimed at the shared edge"
+        );
+        let outcome = reference.classify(
+            &ray,
+            Some(&found),
+            hit.map(|hit| hit.primitive),
+            accelviz_core::Query::Closest,
+        );
+        (hit.is_some(), outcome)
+    }
+    let test = match question["test"].as_str() {
+        Some("fast") => HitTest::Fast,
+        Some("watertight") => HitTest::Watertight,
+        other => panic!("test {other:?}"),
+    };
+    let (hit, outcome) = match question["precision"].as_str() {
+        Some("f32") => trace::<glam::Vec3>(question, test),
+        Some("f64") => trace::<glam::DVec3>(question, test),
+        other => panic!("precision {other:?}"),
+    };
+    assert_eq!(question["answer"]["hit"].as_bool(), Some(hit), "{question}");
+    if hit {
+        assert!(
+            matches!(outcome, Outcome::Agree | Outcome::Tie),
+            "{outcome:?}"
+        );
+    } else {
+        assert_eq!(
+            test,
+            HitTest::Fast,
+            "the watertight test never slips through"
+        );
+        assert_eq!(outcome, Outcome::Leak);
+    }
+}
+
 fn check_common(kind: &str, seed: u64, level: Level) -> Value {
     let question = generate(kind, seed, level).expect("a question");
     let text = question.to_json();
@@ -740,6 +818,7 @@ fn every_kind_is_right_for_hundreds_of_seeds() {
                     "sah-split" => check_sah_split(&question),
                     "leaf-or-split" => check_leaf_or_split(&question),
                     "build" => check_build(&question),
+                    "leak" => check_leak(&question),
                     other => panic!("no independent check for kind {other}"),
                 }
             }

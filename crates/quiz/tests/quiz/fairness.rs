@@ -20,6 +20,18 @@ fn numbers_in(text: &str) -> Vec<String> {
         let starts_number = (c == '−' || c == '-')
             && chars.get(at + 1).is_some_and(|next| next.is_ascii_digit())
             && current.is_empty();
+        // A power of ten (`3.838e-8`, as `num` writes the smallest numbers).
+        let exponent = c == 'e'
+            && !current.is_empty()
+            && !current.contains('e')
+            && (chars.get(at + 1).is_some_and(|next| next.is_ascii_digit())
+                || (chars.get(at + 1) == Some(&'-')
+                    && chars.get(at + 2).is_some_and(|next| next.is_ascii_digit())));
+        let exponent_sign = c == '-' && current.ends_with('e');
+        if exponent || exponent_sign {
+            current.push(c);
+            continue;
+        }
         if c.is_ascii_digit() || (c == '.' && !current.is_empty()) || starts_number {
             if current.is_empty() {
                 let before: String = chars[..at].iter().collect();
@@ -29,7 +41,7 @@ fn numbers_in(text: &str) -> Vec<String> {
             continue;
         }
         if !current.is_empty() {
-            let number = current.trim_end_matches('.').replace('-', "−");
+            let number = leading_minus(current.trim_end_matches('.'));
             if !label && !in_list && !c.is_alphabetic() {
                 found.push(number);
             }
@@ -43,9 +55,17 @@ fn numbers_in(text: &str) -> Vec<String> {
         }
     }
     if !current.is_empty() && !label && !in_list {
-        found.push(current.trim_end_matches('.').replace('-', "−"));
+        found.push(leading_minus(current.trim_end_matches('.')));
     }
     found
+}
+
+/// A number's leading minus as `num` writes it (`−`); an exponent's stays `-`.
+fn leading_minus(number: &str) -> String {
+    match number.strip_prefix('-') {
+        Some(rest) => format!("−{rest}"),
+        None => number.to_owned(),
+    }
 }
 
 #[test]
@@ -53,6 +73,10 @@ fn numbers_are_read_as_written() {
     assert_eq!(
         numbers_in("in 2D, t in [0.3, −1.5]; shape 4 at t = 2. shapes [0, 4], node 7 (x = -2)"),
         ["0.3", "−1.5", "2", "−2"]
+    );
+    assert_eq!(
+        numbers_in("A: u = 0.25, v = −3.838e-8, w = 2.5e-7; 2 edges"),
+        ["0.25", "−3.838e-8", "2.5e-7", "2"]
     );
 }
 
