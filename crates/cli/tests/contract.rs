@@ -1263,21 +1263,25 @@ fn quiz_json_has_the_fixed_fields_of_each_kind() {
 
 #[test]
 fn quiz_text_is_for_print_and_mixes_kinds() {
-    let output = cli(&["quiz", "--seed", "7", "--count", "8"]);
+    // One of each kind.
+    let output = cli(&["quiz", "--seed", "7", "--count", "10"]);
     assert!(output.status.success(), "{}", stderr(&output));
     let text = stdout(&output);
     assert_eq!(
         text.matches("Answer:").count(),
         text.matches("Why:").count()
     );
-    for kind in ["slab", "first-hit", "visit-order", "sah-split", "lecture"] {
+    for kind in accelviz_quiz::kind_names() {
         assert!(
             text.contains(&format!("[{kind} · seed")),
             "{kind} missing:\n{text}"
         );
     }
     // The same arguments, the same quiz.
-    assert_eq!(stdout(&cli(&["quiz", "--seed", "7", "--count", "8"])), text);
+    assert_eq!(
+        stdout(&cli(&["quiz", "--seed", "7", "--count", "10"])),
+        text
+    );
 }
 
 #[test]
