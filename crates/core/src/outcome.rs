@@ -13,14 +13,17 @@
 //! and fast robust geometric predicates"): outside the margin no test in that precision can
 //! decide otherwise, so the reference is decisive there; inside it, the ray passes through an
 //! edge or a vertex, where rounding decides which triangle is hit, and what counts is the
-//! surface: does it go through there, or only touch it?
+//! surface: does it go through there, or only touch it? The ray's neighbourhood says: moved
+//! sideways four ways, by a few times the margins' width so that each moved ray is decided,
+//! does it meet one of the triangles touched there every time?
 //!
 //! - A point inside a triangle is an *interior* point of the surface.
-//! - An edge or a vertex that two or more triangles share, all facing the ray the same way, is
-//!   a *crossing*: the surface goes on through it, so a ray that misses it has found a crack.
-//! - A point on a boundary edge (no neighbour), or on an edge whose triangles face opposite
-//!   ways (a silhouette), or at the very end of the ray's interval, is a *graze*: rounding
-//!   decides, and either answer is right.
+//! - An edge or a vertex where the surface covers the ray's neighbourhood (two triangles of a
+//!   shared edge, a fan round a vertex, a saddle too) is a *crossing*: the surface goes on
+//!   through it, so a ray that misses it has found a crack.
+//! - A point on a boundary edge (no neighbour), on a silhouette or a fold (the moved rays miss
+//!   on one side), or at the very end of the ray's interval, is a *graze*: rounding decides,
+//!   and either answer is right.
 //!
 //! A ray's [`Outcome`] follows from that and from the primitive the traversal returned.
 
@@ -164,7 +167,8 @@ pub struct Touch {
     pub t: f64,
     /// Inside or on the boundary.
     pub contact: Contact,
-    /// Which way it faces the ray: −1 towards it, +1 away, 0 the ray (nearly) in its plane.
+    /// Which way it faces the ray: −1 towards it, +1 away, 0 the ray (nearly) in its plane
+    /// (for views; the crossing test asks the neighbourhood instead).
     pub facing: i8,
     /// Within rounding of `t_min` or `t_max`.
     pub at_interval_end: bool,
