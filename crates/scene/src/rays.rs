@@ -332,8 +332,9 @@ pub enum RaySource {
         /// The generator's seed.
         seed: u64,
     },
-    /// Shadow, ambient occlusion or bounce rays ([`RayKind::rays`]) with this count and seed.
-    Secondary {
+    /// About this many rays of a kind ([`RayKind::rays`]: aimed rays, every k-th; shadow,
+    /// ambient occlusion or bounce rays) from this seed.
+    Kind {
         /// Which.
         kind: RayKind,
         /// How many rays.
@@ -373,7 +374,7 @@ impl RaySource {
             Self::Random { .. } => Some(RayKind::Random),
             Self::Camera { .. } => Some(RayKind::Camera),
             Self::Aimed { .. } => Some(RayKind::Aimed),
-            Self::Secondary { kind, .. } => Some(*kind),
+            Self::Kind { kind, .. } => Some(*kind),
             Self::File(_) => None,
         }
     }
@@ -392,7 +393,6 @@ impl RaySource {
         }
         Ok(match kind {
             RayKind::Random => Self::Random { count, seed },
-            RayKind::Aimed => Self::Aimed { seed },
             RayKind::Camera => {
                 let (width, height) = match camera {
                     Some(camera) => {
@@ -402,8 +402,8 @@ impl RaySource {
                 };
                 Self::Camera { width, height }
             }
-            RayKind::Shadow | RayKind::Ao | RayKind::Bounce => {
-                Self::Secondary { kind, count, seed }
+            RayKind::Aimed | RayKind::Shadow | RayKind::Ao | RayKind::Bounce => {
+                Self::Kind { kind, count, seed }
             }
         })
     }
@@ -411,7 +411,7 @@ impl RaySource {
     /// The rays, for `mesh`.
     pub fn rays(&self, mesh: &crate::Mesh) -> Result<Vec<RaySpec>, LoadError> {
         Ok(match self {
-            Self::Secondary { kind, count, seed } => kind
+            Self::Kind { kind, count, seed } => kind
                 .rays(mesh, *count, *seed, None)
                 .map_err(|problem| LoadError::in_file(&mesh.name, problem))?,
             Self::Random { count, seed } => random_rays(&mesh.bounds(), *count, *seed),
@@ -428,7 +428,7 @@ impl RaySource {
             Self::Random { count, seed } => format!("random:{count}:seed{seed}"),
             Self::Camera { width, height } => format!("camera:{width}x{height}"),
             Self::Aimed { seed } => format!("aimed:seed{seed}"),
-            Self::Secondary { kind, count, seed } => format!("{}:{count}:seed{seed}", kind.name()),
+            Self::Kind { kind, count, seed } => format!("{}:{count}:seed{seed}", kind.name()),
             Self::File(path) => path.clone(),
         }
     }
