@@ -28,9 +28,10 @@ pub struct BenchArgs {
     /// Trace the rays of this file (the `query` format) instead.
     #[arg(long, conflicts_with_all = ["camera", "aimed"])]
     rays_file: Option<String>,
-    /// Trace rays aimed exactly at every triangle corner and edge instead (the watertightness
-    /// test's rays): on a closed mesh every one must hit, so `rays - hits` is the number of
-    /// rays that slipped through.
+    /// Trace rays aimed exactly at triangle corners and edges instead (the watertightness
+    /// test's rays; every k-th of them, to make about `--rays`): on a closed mesh every one
+    /// must hit, so `rays - hits` is the number of rays that slipped through. The same as
+    /// `--ray-kind aimed`.
     #[arg(long, conflicts_with = "camera")]
     aimed: bool,
     /// Trace the primary rays of a WIDTHxHEIGHT pinhole camera looking at the mesh instead
