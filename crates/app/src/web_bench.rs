@@ -113,7 +113,7 @@ pub fn bench_rays(
         name: String::new(),
         triangles: triangles_of(triangles),
     };
-    let source = RaySource::from_options(None, camera, false, count, seed)?;
+    let source = RaySource::from_options(None, camera, count, seed)?;
     let rays = source.rays(&mesh).map_err(|error| error.to_string())?;
     let mut numbers = Vec::with_capacity(rays.len() * RAY_NUMBERS);
     for ray in rays {

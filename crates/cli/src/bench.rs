@@ -447,10 +447,12 @@ fn measure<V: Vector3>(
     // Each ray's answer is held to the reference on the same rounded inputs, decided once.
     let reference = ReferenceScene::new(&triangles);
     let references: Vec<_> = rays.iter().map(|ray| reference.reference(ray)).collect();
+    let facts: Vec<_> = accels.iter().map(|accel| accel.binary_facts()).collect();
     let counted: Vec<(Counters, (MaxStack, NodeEntries), OutcomeCounts)> = accels
         .iter()
-        .map(|accel| {
-            let nodes = accel.binary_facts().map_or(0, |facts| facts.bounds.len());
+        .zip(&facts)
+        .map(|(accel, facts)| {
+            let nodes = facts.as_ref().map_or(0, |facts| facts.bounds.len());
             let mut observer = (
                 Counters::default(),
                 (MaxStack::default(), NodeEntries::new(nodes)),
@@ -469,13 +471,13 @@ fn measure<V: Vector3>(
             (observer.0, observer.1, outcomes)
         })
         .collect();
-    let sah_checks: Vec<Option<SahCheck>> = accels
+    let sah_checks: Vec<Option<SahCheck>> = facts
         .iter()
         .zip(&counted)
-        .map(|(accel, (_, (_, entries), _))| {
-            accel
-                .binary_facts()
-                .map(|facts| SahCheck::of(&facts, entries, &params.cost))
+        .map(|(facts, (_, (_, entries), _))| {
+            facts
+                .as_ref()
+                .map(|facts| SahCheck::of(facts, entries, &params.cost))
         })
         .collect();
     let epos: Vec<Option<f64>> = accels

@@ -142,6 +142,72 @@ fn escape(text: &str) -> String {
         .replace('>', "&gt;")
 }
 
+/// What both kinds of plot draw around their data: the document's start with the title, the
+/// grid with its ticks (`x_ticks` and `y_ticks` as values and where they are drawn), the plot's
+/// frame, and the axes' titles. The caller adds its data and closes the document.
+struct Frame<'a> {
+    title: &'a str,
+    x_label: &'a str,
+    y_label: &'a str,
+    plot_width: f64,
+    plot_height: f64,
+}
+
+impl Frame<'_> {
+    fn draw(&self, x_ticks: &[(f64, f64)], y_ticks: &[(f64, f64)]) -> String {
+        let (plot_width, plot_height) = (self.plot_width, self.plot_height);
+        let mut svg = String::new();
+        let _ = writeln!(
+            svg,
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" viewBox="0 0 {WIDTH} {HEIGHT}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#
+        );
+        let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
+        let _ = writeln!(
+            svg,
+            r#"<text x="{}" y="38" font-size="24" text-anchor="middle" font-weight="bold">{}</text>"#,
+            WIDTH / 2.0,
+            escape(self.title)
+        );
+        for &(x, px) in x_ticks {
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{px:.1}" y1="{TOP}" x2="{px:.1}" y2="{:.1}" stroke="#e4e4e4"/><text x="{px:.1}" y="{:.1}" font-size="16" text-anchor="middle">{}</text>"##,
+                TOP + plot_height,
+                TOP + plot_height + 24.0,
+                tick_text(x)
+            );
+        }
+        for &(y, py) in y_ticks {
+            let _ = writeln!(
+                svg,
+                r##"<line x1="{LEFT}" y1="{py:.1}" x2="{:.1}" y2="{py:.1}" stroke="#e4e4e4"/><text x="{:.1}" y="{:.1}" font-size="16" text-anchor="end">{}</text>"##,
+                LEFT + plot_width,
+                LEFT - 10.0,
+                py + 5.0,
+                tick_text(y)
+            );
+        }
+        let _ = writeln!(
+            svg,
+            r##"<rect x="{LEFT}" y="{TOP}" width="{plot_width}" height="{plot_height}" fill="none" stroke="#444"/>"##
+        );
+        let _ = writeln!(
+            svg,
+            r#"<text x="{:.1}" y="{:.1}" font-size="18" text-anchor="middle">{}</text>"#,
+            LEFT + plot_width / 2.0,
+            HEIGHT - 24.0,
+            escape(self.x_label)
+        );
+        let _ = writeln!(
+            svg,
+            r#"<text transform="translate(28 {:.1}) rotate(-90)" font-size="18" text-anchor="middle">{}</text>"#,
+            TOP + plot_height / 2.0,
+            escape(self.y_label)
+        );
+        svg
+    }
+}
+
 impl Scatter {
     /// The plot as an SVG document.
     pub fn to_svg(&self) -> String {
@@ -205,48 +271,25 @@ impl Scatter {
         };
         let to_y = |y: f64| TOP + plot_height - (y - y_low) / (y_high - y_low) * plot_height;
 
-        let mut svg = String::new();
-        let _ = writeln!(
-            svg,
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" viewBox="0 0 {WIDTH} {HEIGHT}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#
-        );
-        let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
-        let _ = writeln!(
-            svg,
-            r#"<text x="{}" y="38" font-size="24" text-anchor="middle" font-weight="bold">{}</text>"#,
-            WIDTH / 2.0,
-            escape(&self.title)
-        );
         // Grid and ticks.
         let x_ticks = if log_x {
             log_ticks(x_low, x_high)
         } else {
             ticks(x_low, x_high)
         };
-        for x in x_ticks {
-            let px = to_x(x);
-            let _ = writeln!(
-                svg,
-                r##"<line x1="{px:.1}" y1="{TOP}" x2="{px:.1}" y2="{:.1}" stroke="#e4e4e4"/><text x="{px:.1}" y="{:.1}" font-size="16" text-anchor="middle">{}</text>"##,
-                TOP + plot_height,
-                TOP + plot_height + 24.0,
-                tick_text(x)
-            );
-        }
-        for y in ticks(y_low, y_high) {
-            let py = to_y(y);
-            let _ = writeln!(
-                svg,
-                r##"<line x1="{LEFT}" y1="{py:.1}" x2="{:.1}" y2="{py:.1}" stroke="#e4e4e4"/><text x="{:.1}" y="{:.1}" font-size="16" text-anchor="end">{}</text>"##,
-                LEFT + plot_width,
-                LEFT - 10.0,
-                py + 5.0,
-                tick_text(y)
-            );
-        }
-        let _ = writeln!(
-            svg,
-            r##"<rect x="{LEFT}" y="{TOP}" width="{plot_width}" height="{plot_height}" fill="none" stroke="#444"/>"##
+        let frame = Frame {
+            title: &self.title,
+            x_label: &self.x_label,
+            y_label: &self.y_label,
+            plot_width,
+            plot_height,
+        };
+        let mut svg = frame.draw(
+            &x_ticks.iter().map(|&x| (x, to_x(x))).collect::<Vec<_>>(),
+            &ticks(y_low, y_high)
+                .iter()
+                .map(|&y| (y, to_y(y)))
+                .collect::<Vec<_>>(),
         );
         if self.diagonal {
             let _ = writeln!(
@@ -260,20 +303,6 @@ impl Scatter {
                 to_y(x_high) + 22.0,
             );
         }
-        // Axis titles.
-        let _ = writeln!(
-            svg,
-            r#"<text x="{:.1}" y="{:.1}" font-size="18" text-anchor="middle">{}</text>"#,
-            LEFT + plot_width / 2.0,
-            HEIGHT - 24.0,
-            escape(&self.x_label)
-        );
-        let _ = writeln!(
-            svg,
-            r#"<text transform="translate(28 {:.1}) rotate(-90)" font-size="18" text-anchor="middle">{}</text>"#,
-            TOP + plot_height / 2.0,
-            escape(&self.y_label)
-        );
         // Points, then their labels placed clear of each other (and of the legend).
         let mut boxes = vec![[LEFT, TOP, LEFT + 140.0, TOP + 70.0]];
         let plot_bounds = [
@@ -384,18 +413,6 @@ impl Lines {
         };
         let to_x = |x: f64| LEFT + fraction(x, x_low, x_high) * plot_width;
         let to_y = |y: f64| TOP + plot_height - fraction(y, y_low, y_high) * plot_height;
-        let mut svg = String::new();
-        let _ = writeln!(
-            svg,
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{WIDTH}" height="{HEIGHT}" viewBox="0 0 {WIDTH} {HEIGHT}" font-family="DejaVu Sans, Helvetica, Arial, sans-serif">"#
-        );
-        let _ = writeln!(svg, r#"<rect width="100%" height="100%" fill="white"/>"#);
-        let _ = writeln!(
-            svg,
-            r#"<text x="{}" y="38" font-size="24" text-anchor="middle" font-weight="bold">{}</text>"#,
-            WIDTH / 2.0,
-            escape(&self.title)
-        );
         // Decades only: a log-log plot over six decades has room for no more.
         let decades = |low: f64, high: f64| {
             if !log {
@@ -406,30 +423,22 @@ impl Lines {
                 .filter(|tick| (tick.log10() - tick.log10().round()).abs() < 1e-9)
                 .collect::<Vec<_>>()
         };
-        for x in decades(x_low, x_high) {
-            let px = to_x(x);
-            let _ = writeln!(
-                svg,
-                r##"<line x1="{px:.1}" y1="{TOP}" x2="{px:.1}" y2="{:.1}" stroke="#e4e4e4"/><text x="{px:.1}" y="{:.1}" font-size="16" text-anchor="middle">{}</text>"##,
-                TOP + plot_height,
-                TOP + plot_height + 24.0,
-                tick_text(x)
-            );
-        }
-        for y in decades(y_low, y_high) {
-            let py = to_y(y);
-            let _ = writeln!(
-                svg,
-                r##"<line x1="{LEFT}" y1="{py:.1}" x2="{:.1}" y2="{py:.1}" stroke="#e4e4e4"/><text x="{:.1}" y="{:.1}" font-size="16" text-anchor="end">{}</text>"##,
-                LEFT + plot_width,
-                LEFT - 10.0,
-                py + 5.0,
-                tick_text(y)
-            );
-        }
-        let _ = writeln!(
-            svg,
-            r##"<rect x="{LEFT}" y="{TOP}" width="{plot_width}" height="{plot_height}" fill="none" stroke="#444"/>"##
+        let frame = Frame {
+            title: &self.title,
+            x_label: &self.x_label,
+            y_label: &self.y_label,
+            plot_width,
+            plot_height,
+        };
+        let mut svg = frame.draw(
+            &decades(x_low, x_high)
+                .iter()
+                .map(|&x| (x, to_x(x)))
+                .collect::<Vec<_>>(),
+            &decades(y_low, y_high)
+                .iter()
+                .map(|&y| (y, to_y(y)))
+                .collect::<Vec<_>>(),
         );
         for (x, label) in &self.marks {
             if !(x_low..=x_high).contains(x) {
@@ -483,19 +492,6 @@ impl Lines {
                 escape(&self.lines[index].0)
             );
         }
-        let _ = writeln!(
-            svg,
-            r#"<text x="{:.1}" y="{:.1}" font-size="18" text-anchor="middle">{}</text>"#,
-            LEFT + plot_width / 2.0,
-            HEIGHT - 24.0,
-            escape(&self.x_label)
-        );
-        let _ = writeln!(
-            svg,
-            r#"<text transform="translate(28 {:.1}) rotate(-90)" font-size="18" text-anchor="middle">{}</text>"#,
-            TOP + plot_height / 2.0,
-            escape(&self.y_label)
-        );
         svg.push_str("</svg>\n");
         svg
     }

@@ -205,6 +205,15 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         };
         std::hint::black_box(hits);
     });
+    // Each tree's end-point overlap, once (every switch setting of a tree shares it).
+    let epo32: Vec<Option<f64>> = trees32
+        .iter()
+        .map(|tree| tree.epo(single.triangles.triangles(), &params.cost))
+        .collect();
+    let epo64: Vec<Option<f64>> = trees64
+        .iter()
+        .map(|tree| tree.epo(double.triangles.triangles(), &params.cost))
+        .collect();
     let mut rows = Vec::with_capacity(keys.len());
     for (index, &(spec, variant)) in keys.iter().enumerate() {
         let (order, is_f64, watertight) = VARIANTS[variant];
@@ -223,7 +232,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
             watertight,
             build_ms: builds[2 * spec + usize::from(is_f64)].median(),
             sah_cost: evaluated.stats.sah_cost,
-            epo: evaluated.epo,
+            epo: if is_f64 { epo64[spec] } else { epo32[spec] },
             nodes_per_ray: evaluated.counters.nodes_visited as f64 / count,
             primitives_per_ray: evaluated.counters.primitive_tests as f64 / count,
             mrays_per_s: count / (trace_ms * 1e3),
@@ -385,7 +394,6 @@ struct Prepared<V: Vector3> {
 /// What an untimed pass over a row's rays found.
 struct Evaluated {
     stats: accelviz_core::TreeStats,
-    epo: Option<f64>,
     counters: Counters,
     outcomes: OutcomeCounts,
     examples: [Option<RaySpec>; 6],
@@ -440,7 +448,6 @@ impl<V: Vector3> Prepared<V> {
         params: &BuildParams,
     ) -> Evaluated {
         let stats = accel.stats(self.triangles.len(), &params.cost);
-        let epo = accel.epo(self.triangles.triangles(), &params.cost);
         let mut stacks = accelviz_core::TraversalStacks::default();
         let mut counters = Counters::default();
         let mut outcomes = OutcomeCounts::default();
@@ -468,7 +475,6 @@ impl<V: Vector3> Prepared<V> {
         }
         Evaluated {
             stats,
-            epo,
             counters,
             outcomes,
             examples,

@@ -49,7 +49,7 @@ pub enum Outcome {
     /// ray's interval, and the answer missed it: rounding decides there, so it is no error.
     Graze,
     /// The surface goes through the closest point (a triangle's inside, or an edge or vertex
-    /// shared by triangles facing the ray alike), and the ray slipped past it: no hit, or one
+    /// where the surface covers the ray's neighbourhood), and the ray slipped past it: no hit, or one
     /// beyond it on a shared edge or vertex. A crack.
     Leak,
     /// A hit where the reference has none.
@@ -167,9 +167,6 @@ pub struct Touch {
     pub t: f64,
     /// Inside or on the boundary.
     pub contact: Contact,
-    /// Which way it faces the ray: −1 towards it, +1 away, 0 the ray (nearly) in its plane
-    /// (for views; the crossing test asks the neighbourhood instead).
-    pub facing: i8,
     /// Within rounding of `t_min` or `t_max`.
     pub at_interval_end: bool,
     /// How far `t` can move by rounding.
@@ -183,7 +180,7 @@ pub struct Touch {
 pub enum SurfacePoint {
     /// Inside a triangle.
     Interior,
-    /// An edge or vertex shared by triangles all facing the ray alike: the surface goes on.
+    /// An edge or vertex where the surface covers the ray's neighbourhood: it goes on.
     Crossing,
     /// A boundary or silhouette edge or vertex, or the interval's end: rounding decides.
     Graze,
@@ -630,13 +627,6 @@ impl Margins {
             return None;
         }
         let at_interval_end = (t - t_min).abs() <= t_tolerance || (t - t_max).abs() <= t_tolerance;
-        let facing = if cosine <= 1e-9 {
-            0
-        } else if d.dot(normal) < 0.0 {
-            -1
-        } else {
-            1
-        };
         Some(Touch {
             primitive: index as u32,
             t,
@@ -645,7 +635,6 @@ impl Margins {
             } else {
                 Contact::Boundary
             },
-            facing,
             at_interval_end,
             t_tolerance,
             band,

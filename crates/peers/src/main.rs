@@ -316,7 +316,6 @@ fn run(args: Args) -> Result<String> {
     let source = RaySource::from_options(
         args.rays_file.as_deref(),
         args.camera.as_deref(),
-        false,
         args.rays,
         args.seed,
     )

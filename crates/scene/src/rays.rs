@@ -327,11 +327,6 @@ pub enum RaySource {
         /// Pixels down.
         height: usize,
     },
-    /// [`surface_aim_rays`] with this seed.
-    Aimed {
-        /// The generator's seed.
-        seed: u64,
-    },
     /// About this many rays of a kind ([`RayKind::rays`]: aimed rays, every k-th; shadow,
     /// ambient occlusion or bounce rays) from this seed.
     Kind {
@@ -347,25 +342,20 @@ pub enum RaySource {
 }
 
 impl RaySource {
-    /// Chooses from command-line options: a file, else a camera (`WIDTHxHEIGHT`), else aimed
-    /// rays, else random ones.
+    /// Chooses from command-line options without a ray kind: a file, else a camera
+    /// (`WIDTHxHEIGHT`), else random rays.
     pub fn from_options(
         file: Option<&str>,
         camera: Option<&str>,
-        aimed: bool,
         count: usize,
         seed: u64,
     ) -> Result<Self, String> {
-        Ok(match (file, camera) {
-            (Some(path), _) => Self::File(path.to_owned()),
-            (None, Some(camera)) => {
-                let (width, height) =
-                    parse_resolution(camera).map_err(|error| format!("--camera: {error}"))?;
-                Self::Camera { width, height }
-            }
-            (None, None) if aimed => Self::Aimed { seed },
-            (None, None) => Self::Random { count, seed },
-        })
+        let kind = if camera.is_some() {
+            RayKind::Camera
+        } else {
+            RayKind::Random
+        };
+        Self::of_kind(file, camera, kind, count, seed)
     }
 
     /// The kind of rays it makes (`None` for a file).
@@ -373,7 +363,6 @@ impl RaySource {
         match self {
             Self::Random { .. } => Some(RayKind::Random),
             Self::Camera { .. } => Some(RayKind::Camera),
-            Self::Aimed { .. } => Some(RayKind::Aimed),
             Self::Kind { kind, .. } => Some(*kind),
             Self::File(_) => None,
         }
@@ -416,18 +405,16 @@ impl RaySource {
                 .map_err(|problem| LoadError::in_file(&mesh.name, problem))?,
             Self::Random { count, seed } => random_rays(&mesh.bounds(), *count, *seed),
             Self::Camera { width, height } => camera_rays(&mesh.bounds(), *width, *height),
-            Self::Aimed { seed } => surface_aim_rays(&mesh.triangles, *seed),
             Self::File(path) => load_rays(path)?,
         })
     }
 
-    /// A short label for reports: `random:100000:seed1`, `camera:512x512`, `aimed:seed1`,
-    /// `shadow:100000:seed1`, or the file's path.
+    /// A short label for reports: `random:100000:seed1`, `camera:512x512`,
+    /// `aimed:100000:seed1`, `shadow:100000:seed1`, or the file's path.
     pub fn label(&self) -> String {
         match self {
             Self::Random { count, seed } => format!("random:{count}:seed{seed}"),
             Self::Camera { width, height } => format!("camera:{width}x{height}"),
-            Self::Aimed { seed } => format!("aimed:seed{seed}"),
             Self::Kind { kind, count, seed } => format!("{}:{count}:seed{seed}", kind.name()),
             Self::File(path) => path.clone(),
         }
