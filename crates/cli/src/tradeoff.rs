@@ -3,14 +3,14 @@
 //! ([`accelviz_core::outcome`]); a table (Markdown, CSV, JSON), two SVG plots, and an example
 //! ray of each outcome.
 
-use accelviz_core::break_even::{Contender, Crossover, Fastest, crossovers, fastest_at};
-use accelviz_core::bvh::BuildParams;
-use accelviz_core::outcome::{Outcome, OutcomeCounts, Reference, ReferenceScene};
-use accelviz_core::quality::{NodeEntries, SahCheck};
-use accelviz_core::{
-    Counters, HitTest, Order, PrimitiveSet, Query, Ray, Structure, TraceOptions, TriangleSet,
-    Vector3,
+use accelviz_core::break_even::{
+    Contender, Crossover, Fastest, REPORTED_RAYS, crossovers, fastest_at,
 };
+use accelviz_core::bvh::BuildParams;
+use accelviz_core::outcome::{Outcome, Reference};
+use accelviz_core::quality::{Footprint, NodeEntries, SahCheck};
+use accelviz_core::trade::{Precision, Switches, TradeRow, TradeScene, contenders};
+use accelviz_core::{Query, Structure, TriangleSet, Vector3};
 use accelviz_scene::rays::{RayKind, RaySpec, parse_resolution, ray_line};
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -101,44 +101,6 @@ pub fn query_name(query: Query) -> &'static str {
     }
 }
 
-/// The switches, each against the first (near-first, f32, fast): `(order, f64, watertight)`.
-const VARIANTS: [(Order, bool, bool); 5] = [
-    (Order::NearFirst, false, false),
-    (Order::FileOrder, false, false),
-    (Order::NearFirst, false, true),
-    (Order::NearFirst, true, false),
-    (Order::NearFirst, true, true),
-];
-
-/// One row of the table.
-struct Row {
-    structure: String,
-    order: Order,
-    f64: bool,
-    watertight: bool,
-    build_ms: f64,
-    sah_cost: f64,
-    /// End-point overlap (BVHs only).
-    epo: Option<f64>,
-    nodes_per_ray: f64,
-    primitives_per_ray: f64,
-    mrays_per_s: f64,
-    /// Half the range of the trace times, in percent of their median.
-    trace_spread_percent: f64,
-    outcomes: OutcomeCounts,
-    /// The first ray of each outcome (in [`Outcome::ALL`]'s order), as the row's precision
-    /// rounded it.
-    examples: [Option<RaySpec>; 6],
-}
-
-impl Row {
-    /// What a ray cost, in the SAH's units: `C_trav·nodes + C_isect·primitives`.
-    fn measured_cost(&self, params: &BuildParams) -> f64 {
-        params.cost.traversal_cost * self.nodes_per_ray
-            + params.cost.intersection_cost * self.primitives_per_ray
-    }
-}
-
 pub fn run(args: &TradeoffArgs) -> Result<String> {
     let params = args.build.params()?;
     if args.rays == 0 {
@@ -149,10 +111,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         bail!("{}: the mesh has no triangles", args.mesh);
     }
     // Every structure of the catalogue (the binned SAH at a few bin counts).
-    let specs: Vec<AccelSpec> = Structure::compared()
-        .into_iter()
-        .map(AccelSpec::Tree)
-        .collect();
+    let specs: Vec<Structure> = Structure::compared();
     let kind = if args.aimed {
         RayKind::Aimed
     } else {
@@ -170,9 +129,10 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     let source = format!("{}:{}:seed{}", kind.name(), ray_specs.len(), args.seed);
     let repeat = args.repeat.max(1);
     let workers = Workers::new(args.threads)?;
-    let single = Prepared::<Vec3>::new(&mesh.triangles, &ray_specs, &source)?;
-    let double = Prepared::<DVec3>::new(&mesh.triangles, &ray_specs, &source)?;
-    let (reference32, reference64) = (single.references()?, double.references()?);
+    let rays = convert_rays::<DVec3>(&ray_specs, &source)?;
+    let single = TradeScene::<Vec3>::new(&mesh.triangles, &rays);
+    let double = TradeScene::<DVec3>::new(&mesh.triangles, &rays);
+    let (reference32, reference64) = (references(&single)?, references(&double)?);
     // Every structure built in both precisions once per round (a configuration is a structure
     // and a precision); the first round's trees are kept.
     let mut trees32: Vec<Option<Accel<Vec3, TriangleSet<Vec3>>>> =
@@ -180,7 +140,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     let mut trees64: Vec<Option<Accel<DVec3, TriangleSet<DVec3>>>> =
         specs.iter().map(|_| None).collect();
     let builds = interleaved(repeat, specs.len() * 2, |index| {
-        let spec = &specs[index / 2];
+        let spec = AccelSpec::Tree(specs[index / 2]);
         if index % 2 == 0 {
             let (tree, _) = spec.build(&single.triangles, &params);
             trees32[index / 2].get_or_insert(tree);
@@ -192,63 +152,80 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     let trees32: Vec<_> = trees32.into_iter().flatten().collect();
     let trees64: Vec<_> = trees64.into_iter().flatten().collect();
     // Every row (a structure and a switch setting) traced once per round.
-    let keys: Vec<(usize, usize)> = (0..specs.len())
-        .flat_map(|spec| (0..VARIANTS.len()).map(move |variant| (spec, variant)))
+    let keys: Vec<(usize, Switches)> = (0..specs.len())
+        .flat_map(|spec| Switches::ALL.map(|switches| (spec, switches)))
         .collect();
     let traces = interleaved(repeat, keys.len(), |index| {
-        let (spec, variant) = keys[index];
-        let options = variant_options(VARIANTS[variant], query);
-        let hits = if VARIANTS[variant].1 {
-            trees64[spec].count_hits(&double.rays, &options, &workers)
-        } else {
-            trees32[spec].count_hits(&single.rays, &options, &workers)
+        let (spec, switches) = keys[index];
+        let options = switches.options(query);
+        let hits = match switches.precision {
+            Precision::F64 => trees64[spec].count_hits(&double.rays, &options, &workers),
+            Precision::F32 => trees32[spec].count_hits(&single.rays, &options, &workers),
         };
         std::hint::black_box(hits);
     });
-    // Each tree's end-point overlap, once (every switch setting of a tree shares it).
-    let epo32: Vec<Option<f64>> = trees32
+    // Each tree's end-point overlap and memory, once (every switch setting of a tree shares
+    // them).
+    let quality32: Vec<(Option<f64>, Footprint)> = trees32
         .iter()
-        .map(|tree| tree.epo(single.triangles.triangles(), &params.cost))
+        .map(|tree| {
+            (
+                tree.epo(single.triangles.triangles(), &params.cost),
+                tree.footprint().0,
+            )
+        })
         .collect();
-    let epo64: Vec<Option<f64>> = trees64
+    let quality64: Vec<(Option<f64>, Footprint)> = trees64
         .iter()
-        .map(|tree| tree.epo(double.triangles.triangles(), &params.cost))
+        .map(|tree| {
+            (
+                tree.epo(double.triangles.triangles(), &params.cost),
+                tree.footprint().0,
+            )
+        })
         .collect();
+    let count = rays.len() as f64;
     let mut rows = Vec::with_capacity(keys.len());
-    for (index, &(spec, variant)) in keys.iter().enumerate() {
-        let (order, is_f64, watertight) = VARIANTS[variant];
-        let options = variant_options(VARIANTS[variant], query);
-        let evaluated = if is_f64 {
-            double.evaluate(&trees64[spec], &options, &reference64, &params)
-        } else {
-            single.evaluate(&trees32[spec], &options, &reference32, &params)
+    for (index, &(spec, switches)) in keys.iter().enumerate() {
+        let options = switches.options(query);
+        let (evaluation, (epo, footprint)) = match switches.precision {
+            Precision::F64 => {
+                let Accel::Tree(tree, ordered) = &trees64[spec] else {
+                    bail!("the tradeoff compares trees only")
+                };
+                (
+                    double.evaluate(tree, ordered, &options, &reference64, &params),
+                    quality64[spec],
+                )
+            }
+            Precision::F32 => {
+                let Accel::Tree(tree, ordered) = &trees32[spec] else {
+                    bail!("the tradeoff compares trees only")
+                };
+                (
+                    single.evaluate(tree, ordered, &options, &reference32, &params),
+                    quality32[spec],
+                )
+            }
         };
-        let count = ray_specs.len() as f64;
+        let build = &builds[2 * spec + usize::from(switches.precision == Precision::F64)];
         let trace_ms = traces[index].median();
-        rows.push(Row {
-            structure: specs[spec].name(),
-            order,
-            f64: is_f64,
-            watertight,
-            build_ms: builds[2 * spec + usize::from(is_f64)].median(),
-            sah_cost: evaluated.stats.sah_cost,
-            epo: if is_f64 { epo64[spec] } else { epo32[spec] },
-            nodes_per_ray: evaluated.counters.nodes_visited as f64 / count,
-            primitives_per_ray: evaluated.counters.primitive_tests as f64 / count,
+        rows.push(TradeRow {
+            structure: specs[spec],
+            switches,
+            build_ms: build.median(),
+            build_spread_percent: build.spread_percent(),
+            sah_cost: evaluation.stats.sah_cost,
+            epo,
+            bytes: footprint.bytes,
+            nodes_per_ray: evaluation.counters.nodes_visited as f64 / count,
+            primitives_per_ray: evaluation.counters.primitive_tests as f64 / count,
             mrays_per_s: count / (trace_ms * 1e3),
             trace_spread_percent: traces[index].spread_percent(),
-            outcomes: evaluated.outcomes,
-            examples: evaluated.examples,
+            outcomes: evaluation.outcomes,
+            examples: evaluation.examples,
         });
     }
-    // Table order: by structure, then the variants in their listed order.
-    rows.sort_by_key(|row| {
-        let structure = specs.iter().position(|spec| spec.name() == row.structure);
-        let variant = VARIANTS
-            .iter()
-            .position(|v| *v == (row.order, row.f64, row.watertight));
-        (structure, variant)
-    });
     let heading = format!(
         "{} ({} triangles), {} {} rays (seed {}), {} hit, C_trav {}, C_isect {}, kD empty bonus {}, {} thread(s), median of {repeat} interleaved rounds (±: half their range; rows whose ranges overlap are not shown to differ)",
         args.mesh,
@@ -275,7 +252,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
             let facts = accel.binary_facts()?;
             let mut entries = NodeEntries::new(facts.bounds.len());
             let mut stacks = accelviz_core::TraversalStacks::default();
-            let options = variant_options(VARIANTS[0], query);
+            let options = Switches::BASE.options(query);
             for ray in &single.rays {
                 accel.trace(ray, &options, &mut stacks, &mut entries);
             }
@@ -288,7 +265,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     if args.json {
         let mut lines: Vec<String> = rows
             .iter()
-            .map(|row| row.json(&params, kind, query))
+            .map(|row| json(row, &params, kind, query))
             .collect();
         lines.push(break_even.json());
         return Ok(lines.join("\n") + "\n");
@@ -300,20 +277,20 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     };
     let dir = std::path::Path::new(out);
     std::fs::create_dir_all(dir).with_context(|| format!("{out}: cannot create the directory"))?;
-    let base: Vec<&Row> = rows
+    let base: Vec<&TradeRow> = rows
         .iter()
-        .filter(|row| (row.order, row.f64, row.watertight) == VARIANTS[0])
+        .filter(|row| row.switches == Switches::BASE)
         .collect();
-    let family = |row: &Row| usize::from(row.structure.starts_with("kd:"));
+    let family = |row: &TradeRow| usize::from(row.structure.family() == accelviz_core::Family::Kd);
     let families = ["BVH".to_owned(), "kD-tree".to_owned()];
     let cost_label = "cost per ray: C_trav·nodes + C_isect·primitives";
     // One point per structure: `x` of the row against its measured cost.
-    let points = |x: fn(&Row) -> f64| -> Vec<Point> {
+    let points = |x: fn(&TradeRow) -> f64| -> Vec<Point> {
         base.iter()
             .map(|row| Point {
                 x: x(row),
                 y: row.measured_cost(&params),
-                label: row.structure.clone(),
+                label: row.structure.name(),
                 family: family(row),
             })
             .collect()
@@ -352,7 +329,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
             "sah-assumption.svg",
             sah_checks_plot(&checks, short_name(&args.mesh), kind).to_svg(),
         ),
-        ("tradeoff.csv", csv(&rows, &params)),
+        ("tradeoff.csv", accelviz_core::trade::csv(&rows, &params)),
         ("build-vs-traversal.svg", build_plot.to_svg()),
         ("predicted-vs-measured.svg", sah_plot.to_svg()),
     ];
@@ -372,145 +349,68 @@ fn short_name(mesh: &str) -> &str {
     mesh.rsplit('/').next().unwrap_or(mesh)
 }
 
-/// The options of a switch setting `(order, f64, watertight)` (the precision is the tree's).
-fn variant_options((order, _, watertight): (Order, bool, bool), query: Query) -> TraceOptions {
-    let options = TraceOptions {
-        order,
-        query,
-        ..TraceOptions::default()
-    }
-    .with_robust(watertight);
-    debug_assert_eq!(options.hit_test == HitTest::Watertight, watertight);
-    options
-}
-
-/// The mesh and the rays in one precision, and the reference that decides their outcomes.
-struct Prepared<V: Vector3> {
-    triangles: TriangleSet<V>,
-    rays: Vec<Ray<V>>,
-    reference: ReferenceScene,
-}
-
-/// What an untimed pass over a row's rays found.
-struct Evaluated {
-    stats: accelviz_core::TreeStats,
-    counters: Counters,
-    outcomes: OutcomeCounts,
-    examples: [Option<RaySpec>; 6],
-}
-
-impl<V: Vector3> Prepared<V> {
-    fn new(triangles: &[[[f64; 3]; 3]], ray_specs: &[RaySpec], source: &str) -> Result<Self> {
-        let triangles = TriangleSet::from_f64(triangles);
-        let reference = ReferenceScene::new(&triangles);
-        Ok(Self {
-            triangles,
-            rays: convert_rays::<V>(ray_specs, source)?,
-            reference,
-        })
-    }
-
-    /// The reference's answer for every ray, on the machine's cores.
-    fn references(&self) -> Result<Vec<Option<Reference>>> {
-        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let chunk = self.rays.len().div_ceil(threads).max(1);
-        std::thread::scope(|scope| {
-            let workers: Vec<_> = self
-                .rays
-                .chunks(chunk)
-                .map(|rays| {
-                    scope.spawn(move || {
-                        rays.iter()
-                            .map(|ray| self.reference.reference(ray))
-                            .collect::<Vec<_>>()
-                    })
-                })
-                .collect();
-            let mut all = Vec::with_capacity(self.rays.len());
-            for worker in workers {
-                all.extend(
-                    worker
-                        .join()
-                        .map_err(|_| anyhow::anyhow!("a reference thread failed"))?,
-                );
-            }
-            Ok(all)
-        })
-    }
-
-    /// Untimed: the tree's statistics, the work counted, and every ray's outcome against
-    /// `references`, with the first ray of each.
-    fn evaluate(
-        &self,
-        accel: &Accel<V, TriangleSet<V>>,
-        options: &TraceOptions,
-        references: &[Option<Reference>],
-        params: &BuildParams,
-    ) -> Evaluated {
-        let stats = accel.stats(self.triangles.len(), &params.cost);
-        let mut stacks = accelviz_core::TraversalStacks::default();
-        let mut counters = Counters::default();
-        let mut outcomes = OutcomeCounts::default();
-        let mut examples: [Option<RaySpec>; 6] = Default::default();
-        for (ray, reference) in self.rays.iter().zip(references) {
-            let got = accel
-                .trace(ray, options, &mut stacks, &mut counters)
-                .map(|hit| hit.primitive);
-            let outcome = self
-                .reference
-                .classify(ray, reference.as_ref(), got, options.query);
-            outcomes.add(outcome);
-            let slot = &mut examples[outcome.index()];
-            if slot.is_none() {
-                // The ray as this precision rounded it: the ray file names exactly it.
-                let exact = ray.cast::<DVec3>();
-                *slot = Some(RaySpec {
-                    line: 0,
-                    origin: exact.origin.to_array(),
-                    direction: exact.direction.to_array(),
-                    t_min: exact.t_min,
-                    t_max: exact.t_max,
-                });
-            }
+/// The reference's answer for every ray of `scene`, on the machine's cores.
+fn references<V: Vector3>(scene: &TradeScene<V>) -> Result<Vec<Option<Reference>>> {
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let chunk = scene.rays.len().div_ceil(threads).max(1);
+    std::thread::scope(|scope| {
+        let workers: Vec<_> = (0..scene.rays.len())
+            .step_by(chunk)
+            .map(|start| {
+                let end = (start + chunk).min(scene.rays.len());
+                scope.spawn(move || scene.references(start..end))
+            })
+            .collect();
+        let mut all = Vec::with_capacity(scene.rays.len());
+        for worker in workers {
+            all.extend(
+                worker
+                    .join()
+                    .map_err(|_| anyhow::anyhow!("a reference thread failed"))?,
+            );
         }
-        Evaluated {
-            stats,
-            counters,
-            outcomes,
-            examples,
-        }
-    }
+        Ok(all)
+    })
 }
 
 /// Writes each row's example rays to `dir`, one ray file per row.
-fn write_examples(dir: &str, rows: &[Row], heading: &str) -> Result<()> {
+fn write_examples(dir: &str, rows: &[TradeRow], heading: &str) -> Result<()> {
     let dir = std::path::Path::new(dir);
     std::fs::create_dir_all(dir)
         .with_context(|| format!("{}: cannot create the directory", dir.display()))?;
     for row in rows {
+        let switches = row.switches;
         let mut text = format!(
             "# accelviz-cli tradeoff: one ray of each outcome of {} {} {} {}\n# {heading}\n",
-            row.structure,
-            row.order.name(),
-            row.precision(),
-            row.test()
+            row.structure.name(),
+            switches.order.name(),
+            switches.precision.name(),
+            switches.test_name()
         );
         for (outcome, example) in Outcome::ALL.iter().zip(&row.examples) {
             if let Some(ray) = example {
+                // The ray as the row's precision rounded it: the ray file names exactly it.
+                let spec = RaySpec {
+                    line: 0,
+                    origin: ray.origin.to_array(),
+                    direction: ray.direction.to_array(),
+                    t_min: ray.t_min,
+                    t_max: ray.t_max,
+                };
                 text.push_str(&format!(
                     "# {}: {}\n{}\n",
                     outcome.name(),
                     outcome.about(),
-                    ray_line(ray)
+                    ray_line(&spec)
                 ));
             }
         }
         let name = format!(
             "{}_{}_{}_{}.rays",
-            row.structure.replace(':', "-"),
-            row.order.name(),
-            row.precision(),
-            row.test()
+            row.structure.name().replace(':', "-"),
+            switches.order.name(),
+            switches.precision.name(),
+            switches.test_name()
         );
         let path = dir.join(name);
         std::fs::write(&path, text)
@@ -519,77 +419,58 @@ fn write_examples(dir: &str, rows: &[Row], heading: &str) -> Result<()> {
     Ok(())
 }
 
-impl Row {
-    fn precision(&self) -> &'static str {
-        if self.f64 { "f64" } else { "f32" }
-    }
+/// The table's cells of `row`, rounded for reading.
+fn cells(row: &TradeRow, params: &BuildParams) -> Vec<String> {
+    let switches = row.switches;
+    let mut cells = vec![
+        row.structure.name(),
+        switches.order.name().to_owned(),
+        switches.precision.name().to_owned(),
+        switches.test_name().to_owned(),
+        format!("{:.1}", row.build_ms),
+        format!("{:.1}", row.sah_cost),
+        row.epo.map_or_else(String::new, |epo| format!("{epo:.1}")),
+        format!("{:.1}", row.measured_cost(params)),
+        format!("{:.1}", row.nodes_per_ray),
+        format!("{:.1}", row.primitives_per_ray),
+        format!("{:.2}", row.mrays_per_s),
+        format!("{:.0}", row.trace_spread_percent),
+    ];
+    cells.extend(
+        Outcome::ALL
+            .iter()
+            .map(|&outcome| format!("{:.0}", row.outcomes.per_million(outcome))),
+    );
+    cells
+}
 
-    fn test(&self) -> &'static str {
-        if self.watertight {
-            "watertight"
-        } else {
-            "fast"
-        }
-    }
-
-    /// The table's cells: rounded for reading, or every digit (for CSV).
-    fn cells(&self, params: &BuildParams, rounded: bool) -> Vec<String> {
-        let number = |value: f64, digits: usize| {
-            if rounded {
-                format!("{value:.digits$}")
-            } else {
-                format!("{value}")
-            }
-        };
-        let mut cells = vec![
-            self.structure.clone(),
-            self.order.name().to_owned(),
-            self.precision().to_owned(),
-            self.test().to_owned(),
-            number(self.build_ms, 1),
-            number(self.sah_cost, 1),
-            self.epo.map_or_else(|| "".to_owned(), |epo| number(epo, 1)),
-            number(self.measured_cost(params), 1),
-            number(self.nodes_per_ray, 1),
-            number(self.primitives_per_ray, 1),
-            number(self.mrays_per_s, 2),
-            number(self.trace_spread_percent, 0),
-        ];
-        cells.extend(
-            Outcome::ALL
-                .iter()
-                .map(|&outcome| number(self.outcomes.per_million(outcome), 0)),
-        );
-        cells
-    }
-
-    /// The row as one JSON object.
-    fn json(&self, params: &BuildParams, kind: RayKind, query: Query) -> String {
-        let outcomes = crate::bench::outcomes_json(&self.outcomes);
-        JsonObject::new()
-            .string("structure", &self.structure)
-            .string("order", self.order.name())
-            .string("precision", self.precision())
-            .string("test", self.test())
-            .string("ray_kind", kind.name())
-            .string("query", query_name(query))
-            .number("build_ms", self.build_ms)
-            .number("sah_cost", self.sah_cost)
-            .number("epo", self.epo.unwrap_or(f64::NAN))
-            .number("measured_cost", self.measured_cost(params))
-            .number("nodes_per_ray", self.nodes_per_ray)
-            .number("prims_per_ray", self.primitives_per_ray)
-            .number("mrays_per_s", self.mrays_per_s)
-            .number("spread_pct", self.trace_spread_percent)
-            .raw("outcomes", &outcomes)
-            .finish()
-    }
+/// `row` as one JSON object.
+fn json(row: &TradeRow, params: &BuildParams, kind: RayKind, query: Query) -> String {
+    let outcomes = crate::bench::outcomes_json(&row.outcomes);
+    JsonObject::new()
+        .string("structure", &row.structure.name())
+        .string("order", row.switches.order.name())
+        .string("precision", row.switches.precision.name())
+        .string("test", row.switches.test_name())
+        .string("ray_kind", kind.name())
+        .string("query", query_name(query))
+        .number("build_ms", row.build_ms)
+        .number("sah_cost", row.sah_cost)
+        .number("epo", row.epo.unwrap_or(f64::NAN))
+        .number("bytes", row.bytes as f64)
+        .number("measured_cost", row.measured_cost(params))
+        .number("nodes_per_ray", row.nodes_per_ray)
+        .number("prims_per_ray", row.primitives_per_ray)
+        .number("mrays_per_s", row.mrays_per_s)
+        .number("spread_pct", row.trace_spread_percent)
+        .raw("outcomes", &outcomes)
+        .finish()
 }
 
 /// The outcome columns' headings, in [`Outcome::ALL`]'s order.
 const OUTCOME_HEADINGS: [&str; 6] = ["agree", "tie", "graze", "leak", "false hit", "wrong"];
 
-fn markdown(rows: &[Row], heading: &str, params: &BuildParams) -> String {
+fn markdown(rows: &[TradeRow], heading: &str, params: &BuildParams) -> String {
     let outcomes: Vec<String> = OUTCOME_HEADINGS
         .iter()
         .map(|name| format!("{name} /M"))
@@ -602,28 +483,10 @@ fn markdown(rows: &[Row], heading: &str, params: &BuildParams) -> String {
         "---:|".repeat(Outcome::ALL.len())
     );
     for row in rows {
-        out.push_str(&format!("| {} |\n", row.cells(params, true).join(" | ")));
+        out.push_str(&format!("| {} |\n", cells(row, params).join(" | ")));
     }
     out
 }
-
-fn csv(rows: &[Row], params: &BuildParams) -> String {
-    let mut out = String::from(
-        "structure,order,precision,triangle_test,build_ms,sah_cost,epo,measured_cost,nodes_per_ray,prims_per_ray,mrays_per_s,trace_spread_percent",
-    );
-    for outcome in Outcome::ALL {
-        out.push_str(&format!(",{}_per_million", outcome.name()));
-    }
-    out.push('\n');
-    for row in rows {
-        out.push_str(&row.cells(params, false).join(","));
-        out.push('\n');
-    }
-    out
-}
-
-/// The numbers of rays the break-even is reported at: 10³ to 10⁹.
-const BREAK_EVEN_RAYS: [f64; 7] = [1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
 
 /// Which structure is fastest overall (its build, then every ray) for each number of rays,
 /// with the default switches (near first, f32, fast test): the rows' own figures.
@@ -634,22 +497,13 @@ struct BreakEven {
 }
 
 impl BreakEven {
-    fn of(rows: &[Row]) -> Self {
-        let contenders: Vec<Contender> = rows
-            .iter()
-            .filter(|row| (row.order, row.f64, row.watertight) == VARIANTS[0])
-            .map(|row| Contender {
-                name: row.structure.clone(),
-                build_ms: row.build_ms,
-                // Mrays/s is rays per microsecond: a thousand of them a millisecond.
-                ms_per_ray: 1.0 / (row.mrays_per_s * 1e3),
-            })
-            .collect();
-        let fastest = fastest_at(&contenders, &BREAK_EVEN_RAYS);
+    fn of(rows: &[TradeRow]) -> Self {
+        let (contenders, _) = contenders(rows);
+        let fastest = fastest_at(&contenders, &REPORTED_RAYS);
         let crossovers = crossovers(
             &contenders,
-            BREAK_EVEN_RAYS[0],
-            BREAK_EVEN_RAYS[BREAK_EVEN_RAYS.len() - 1],
+            REPORTED_RAYS[0],
+            REPORTED_RAYS[REPORTED_RAYS.len() - 1],
         );
         Self {
             contenders,

@@ -4,6 +4,9 @@
 //! quick middle split for a few thousand rays to a swept SAH for a film. The crossovers are
 //! where the envelope changes hands.
 
+/// The numbers of rays the break-even is reported at: 10³ to 10⁹.
+pub const REPORTED_RAYS: [f64; 7] = [1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
+
 /// One structure's measured costs.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Contender {

@@ -56,6 +56,7 @@ pub mod simd;
 pub mod slab;
 pub mod stats;
 pub mod structure;
+pub mod trade;
 
 pub use aabb::{Aabb, Aabb2, Aabb3};
 pub use brute::brute_force;

@@ -4,4 +4,5 @@
 mod outcomes;
 mod ray_kinds;
 mod shared_meshes;
+mod trade_lab;
 mod watertight;
