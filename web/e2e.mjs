@@ -143,7 +143,7 @@ try {
   check(colourCount(first) > 50, `the canvas shows the app (${colourCount(first)} colours in the screenshot)`);
 
   // Every lesson of the list, in turn: each opens and draws (the 3D ones are 11 to 14).
-  const lessonNumbers = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
+  const lessonNumbers = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16];
   for (let index = 0; index < lessonNumbers.length; index++) {
     await page.mouse.click(60, 65 + 23 * index);
     const wanted = `${lessonNumbers[index]}. `;
@@ -175,6 +175,21 @@ try {
   await page.waitForTimeout(300);
   const heatShot = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-heat-maps.png') }));
   check(colourCount(heatShot) > 200, `the heat maps are drawn (${colourCount(heatShot)} colours)`);
+
+  // Lesson 16, the trade lab, measures every structure and switch on its built-in mesh a
+  // slice a frame, and shows its table.
+  await page.mouse.click(60, 65 + 23 * lessonNumbers.indexOf(16));
+  await page.waitForFunction((text) => document.title.includes(text), '16. ', { timeout: 20_000 })
+    .catch(() => {});
+  const tradeStart = Date.now();
+  for (let tries = 0; tries < 1200 && !logLines.some((line) => line.includes('trade lab measured')); tries++) {
+    await page.waitForTimeout(100);
+  }
+  const tradeLine = logLines.find((line) => line.includes('trade lab measured')) ?? '';
+  check(/trade lab measured \d+ rows/.test(tradeLine), `the trade lab measures in the browser: "${tradeLine.replace(/^.*accelviz: /, '')}" (waited ${((Date.now() - tradeStart) / 1000).toFixed(1)} s)`);
+  await page.waitForTimeout(300);
+  const tradeShot = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-trade-lab.png') }));
+  check(colourCount(tradeShot) > 50, `the trade lab's table is drawn (${colourCount(tradeShot)} colours)`);
 
   // An OBJ dropped onto the page opens in lesson 12.
   await page.mouse.click(60, 65 + 23 * 11);

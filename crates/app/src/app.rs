@@ -222,6 +222,7 @@ impl AccelvizApp {
     /// The lessons mode: the lesson list, the lesson's canvas and inspector, its timeline.
     fn lessons_ui(&mut self, ui: &mut Ui) {
         self.take_export();
+        self.take_show_ray();
         self.take_dropped_files(ui.ctx());
         self.apply_file_events();
         if let Some(lesson) = self.lesson_mut() {
@@ -642,13 +643,48 @@ impl AccelvizApp {
         }
     }
 
+    /// Opens the lesson a lesson asked to show a ray in (the trade lab's "show me"), on
+    /// that ray.
+    fn take_show_ray(&mut self) {
+        let Some(request) = self.lesson_mut().and_then(|lesson| lesson.take_show_ray()) else {
+            return;
+        };
+        let index = registry::LESSONS
+            .iter()
+            .position(|entry| entry.path.ends_with(request.lesson));
+        let shown = index.and_then(|index| {
+            let lesson = self.lessons.get_mut(index)?.as_mut().ok()?;
+            lesson.show_ray(&request).then_some(index)
+        });
+        match shown {
+            Some(index) => {
+                self.selected = index;
+                self.mode = Mode::Lessons;
+                self.status = None;
+            }
+            None => {
+                self.status = Some((
+                    format!("no lesson {} to show the ray in", request.lesson),
+                    true,
+                ))
+            }
+        }
+    }
+
     /// Saves what the lesson made to be saved (a PNG of its view).
     fn take_export(&mut self) {
         let Some(export) = self.lesson_mut().and_then(|lesson| lesson.take_export()) else {
             return;
         };
         match export {
-            Ok((name, bytes)) => self.save_file(&name, bytes, PNG_FILTER),
+            Ok((name, bytes)) => {
+                let filter = if name.ends_with(".csv") {
+                    CSV_FILTER
+                } else {
+                    PNG_FILTER
+                };
+                self.save_file(&name, bytes, filter)
+            }
             Err(problem) => {
                 self.status = Some((format!("cannot save the picture: {problem}"), true))
             }
@@ -893,6 +929,13 @@ pub const SCRIPT_FILTER: FileFilter = FileFilter {
 const PNG_FILTER: FileFilter = FileFilter {
     name: "PNG image",
     extensions: &["png"],
+    max_bytes: 0,
+};
+
+/// Tables saved for spreadsheets (the trade lab's).
+const CSV_FILTER: FileFilter = FileFilter {
+    name: "CSV table",
+    extensions: &["csv"],
     max_bytes: 0,
 };
 

@@ -78,10 +78,44 @@ pub trait Lesson {
         None
     }
 
+    /// A ray this lesson asks another lesson to show (the trade lab's "show me"), once: the
+    /// app opens that lesson and hands it over ([`show_ray`](Self::show_ray)).
+    fn take_show_ray(&mut self) -> Option<ShowRay> {
+        None
+    }
+
+    /// Shows the ray another lesson asked for (its mesh, structure and switches); false when
+    /// this lesson shows no such rays.
+    fn show_ray(&mut self, _request: &ShowRay) -> bool {
+        false
+    }
+
     /// The lesson's text.
     fn text(&self) -> &LessonText {
         &self.stage().text
     }
+}
+
+/// One ray of a measured outcome to be shown stepped in a 3D lesson: the mesh, the structure
+/// and the switches it was traced with, and what the trade lab found.
+#[derive(Clone, Debug)]
+pub struct ShowRay {
+    /// The end of the file name of the lesson that shows it (`"12-mesh-bvh.ron"`).
+    pub lesson: &'static str,
+    /// The mesh, as the asking lesson has it.
+    pub mesh: std::sync::Arc<accelviz_scene::Mesh>,
+    /// Its name (`builtin:icosphere`, or a file's).
+    pub mesh_name: String,
+    /// The structure the row traced.
+    pub structure: accelviz_core::Structure,
+    /// The ray, as the row's precision rounded it (exactly, in f64).
+    pub ray: accelviz_core::Ray<glam::DVec3>,
+    /// The row's switches.
+    pub switches: accelviz_core::trade::Switches,
+    /// The query the row answered.
+    pub query: accelviz_core::Query,
+    /// What the row's answer was, judged by the reference.
+    pub outcome: accelviz_core::outcome::Outcome,
 }
 
 /// A part of a lesson's inspector that a lecture slide can show without the rest, so that

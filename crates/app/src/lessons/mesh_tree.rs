@@ -12,7 +12,7 @@ use accelviz_core::bvh::BuildParams;
 use accelviz_core::camera::{Camera, bounding_sphere_of_box};
 use accelviz_core::format::{count, number, point_at_scale};
 use accelviz_core::{Aabb, CATALOGUE, Family, Order, Ray, Step, Structure, Width, slab_record};
-use egui::Color32;
+use egui::{Color32, RichText};
 use glam::DVec3;
 
 use crate::background::{Cached, Derived};
@@ -34,6 +34,54 @@ struct PickedRay {
     /// The pixel it goes through (none for a ray given by its numbers).
     pixel: Option<Pixel>,
     revision: u64,
+}
+
+/// A ray another lesson asked to be shown (the trade lab's "show me"): what the lab found
+/// for it, so that the inspector shows the triangle tests as that row computed them.
+#[derive(Clone, Debug)]
+pub struct Examined {
+    /// The row's switches (its order and test are the trace's; its precision the numbers').
+    pub switches: accelviz_core::trade::Switches,
+    /// The query the row answered.
+    pub query: accelviz_core::Query,
+    /// What the row's answer was.
+    pub outcome: accelviz_core::outcome::Outcome,
+    /// The structure the row traced.
+    pub structure: Structure,
+    /// The ray (so that a ray clicked since is not taken for it).
+    pub ray: Ray<DVec3>,
+}
+
+/// The ray shown (the clicked or asked-for one), or a placeholder before one is.
+fn picked_ray(lesson: &MeshTreeLesson) -> Ray<DVec3> {
+    lesson.picked.map_or(
+        Ray {
+            origin: DVec3::ZERO,
+            direction: DVec3::X,
+            t_min: 0.0,
+            t_max: f64::INFINITY,
+        },
+        |picked| picked.ray,
+    )
+}
+
+/// The triangle test `test` of `corners` against `ray`, both rounded to `V`'s precision:
+/// its coordinates (barycentrics or edge functions), its t and its answer, as text.
+fn explain_in<V: accelviz_core::Vector3>(
+    corners: &[[f64; 3]; 3],
+    ray: Ray<DVec3>,
+    test: accelviz_core::HitTest,
+) -> ([String; 3], String, bool) {
+    let triangles = accelviz_core::TriangleSet::<V>::from_f64(&[*corners]);
+    let ray = ray.cast::<V>();
+    let prepared = accelviz_core::primitive::TriangleRay::new(&ray, test);
+    let values = triangles.explain(&prepared, 0, ray.t_min, ray.t_max);
+    // Every digit the precision holds (the shortest that reads back): a coordinate just
+    // outside, 1.0000001 against 1, is the point.
+    let show =
+        |value: Option<V::Scalar>| value.map_or("–".to_owned(), |value| format!("{value:?}"));
+    let coordinates = values.coordinates.map(show);
+    (coordinates, show(values.t), values.hit)
 }
 
 /// The share key of the clicked pixel.
@@ -79,7 +127,12 @@ pub struct MeshTreeLesson {
     /// The clicked ray's traversal order.
     pub order: Order,
     picked: Option<PickedRay>,
-    trace: Cached<(u64, u64, Order), Trace>,
+    /// Whether the traversal uses the watertight triangle test and the conservative slab test
+    /// (else Möller–Trumbore and the plain one).
+    pub watertight: bool,
+    /// The ray the trade lab asked to show, while it is the ray shown.
+    pub examined: Option<Examined>,
+    trace: Cached<(u64, u64, Order, bool), Trace>,
     /// The depths whose boxes are drawn (the deepest may be `usize::MAX`: all the way down).
     pub depth_range: (usize, usize),
     /// The tree (its generation) the depth range was last opened for ([`opening_depths`]).
@@ -121,6 +174,8 @@ impl MeshTreeLesson {
             tree: Derived::default(),
             order: Order::NearFirst,
             picked: None,
+            watertight: false,
+            examined: None,
             trace: Cached::default(),
             depth_range: (0, usize::MAX),
             opened: None,
@@ -163,14 +218,26 @@ impl MeshTreeLesson {
 
     fn pick_ray(&mut self, origin: DVec3, direction: DVec3, pixel: Option<Pixel>) {
         if let Ok(ray) = Ray::try_new(origin, direction) {
-            let revision = self.picked.map_or(1, |picked| picked.revision + 1);
-            self.picked = Some(PickedRay {
-                ray,
-                pixel,
-                revision,
-            });
-            self.stage.timeline.rewind();
+            self.pick_exact(ray, pixel);
         }
+    }
+
+    /// Traces `ray` as given (its interval too).
+    fn pick_exact(&mut self, ray: Ray<DVec3>, pixel: Option<Pixel>) {
+        let revision = self.picked.map_or(1, |picked| picked.revision + 1);
+        self.picked = Some(PickedRay {
+            ray,
+            pixel,
+            revision,
+        });
+        self.stage.timeline.rewind();
+    }
+
+    /// The trade lab's ray, while it is the one shown.
+    fn examined(&self) -> Option<&Examined> {
+        let examined = self.examined.as_ref()?;
+        let picked = self.picked?;
+        (picked.ray == examined.ray && self.structure == examined.structure).then_some(examined)
     }
 
     /// The clicked pixel's ray: (its pixel, if it was clicked, and the ray).
@@ -351,6 +418,15 @@ impl MeshTreeLesson {
                     self.order = order;
                     self.stage.timeline.rewind();
                 }
+            }
+            if ui
+                .checkbox(&mut self.watertight, "watertight")
+                .on_hover_text(
+                    "The watertight triangle test (Woop et al. 2013) with the conservative slab test (Ize 2013); off: Möller–Trumbore and the plain slab test",
+                )
+                .changed()
+            {
+                self.stage.timeline.rewind();
             }
             ui.separator();
             ui.checkbox(&mut self.show_inner, "inner nodes");
@@ -550,6 +626,79 @@ impl MeshTreeLesson {
         }
     }
 
+    /// The trade lab's ray: what the lab found for it, and every triangle the traversal tests
+    /// as the row's test computes it in f32 and in f64 (`TriangleSet::explain`, the core's
+    /// own test with what it computed on the way).
+    fn examined_ui(&self, ui: &mut egui::Ui, tree: &MeshTree) {
+        let (Some(examined), Some(trace)) = (self.examined(), self.trace.get()) else {
+            return;
+        };
+        let switches = examined.switches;
+        ui.separator();
+        ui.label(
+            RichText::new(format!(
+                "From the trade lab: {} for {} {} {} {}",
+                examined.outcome.name().replace('_', " "),
+                examined.structure.name(),
+                switches.order.name(),
+                switches.precision.name(),
+                switches.test_name()
+            ))
+            .strong(),
+        );
+        ui.label(examined.outcome.about());
+        ui.label(format!(
+            "The ray is as {} rounded it. The steps are traced in f64 with the {} test; below, each triangle they test, by that test in f32 and in f64.",
+            switches.precision.name(),
+            switches.test_name()
+        ));
+        let mut tested: Vec<u32> = Vec::new();
+        for step in trace.shown(trace.frames()) {
+            if let Step::PrimitiveTested { primitive, .. } = *step
+                && !tested.contains(&primitive)
+            {
+                tested.push(primitive);
+            }
+        }
+        const SHOWN: usize = 6;
+        let test = if switches.watertight {
+            accelviz_core::HitTest::Watertight
+        } else {
+            accelviz_core::HitTest::Fast
+        };
+        let coordinate_names = if switches.watertight {
+            ["U", "V", "W"]
+        } else {
+            ["u", "v", "u+v"]
+        };
+        let ray = picked_ray(self);
+        for &primitive in tested.iter().take(SHOWN) {
+            let Some(corners) = tree.mesh.triangles.get(primitive as usize) else {
+                continue;
+            };
+            ui.label(RichText::new(format!("triangle #{primitive}")).strong());
+            let rows = [
+                ("f32", explain_in::<glam::Vec3>(corners, ray, test)),
+                ("f64", explain_in::<DVec3>(corners, ray, test)),
+            ];
+            for (precision, (coordinates, t, hit)) in rows {
+                let named: Vec<String> = coordinate_names
+                    .iter()
+                    .zip(&coordinates)
+                    .map(|(name, value)| format!("{name} = {value}"))
+                    .collect();
+                ui.horizontal_wrapped(|ui| {
+                    ui.label(format!("{precision}: {}, t = {t}:", named.join(", ")));
+                    let answer = RichText::new(if hit { "hit" } else { "miss" }).strong();
+                    ui.label(answer.color(if hit { palette::HIT } else { palette::MISS }));
+                });
+            }
+        }
+        if tested.len() > SHOWN {
+            ui.label(format!("… and {} more triangles", tested.len() - SHOWN));
+        }
+    }
+
     /// The current step's box test, axis by axis: the slab intervals the inspector shows.
     fn slab_ui(&self, ui: &mut egui::Ui, tree: &MeshTree) {
         let (Some(picked), Some(state)) = (self.picked, self.shown_state()) else {
@@ -653,22 +802,49 @@ impl Lesson for MeshTreeLesson {
             self.stage.timeline.set_len(0);
             return;
         };
-        let order = self.order;
-        let trace =
-            self.trace
-                .get_or_make((self.tree.generation(), picked.revision, order), || {
-                    Trace::of(
-                        &tree.build.built.tree,
-                        &tree.triangles,
-                        &picked.ray,
-                        &options_in(order),
-                    )
-                });
+        let (order, watertight) = (self.order, self.watertight);
+        let query = self
+            .examined()
+            .map_or(accelviz_core::Query::Closest, |examined| examined.query);
+        let key = (self.tree.generation(), picked.revision, order, watertight);
+        let trace = self.trace.get_or_make(key, || {
+            let options = accelviz_core::TraceOptions {
+                query,
+                ..options_in(order)
+            }
+            .with_robust(watertight);
+            Trace::of(
+                &tree.build.built.tree,
+                &tree.triangles,
+                &picked.ray,
+                &options,
+            )
+        });
         self.stage.timeline.set_len(trace.frames());
     }
 
     fn take_export(&mut self) -> Option<crate::view3d::Export> {
         self.view.take_export()
+    }
+
+    fn show_ray(&mut self, request: &lesson::ShowRay) -> bool {
+        let scene = &mut self.stage.scene;
+        if scene.name != request.mesh_name || scene.mesh.triangles != request.mesh.triangles {
+            scene.replace((*request.mesh).clone());
+            scene.name = request.mesh_name.clone();
+        }
+        self.structure = request.structure;
+        self.order = request.switches.order;
+        self.watertight = request.switches.watertight;
+        self.examined = Some(Examined {
+            switches: request.switches,
+            query: request.query,
+            outcome: request.outcome,
+            structure: request.structure,
+            ray: request.ray,
+        });
+        self.pick_exact(request.ray, None);
+        true
     }
 
     fn caption(&self) -> Option<String> {
@@ -695,6 +871,7 @@ impl Lesson for MeshTreeLesson {
         // What the class reads while stepping comes first: the ray and this step's slabs.
         if parts.show(&RAY_PART) {
             self.ray_ui(ui, &tree);
+            self.examined_ui(ui, &tree);
             self.slab_ui(ui, &tree);
         }
         if parts.show(&DEPTHS_PART) {

@@ -14,4 +14,5 @@ pub mod recap;
 pub mod slab;
 pub mod slab3d;
 pub mod splits;
+pub mod trade;
 pub mod trivial;

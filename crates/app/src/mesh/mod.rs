@@ -12,6 +12,7 @@ pub mod aside;
 pub mod heat;
 pub mod overlay;
 pub mod scene;
+pub mod trade;
 pub mod tree;
 pub mod ui;
 

@@ -15,6 +15,33 @@ pub fn mesh_and_structure_ui(
     scene: &mut MeshScene,
     structure: &mut Structure,
 ) -> bool {
+    let replaced = mesh_ui(ui, scene);
+    ui.separator();
+    egui::ComboBox::from_label("structure")
+        .selected_text(structure.name())
+        .show_ui(ui, |ui| {
+            for entry in accelviz_core::CATALOGUE {
+                let chosen = structure.entry().name == entry.name;
+                if ui
+                    // The name the lesson texts, links and CLI use, then what it is.
+                    .selectable_label(
+                        chosen,
+                        format!("{}: {} {}", entry.name, entry.label, entry.family.label()),
+                    )
+                    .on_hover_text(entry.about)
+                    .clicked()
+                {
+                    *structure = entry.structure.with_width(structure.width());
+                }
+            }
+        });
+    crate::views::width_ui(ui, structure);
+    replaced
+}
+
+/// The built-in meshes to choose from (an opened OBJ is shown by its name); true when the
+/// mesh was replaced.
+pub fn mesh_ui(ui: &mut egui::Ui, scene: &mut MeshScene) -> bool {
     let mut replaced = false;
     let current = scene.name.clone();
     egui::ComboBox::from_label("mesh")
@@ -37,26 +64,6 @@ pub fn mesh_and_structure_ui(
                 }
             }
         });
-    ui.separator();
-    egui::ComboBox::from_label("structure")
-        .selected_text(structure.name())
-        .show_ui(ui, |ui| {
-            for entry in accelviz_core::CATALOGUE {
-                let chosen = structure.entry().name == entry.name;
-                if ui
-                    // The name the lesson texts, links and CLI use, then what it is.
-                    .selectable_label(
-                        chosen,
-                        format!("{}: {} {}", entry.name, entry.label, entry.family.label()),
-                    )
-                    .on_hover_text(entry.about)
-                    .clicked()
-                {
-                    *structure = entry.structure.with_width(structure.width());
-                }
-            }
-        });
-    crate::views::width_ui(ui, structure);
     replaced
 }
 

@@ -15,4 +15,5 @@ mod quiz;
 mod share;
 mod start;
 mod steps;
+mod trade;
 mod view3d;

@@ -1,0 +1,232 @@
+//! Lesson 16, the trade lab: it measures every structure and switch on its mesh, its table
+//! sorts, its CSV is the CLI's, its plots draw, and "show me" opens lesson 12 on the very ray
+//! with the row's switches and the triangle tests' numbers.
+
+use accelviz_app::lesson::Lesson;
+use accelviz_app::lessons::trade::{Column, Rows, TradeLesson, View};
+use accelviz_app::mesh::trade::TradeResult;
+use accelviz_core::outcome::Outcome;
+use accelviz_core::trade::{Precision, Switches, TradeRow};
+use accelviz_core::{Order, Structure};
+use egui_kittest::kittest::Queryable;
+
+use crate::common::{app_harness, lesson_harness_3d, lesson_text};
+
+/// `result` with timings that do not change from run to run: a build a little dearer the
+/// later its structure comes in the catalogue (the SAH builders and kD-trees come late), rays
+/// as fast as their measured cost says.
+fn steady(result: &TradeResult) -> TradeResult {
+    let structures = Structure::compared();
+    let rows = result
+        .rows
+        .iter()
+        .map(|row| {
+            let place = structures
+                .iter()
+                .position(|s| *s == row.structure)
+                .unwrap_or(0);
+            TradeRow {
+                build_ms: 0.3 * (place + 1) as f64,
+                build_spread_percent: 0.0,
+                mrays_per_s: 150.0 / row.measured_cost(&result.params),
+                trace_spread_percent: 0.0,
+                ..row.clone()
+            }
+        })
+        .collect();
+    TradeResult {
+        millis: 0.0,
+        ..result.clone()
+    }
+    .with_rows(rows)
+}
+
+fn lab() -> TradeLesson {
+    TradeLesson::new(lesson_text("16-trade-lab.ron"))
+}
+
+#[test]
+fn the_lab_measures_sorts_plots_and_exports() {
+    let mut harness = lesson_harness_3d(lab());
+    harness.run();
+    let result = harness
+        .state()
+        .result()
+        .expect("measured at once in tests")
+        .clone();
+    let structures = Structure::compared();
+    assert_eq!(result.rows.len(), structures.len() * Switches::ALL.len());
+    assert_eq!(result.key.ray_kind.name(), "aimed");
+    for row in &result.rows {
+        assert_eq!(row.outcomes.total(), result.rays as u64);
+        if row.switches.watertight {
+            for outcome in [Outcome::Leak, Outcome::FalseHit, Outcome::Wrong] {
+                assert_eq!(row.outcomes.count(outcome), 0, "{row:?}");
+            }
+        }
+    }
+    // The table opens in the catalogue's order, as measured.
+    assert_eq!(
+        harness.state().shown_rows(),
+        (0..result.rows.len()).collect::<Vec<_>>()
+    );
+    // Sorted by leaks, most first: a fast row leads, the watertight rows (none) come last.
+    harness.state_mut().sort = (Column::Outcome(Outcome::Leak), true);
+    let by_leaks = harness.state().shown_rows();
+    let leaks: Vec<u64> = by_leaks
+        .iter()
+        .map(|&row| result.rows[row].outcomes.count(Outcome::Leak))
+        .collect();
+    assert!(leaks.windows(2).all(|pair| pair[0] >= pair[1]), "{leaks:?}");
+    assert!(!result.rows[by_leaks[0]].switches.watertight);
+    assert!(
+        leaks[0] > 0,
+        "the fast test leaks on aimed rays at a closed sphere"
+    );
+    // Clicking a heading sorts by it; again, the other way.
+    harness.state_mut().sort = (Column::Structure, false);
+    harness.run();
+    harness.get_by_label("Mrays/s ±%").click();
+    harness.run();
+    assert_eq!(harness.state().sort, (Column::Mrays, true));
+    let fastest = harness.state().shown_rows()[0];
+    let best = result
+        .rows
+        .iter()
+        .map(|row| row.mrays_per_s)
+        .fold(0.0, f64::max);
+    assert_eq!(result.rows[fastest].mrays_per_s, best);
+    harness.state_mut().rows = Rows::Base;
+    assert_eq!(harness.state().shown_rows().len(), structures.len());
+    // What is drawn, with timings made up from the counts (the clock's differ every run): the
+    // table, a row's outcomes with their "show me" buttons, the break-even, the plots.
+    let shown = steady(&result);
+    harness.state_mut().show_result(shown.clone());
+    harness.state_mut().rows = Rows::All;
+    harness.state_mut().sort = (Column::Structure, false);
+    harness.run();
+    harness.snapshot("trade_table");
+    let leaking = by_leaks[0];
+    harness.state_mut().selected = Some(leaking);
+    harness.state_mut().rows = Rows::All;
+    harness.state_mut().sort = (Column::Outcome(Outcome::Leak), true);
+    harness.run();
+    harness.snapshot("trade_row_outcomes");
+    // The CSV is the CLI's.
+    harness.state_mut().export_csv();
+    let (name, bytes) = harness
+        .state_mut()
+        .take_export()
+        .expect("asked")
+        .expect("made");
+    assert!(name.ends_with(".csv"), "{name}");
+    let text = String::from_utf8(bytes).expect("text");
+    assert_eq!(text, accelviz_core::trade::csv(&shown.rows, &shown.params));
+    assert_eq!(text.lines().count(), result.rows.len() + 1);
+    for view in [
+        View::BuildVsTraversal,
+        View::PredictedVsMeasured,
+        View::TotalVsRays,
+    ] {
+        harness.state_mut().view = view;
+        harness.run();
+        harness.snapshot(format!("trade_{}", view.name().replace(' ', "_")));
+    }
+    // A crossover or one structure fastest everywhere; the break-even is the rows' own.
+    for fastest in &result.fastest {
+        let contender = &result.contenders[fastest.fastest];
+        let row = &result.rows[result.contender_rows[fastest.fastest]];
+        assert_eq!(contender.name, row.structure.name());
+        let total = row.build_ms + fastest.rays / (row.mrays_per_s * 1e3);
+        assert!((fastest.total_ms - total).abs() <= 1e-9 * total.max(1.0));
+    }
+}
+
+#[test]
+fn show_me_opens_lesson_12_on_that_ray_with_the_rows_switches() {
+    accelviz_app::mesh::trade::set_steady_clock(true);
+    let mut harness = app_harness();
+    let lab_index = harness.state().lesson_count() - 1;
+    harness.state_mut().selected = lab_index;
+    harness.run();
+    assert!(
+        harness.query_by_label_contains("agree/M").is_some(),
+        "the table is up"
+    );
+    // The first row (bvh:middle near first, f32, fast): click it, then its leak's "show me".
+    harness
+        .get_all_by_role_and_label(egui::accesskit::Role::Button, "bvh:middle")
+        .next()
+        .expect("a row of bvh:middle")
+        .click();
+    harness.run();
+    let show_me: Vec<_> = harness.get_all_by_label("show me").collect();
+    assert_eq!(show_me.len(), Outcome::ALL.len());
+    show_me[Outcome::Leak.index()].click();
+    harness.run();
+    let app = harness.state();
+    let lesson = app.lesson().expect("a lesson");
+    assert!(
+        lesson.text().title().starts_with("12."),
+        "{}",
+        lesson.text().title()
+    );
+    let shared: std::collections::HashMap<String, String> = lesson.share().into_iter().collect();
+    assert_eq!(
+        shared.get("structure").map(String::as_str),
+        Some("bvh:middle")
+    );
+    assert_eq!(
+        shared.get("mesh").map(String::as_str),
+        Some("builtin:icosphere")
+    );
+    assert!(
+        harness
+            .query_by_label_contains("From the trade lab: leak for bvh:middle near-first f32 fast")
+            .is_some()
+    );
+    harness.snapshot("trade_show_me_in_lesson_12");
+}
+
+#[test]
+fn a_shown_ray_is_the_rows_example_traced_with_its_switches() {
+    let mut lab = lab();
+    lab.update();
+    lab.update();
+    let result = lab.result().expect("measured").clone();
+    let (row, trade_row) = result
+        .rows
+        .iter()
+        .enumerate()
+        .find(|(_, row)| {
+            row.switches.precision == Precision::F32
+                && !row.switches.watertight
+                && row.switches.order == Order::FileOrder
+                && row.outcomes.count(Outcome::Leak) > 0
+        })
+        .expect("a file-order fast f32 row that leaks");
+    assert!(lab.show_me(row, Outcome::Leak));
+    let request = lab.take_show_ray().expect("asked");
+    assert!(lab.take_show_ray().is_none(), "once");
+    assert_eq!(
+        request.ray,
+        *trade_row.example(Outcome::Leak).expect("example")
+    );
+    let mut lesson12 =
+        accelviz_app::lessons::mesh_tree::MeshTreeLesson::new(lesson_text("12-mesh-bvh.ron"));
+    assert!(lesson12.show_ray(&request));
+    assert_eq!(lesson12.structure, trade_row.structure);
+    assert_eq!(lesson12.order, Order::FileOrder);
+    assert!(!lesson12.watertight);
+    lesson12.update();
+    let (pixel, ray) = lesson12.picked().expect("picked");
+    assert!(pixel.is_none());
+    assert_eq!(ray, request.ray);
+    assert!(lesson12.trace().is_some(), "traced");
+    // No "show me" for an outcome the row has none of.
+    let none = Outcome::ALL
+        .into_iter()
+        .find(|&outcome| trade_row.outcomes.count(outcome) == 0)
+        .expect("some outcome never happened");
+    assert!(!lab.show_me(row, none));
+}
