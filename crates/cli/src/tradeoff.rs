@@ -3,13 +3,11 @@
 //! ([`accelviz_core::outcome`]); a table (Markdown, CSV, JSON), two SVG plots, and an example
 //! ray of each outcome.
 
-use accelviz_core::break_even::{
-    Contender, Crossover, Fastest, REPORTED_RAYS, crossovers, fastest_at,
-};
+use accelviz_core::break_even::{Contender, Crossover, Fastest, plotted, reported};
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::outcome::{Outcome, Reference};
-use accelviz_core::quality::{Footprint, NodeEntries, SahCheck};
-use accelviz_core::trade::{Precision, Switches, TradeRow, TradeScene, contenders};
+use accelviz_core::quality::{NodeEntries, SahCheck};
+use accelviz_core::trade::{Precision, Switches, TradeRow, TradeScene, TreeQuality, contenders};
 use accelviz_core::{Query, Structure, TriangleSet, Vector3};
 use accelviz_scene::rays::{RayKind, RaySpec, parse_resolution, ray_line};
 use anyhow::{Context, Result, bail};
@@ -166,29 +164,18 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     });
     // Each tree's end-point overlap and memory, once (every switch setting of a tree shares
     // them).
-    let quality32: Vec<(Option<f64>, Footprint)> = trees32
+    let quality32: Vec<TreeQuality> = trees32
         .iter()
-        .map(|tree| {
-            (
-                tree.epo(single.triangles.triangles(), &params.cost),
-                tree.footprint().0,
-            )
-        })
+        .map(|accel| quality(accel, single.triangles.triangles(), &params))
         .collect();
-    let quality64: Vec<(Option<f64>, Footprint)> = trees64
+    let quality64: Vec<TreeQuality> = trees64
         .iter()
-        .map(|tree| {
-            (
-                tree.epo(double.triangles.triangles(), &params.cost),
-                tree.footprint().0,
-            )
-        })
+        .map(|accel| quality(accel, double.triangles.triangles(), &params))
         .collect();
-    let count = rays.len() as f64;
     let mut rows = Vec::with_capacity(keys.len());
     for (index, &(spec, switches)) in keys.iter().enumerate() {
         let options = switches.options(query);
-        let (evaluation, (epo, footprint)) = match switches.precision {
+        let (evaluation, quality) = match switches.precision {
             Precision::F64 => {
                 let Accel::Tree(tree, ordered) = &trees64[spec] else {
                     bail!("the tradeoff compares trees only")
@@ -208,23 +195,14 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
                 )
             }
         };
-        let build = &builds[2 * spec + usize::from(switches.precision == Precision::F64)];
-        let trace_ms = traces[index].median();
-        rows.push(TradeRow {
-            structure: specs[spec],
-            switches,
-            build_ms: build.median(),
-            build_spread_percent: build.spread_percent(),
-            sah_cost: evaluation.stats.sah_cost,
-            epo,
-            bytes: footprint.bytes,
-            nodes_per_ray: evaluation.counters.nodes_visited as f64 / count,
-            primitives_per_ray: evaluation.counters.primitive_tests as f64 / count,
-            mrays_per_s: count / (trace_ms * 1e3),
-            trace_spread_percent: traces[index].spread_percent(),
-            outcomes: evaluation.outcomes,
-            examples: evaluation.examples,
-        });
+        let builds = &builds[2 * spec + usize::from(switches.precision == Precision::F64)];
+        rows.push(TradeRow::new(
+            (specs[spec], switches),
+            (builds, &traces[index]),
+            evaluation,
+            quality,
+            rays.len(),
+        ));
     }
     let heading = format!(
         "{} ({} triangles), {} {} rays (seed {}), {} hit, C_trav {}, C_isect {}, kD empty bonus {}, {} thread(s), median of {repeat} interleaved rounds (±: half their range; rows whose ranges overlap are not shown to differ)",
@@ -347,6 +325,21 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
 
 fn short_name(mesh: &str) -> &str {
     mesh.rsplit('/').next().unwrap_or(mesh)
+}
+
+/// A built tree's quality (the tradeoff builds trees only).
+fn quality<V: Vector3>(
+    accel: &Accel<V, TriangleSet<V>>,
+    triangles: &[[V; 3]],
+    params: &BuildParams,
+) -> TreeQuality {
+    match accel {
+        Accel::Tree(tree, _) => TreeQuality::of(tree, triangles, params),
+        Accel::Brute(_) => TreeQuality {
+            epo: None,
+            footprint: accel.footprint().0,
+        },
+    }
 }
 
 /// The reference's answer for every ray of `scene`, on the machine's cores.
@@ -499,12 +492,7 @@ struct BreakEven {
 impl BreakEven {
     fn of(rows: &[TradeRow]) -> Self {
         let (contenders, _) = contenders(rows);
-        let fastest = fastest_at(&contenders, &REPORTED_RAYS);
-        let crossovers = crossovers(
-            &contenders,
-            REPORTED_RAYS[0],
-            REPORTED_RAYS[REPORTED_RAYS.len() - 1],
-        );
+        let (fastest, crossovers) = reported(&contenders);
         Self {
             contenders,
             fastest,
@@ -584,19 +572,7 @@ impl BreakEven {
     /// Total time against rays: the structures fastest somewhere, and the lecture's three
     /// rules' BVHs for comparison, with the crossovers marked.
     fn plot(&self, mesh: &str) -> Lines {
-        let mut shown: Vec<usize> = self.fastest.iter().map(|row| row.fastest).collect();
-        shown.extend(
-            self.crossovers
-                .iter()
-                .flat_map(|crossing| [crossing.from, crossing.to]),
-        );
-        for name in ["bvh:middle", "bvh:median", "bvh:sah-sweep", "kd:sah"] {
-            if let Some(index) = self.contenders.iter().position(|c| c.name == name) {
-                shown.push(index);
-            }
-        }
-        shown.sort_unstable();
-        shown.dedup();
+        let shown = plotted(&self.contenders, &self.fastest, &self.crossovers);
         let samples: Vec<f64> = (0..=60)
             .map(|step| 10f64.powf(3.0 + 0.1 * step as f64))
             .collect();

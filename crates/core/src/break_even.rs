@@ -49,6 +49,44 @@ pub struct Crossover {
     pub to: usize,
 }
 
+/// The break-even as reported: the fastest contender at each of [`REPORTED_RAYS`], and the
+/// crossovers between the first and the last.
+pub fn reported(contenders: &[Contender]) -> (Vec<Fastest>, Vec<Crossover>) {
+    (
+        fastest_at(contenders, &REPORTED_RAYS),
+        crossovers(
+            contenders,
+            REPORTED_RAYS[0],
+            REPORTED_RAYS[REPORTED_RAYS.len() - 1],
+        ),
+    )
+}
+
+/// The contenders a plot of total time against rays draws, in order: those fastest at some
+/// reported number of rays, both sides of every crossover, and the lecture's rules (a BVH
+/// split in the middle, at the median, by the swept SAH, and the kD SAH tree) to compare
+/// with.
+pub fn plotted(
+    contenders: &[Contender],
+    fastest: &[Fastest],
+    crossings: &[Crossover],
+) -> Vec<usize> {
+    let mut shown: Vec<usize> = fastest.iter().map(|row| row.fastest).collect();
+    shown.extend(
+        crossings
+            .iter()
+            .flat_map(|crossing| [crossing.from, crossing.to]),
+    );
+    for name in ["bvh:middle", "bvh:median", "bvh:sah-sweep", "kd:sah"] {
+        if let Some(index) = contenders.iter().position(|c| c.name == name) {
+            shown.push(index);
+        }
+    }
+    shown.sort_unstable();
+    shown.dedup();
+    shown
+}
+
 /// The fastest contender at each of `rays` (ties to the lower index), with the runner-up.
 pub fn fastest_at(contenders: &[Contender], rays: &[f64]) -> Vec<Fastest> {
     rays.iter()

@@ -320,7 +320,57 @@ pub struct TradeRow {
     pub examples: [Option<Ray<DVec3>>; 6],
 }
 
+/// What a tree is besides its speed, shared by every switch setting of it: its end-point
+/// overlap (BVHs only, [`crate::quality::epo`]: a kD-tree's cells do not overlap) and its
+/// memory.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TreeQuality {
+    /// End-point overlap.
+    pub epo: Option<f64>,
+    /// Memory and fill rate.
+    pub footprint: Footprint,
+}
+
+impl TreeQuality {
+    /// Measures `tree` over `triangles` (in their own numbering).
+    pub fn of<V: Vector3>(tree: &Tree<V>, triangles: &[[V; 3]], params: &BuildParams) -> Self {
+        let epo = matches!(tree, Tree::Bvh(_) | Tree::Bvh4(_) | Tree::Bvh8(_))
+            .then(|| crate::quality::epo(tree, triangles, &params.cost));
+        Self {
+            epo,
+            footprint: Footprint::of(tree),
+        }
+    }
+}
+
 impl TradeRow {
+    /// The row of `structure` traced with `switches` over `rays` rays: its builds' and
+    /// traces' rounds, its untimed pass, and its tree's quality.
+    pub fn new(
+        (structure, switches): (Structure, Switches),
+        (builds, traces): (&Samples, &Samples),
+        evaluation: Evaluation,
+        quality: TreeQuality,
+        rays: usize,
+    ) -> Self {
+        let count = rays.max(1) as f64;
+        Self {
+            structure,
+            switches,
+            build_ms: builds.median(),
+            build_spread_percent: builds.spread_percent(),
+            sah_cost: evaluation.stats.sah_cost,
+            epo: quality.epo,
+            bytes: quality.footprint.bytes,
+            nodes_per_ray: evaluation.counters.nodes_visited as f64 / count,
+            primitives_per_ray: evaluation.counters.primitive_tests as f64 / count,
+            mrays_per_s: count / (traces.median().max(1e-9) * 1e3),
+            trace_spread_percent: traces.spread_percent(),
+            outcomes: evaluation.outcomes,
+            examples: evaluation.examples,
+        }
+    }
+
     /// What a ray cost, in the SAH's units: `C_trav·nodes + C_isect·primitives`.
     pub fn measured_cost(&self, params: &BuildParams) -> f64 {
         params.cost.traversal_cost * self.nodes_per_ray
@@ -402,8 +452,8 @@ struct Side<V: Vector3> {
     references: Vec<Option<Reference>>,
     /// The first round's tree of each structure.
     trees: Vec<Option<Built<V>>>,
-    /// Each tree's EPO and footprint, once (every switch setting of a tree shares them).
-    quality: Vec<Option<(Option<f64>, Footprint)>>,
+    /// Each tree's quality, once (every switch setting of a tree shares it).
+    quality: Vec<Option<TreeQuality>>,
 }
 
 impl<V: Vector3> Side<V> {
@@ -437,17 +487,14 @@ impl<V: Vector3> Side<V> {
         index: usize,
         options: &TraceOptions,
         params: &BuildParams,
-    ) -> Option<(Evaluation, Option<f64>, Footprint)> {
+    ) -> Option<(Evaluation, TreeQuality)> {
         let (tree, ordered) = self.trees[index].as_ref()?;
-        let quality = *self.quality[index].get_or_insert_with(|| {
-            let epo = matches!(tree, Tree::Bvh(_) | Tree::Bvh4(_) | Tree::Bvh8(_))
-                .then(|| crate::quality::epo(tree, self.scene.triangles.triangles(), &params.cost));
-            (epo, Footprint::of(tree))
-        });
+        let quality = *self.quality[index]
+            .get_or_insert_with(|| TreeQuality::of(tree, self.scene.triangles.triangles(), params));
         let evaluation = self
             .scene
             .evaluate(tree, ordered, options, &self.references, params);
-        Some((evaluation, quality.0, quality.1))
+        Some((evaluation, quality))
     }
 }
 
@@ -481,7 +528,7 @@ pub struct Lab {
     next: usize,
     builds: Vec<Samples>,
     traces: Vec<Samples>,
-    evaluations: Vec<Option<(Evaluation, Option<f64>, Footprint)>>,
+    evaluations: Vec<Option<(Evaluation, TreeQuality)>>,
 }
 
 impl Lab {
@@ -620,12 +667,11 @@ impl Lab {
                 self.structures[index].name(),
                 precision.name()
             ),
-            Some(&Task::Trace(row) | &Task::Evaluate(row)) => {
+            Some(&task @ (Task::Trace(row) | Task::Evaluate(row))) => {
                 let (index, switches) = self.row_key(row);
-                let what = if matches!(self.tasks[self.next], Task::Trace(_)) {
-                    "timing"
-                } else {
-                    "judging the answers of"
+                let what = match task {
+                    Task::Trace(_) => "timing",
+                    _ => "judging the answers of",
                 };
                 format!(
                     "{what} {} {} {} {}",
@@ -654,29 +700,19 @@ impl Lab {
         if !self.done() {
             return None;
         }
-        let count = self.ray_count().max(1) as f64;
         (0..self.traces.len())
             .map(|row| {
                 let (index, switches) = self.row_key(row);
-                let (evaluation, epo, footprint) = self.evaluations[row].as_ref()?;
-                let build =
+                let (evaluation, quality) = self.evaluations[row].clone()?;
+                let builds =
                     &self.builds[2 * index + usize::from(switches.precision == Precision::F64)];
-                let trace = &self.traces[row];
-                Some(TradeRow {
-                    structure: self.structures[index],
-                    switches,
-                    build_ms: build.median(),
-                    build_spread_percent: build.spread_percent(),
-                    sah_cost: evaluation.stats.sah_cost,
-                    epo: *epo,
-                    bytes: footprint.bytes,
-                    nodes_per_ray: evaluation.counters.nodes_visited as f64 / count,
-                    primitives_per_ray: evaluation.counters.primitive_tests as f64 / count,
-                    mrays_per_s: count / (trace.median().max(1e-9) * 1e3),
-                    trace_spread_percent: trace.spread_percent(),
-                    outcomes: evaluation.outcomes,
-                    examples: evaluation.examples,
-                })
+                Some(TradeRow::new(
+                    (self.structures[index], switches),
+                    (builds, &self.traces[row]),
+                    evaluation,
+                    quality,
+                    self.ray_count(),
+                ))
             })
             .collect()
     }

@@ -52,19 +52,6 @@ pub struct Examined {
     pub ray: Ray<DVec3>,
 }
 
-/// The ray shown (the clicked or asked-for one), or a placeholder before one is.
-fn picked_ray(lesson: &MeshTreeLesson) -> Ray<DVec3> {
-    lesson.picked.map_or(
-        Ray {
-            origin: DVec3::ZERO,
-            direction: DVec3::X,
-            t_min: 0.0,
-            t_max: f64::INFINITY,
-        },
-        |picked| picked.ray,
-    )
-}
-
 /// The triangle test `test` of `corners` against `ray`, both rounded to `V`'s precision:
 /// its coordinates (barycentrics or edge functions), its t and its answer, as text.
 fn explain_in<V: accelviz_core::Vector3>(
@@ -630,7 +617,9 @@ impl MeshTreeLesson {
     /// as the row's test computes it in f32 and in f64 (`TriangleSet::explain`, the core's
     /// own test with what it computed on the way).
     fn examined_ui(&self, ui: &mut egui::Ui, tree: &MeshTree) {
-        let (Some(examined), Some(trace)) = (self.examined(), self.trace.get()) else {
+        let (Some(examined), Some(trace), Some(picked)) =
+            (self.examined(), self.trace.get(), self.picked)
+        else {
             return;
         };
         let switches = examined.switches;
@@ -671,7 +660,7 @@ impl MeshTreeLesson {
         } else {
             ["u", "v", "u+v"]
         };
-        let ray = picked_ray(self);
+        let ray = picked.ray;
         for &primitive in tested.iter().take(SHOWN) {
             let Some(corners) = tree.mesh.triangles.get(primitive as usize) else {
                 continue;

@@ -9,6 +9,7 @@
 
 use std::sync::Arc;
 
+use accelviz_core::break_even::plotted;
 use accelviz_core::format::{count, number};
 use accelviz_core::outcome::Outcome;
 use accelviz_core::trade::{Precision, Switches, TradeRow};
@@ -28,7 +29,7 @@ use crate::mesh::trade::{TradeJob, TradeKey, TradeProgress, TradeResult};
 use crate::mesh::{MeshScene, ui::mesh_ui};
 use crate::stage::Stage;
 use crate::view3d::Export;
-use crate::views::scene_view::narrow_x_axis;
+use crate::views::scene_view::{narrow_x_axis, powers_of_ten};
 
 /// The lesson that steps a shown ray.
 const SHOWN_IN: &str = "12-mesh-bvh.ron";
@@ -189,12 +190,7 @@ impl Column {
     /// The value it sorts by (text columns sort by their text).
     fn value(self, row: &TradeRow, result: &TradeResult) -> Option<f64> {
         match self {
-            // The catalogue's order, as the measurement made the rows.
-            Column::Structure => Structure::compared()
-                .iter()
-                .position(|structure| *structure == row.structure)
-                .map(|index| index as f64),
-            Column::Order | Column::Precision | Column::Test => None,
+            Column::Structure | Column::Order | Column::Precision | Column::Test => None,
             Column::BuildMs => Some(row.build_ms),
             Column::Sah => Some(row.sah_cost),
             Column::Epo => Some(row.epo.unwrap_or(f64::NEG_INFINITY)),
@@ -213,6 +209,8 @@ pub fn sorted_rows(result: &TradeResult, column: Column, descending: bool) -> Ve
     order.sort_by(|&a, &b| {
         let (row_a, row_b) = (&result.rows[a], &result.rows[b]);
         let by = match (column.value(row_a, result), column.value(row_b, result)) {
+            // The structures in the catalogue's order, as the measurement made the rows.
+            _ if column == Column::Structure => a.cmp(&b),
             (Some(x), Some(y)) => x.total_cmp(&y),
             _ => column.text(row_a, result).cmp(&column.text(row_b, result)),
         };
@@ -555,11 +553,7 @@ impl TradeLesson {
                                 } else {
                                     // Numbers read best largest first; names A to Z, and the
                                     // structures in the catalogue's order.
-                                    (
-                                        column,
-                                        column != Column::Structure
-                                            && column.value(&result.rows[0], result).is_some(),
-                                    )
+                                    (column, column.value(&result.rows[0], result).is_some())
                                 };
                             }
                         }
@@ -736,17 +730,6 @@ fn family_color(row: &TradeRow) -> Color32 {
     }
 }
 
-/// Grid lines at every power of ten of a log10 axis.
-fn powers_of_ten(input: egui_plot::GridInput) -> Vec<GridMark> {
-    let (low, high) = input.bounds;
-    (low.ceil() as i32..=high.floor() as i32)
-        .map(|power| GridMark {
-            value: power as f64,
-            step_size: 1.0,
-        })
-        .collect()
-}
-
 fn power_label(mark: GridMark, _: &std::ops::RangeInclusive<f64>) -> String {
     number(10f64.powf(mark.value))
 }
@@ -846,24 +829,7 @@ fn scatter_ui(
 /// Total time against rays, log-log: the structures fastest somewhere and the lecture's
 /// three rules' BVHs, with the crossovers marked.
 fn total_vs_rays_ui(ui: &mut egui::Ui, height: f32, result: &TradeResult) -> egui::Response {
-    let mut shown: Vec<usize> = result
-        .fastest
-        .iter()
-        .map(|fastest| fastest.fastest)
-        .collect();
-    shown.extend(
-        result
-            .crossovers
-            .iter()
-            .flat_map(|crossing| [crossing.from, crossing.to]),
-    );
-    for name in ["bvh:middle", "bvh:median", "bvh:sah-sweep", "kd:sah"] {
-        if let Some(index) = result.contenders.iter().position(|c| c.name == name) {
-            shown.push(index);
-        }
-    }
-    shown.sort_unstable();
-    shown.dedup();
+    let shown = plotted(&result.contenders, &result.fastest, &result.crossovers);
     let colors = [
         palette::HIT,
         palette::RAY,

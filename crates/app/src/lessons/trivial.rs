@@ -23,7 +23,7 @@ use crate::stage::{SceneTree, Stage, request_over_shapes};
 use crate::trace::{Trace, describe_step};
 use crate::views::compare::measured_rays;
 use crate::views::scene_view::{
-    building_note, draw_ray, draw_tested_shapes, narrow_x_axis, t_hint_ui,
+    building_note, draw_ray, draw_tested_shapes, narrow_x_axis, powers_of_ten, t_hint_ui,
 };
 
 /// The scene sizes of the growth curve.
@@ -86,17 +86,6 @@ pub fn measure_growth() -> Vec<GrowthPoint> {
                 SceneSettings::default(),
             )
             .point
-        })
-        .collect()
-}
-
-/// Grid lines at every power of ten of a log10 axis (and none between), so each is labelled.
-fn powers_of_ten(input: egui_plot::GridInput) -> Vec<GridMark> {
-    let (low, high) = input.bounds;
-    (low.ceil() as i32..=high.floor() as i32)
-        .map(|power| GridMark {
-            value: power as f64,
-            step_size: 1.0,
         })
         .collect()
 }

@@ -6,9 +6,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
-use accelviz_core::break_even::{
-    Contender, Crossover, Fastest, REPORTED_RAYS, crossovers, fastest_at,
-};
+use accelviz_core::break_even::{Contender, Crossover, Fastest, reported};
 use accelviz_core::bvh::BuildParams;
 use accelviz_core::trade::{Lab, TradeRow, contenders};
 use accelviz_core::{Query, Ray, Structure};
@@ -52,7 +50,7 @@ pub struct TradeResult {
     pub contenders: Vec<Contender>,
     /// Each contender's row in `rows`.
     pub contender_rows: Vec<usize>,
-    /// The fastest contender at each of [`REPORTED_RAYS`].
+    /// The fastest contender at each of [`accelviz_core::break_even::REPORTED_RAYS`].
     pub fastest: Vec<Fastest>,
     /// Where the fastest contender changes, 10³ to 10⁹ rays.
     pub crossovers: Vec<Crossover>,
@@ -90,49 +88,34 @@ fn clock(steady: bool, start: Instant) -> impl Fn() -> f64 {
 impl TradeResult {
     /// The result with `rows` instead (their break-even made again from their own figures).
     pub fn with_rows(mut self, rows: Vec<TradeRow>) -> Self {
-        let (contenders, contender_rows) = contenders(&rows);
-        self.fastest = fastest_at(&contenders, &REPORTED_RAYS);
-        self.crossovers = crossovers(
-            &contenders,
-            REPORTED_RAYS[0],
-            REPORTED_RAYS[REPORTED_RAYS.len() - 1],
-        );
-        self.contenders = contenders;
-        self.contender_rows = contender_rows;
+        (self.contenders, self.contender_rows) = contenders(&rows);
+        (self.fastest, self.crossovers) = reported(&self.contenders);
         self.rows = rows;
         self
     }
 
-    fn of(
-        key: TradeKey,
-        mesh_name: String,
-        triangles: usize,
-        lab: &Lab,
-        query: Query,
-        millis: f64,
-    ) -> Option<Self> {
-        let rows = lab.rows()?;
-        let (contenders, contender_rows) = contenders(&rows);
-        let fastest = fastest_at(&contenders, &REPORTED_RAYS);
-        let crossovers = crossovers(
-            &contenders,
-            REPORTED_RAYS[0],
-            REPORTED_RAYS[REPORTED_RAYS.len() - 1],
-        );
-        Some(Self {
-            key,
-            mesh_name,
-            triangles,
+    /// What `source`'s finished `lab` measured.
+    fn of(source: &Source, lab: &Lab) -> Option<Self> {
+        let millis = if source.steady {
+            0.0
+        } else {
+            source.started.elapsed().as_secs_f64() * 1e3
+        };
+        let measured = Self {
+            key: source.key.clone(),
+            mesh_name: source.mesh_name.clone(),
+            triangles: source.triangles,
             rays: lab.ray_count(),
-            query,
+            query: source.query,
             params: *lab.params(),
-            rows,
-            contenders,
-            contender_rows,
-            fastest,
-            crossovers,
+            rows: Vec::new(),
+            contenders: Vec::new(),
+            contender_rows: Vec::new(),
+            fastest: Vec::new(),
+            crossovers: Vec::new(),
             millis,
-        })
+        };
+        Some(measured.with_rows(lab.rows()?))
     }
 }
 
@@ -235,7 +218,7 @@ impl TradeJob {
                 publish(&worker, &lab);
             }
             publish(&worker, &lab);
-            finish(&worker, &lab, source);
+            finish(&worker, &lab, &source);
         });
         Self {
             shared,
@@ -274,11 +257,6 @@ impl TradeJob {
         }
         publish(&self.shared, lab);
         if lab.done() {
-            let source = Source {
-                key: source.key.clone(),
-                mesh_name: std::mem::take(&mut source.mesh_name),
-                ..*source
-            };
             finish(&self.shared, lab, source);
         }
     }
@@ -320,20 +298,11 @@ fn publish(shared: &Shared, lab: &Lab) {
     }
 }
 
-fn finish(shared: &Shared, lab: &Lab, source: Source) {
+fn finish(shared: &Shared, lab: &Lab, source: &Source) {
     if shared.cancelled.load(Ordering::Acquire) {
         return;
     }
-    let millis = source.started.elapsed().as_secs_f64() * 1e3;
-    let millis = if source.steady { 0.0 } else { millis };
-    let result = TradeResult::of(
-        source.key,
-        source.mesh_name,
-        source.triangles,
-        lab,
-        source.query,
-        millis,
-    );
+    let result = TradeResult::of(source, lab);
     if let Ok(mut slot) = shared.result.lock() {
         *slot = result;
     }

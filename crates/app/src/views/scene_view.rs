@@ -170,6 +170,17 @@ pub fn building_note(
     }
 }
 
+/// Grid lines at every power of ten of a log10 axis (and none between), so each is labelled.
+pub fn powers_of_ten(input: egui_plot::GridInput) -> Vec<egui_plot::GridMark> {
+    let (low, high) = input.bounds;
+    (low.ceil() as i32..=high.floor() as i32)
+        .map(|power| egui_plot::GridMark {
+            value: power as f64,
+            step_size: 1.0,
+        })
+        .collect()
+}
+
 /// A plot's x axis labelled `label`, whose tick numbers show even in a narrow panel (egui_plot
 /// hides x numbers closer than 60 points apart, which in the inspector can hide them all).
 pub fn narrow_x_axis<'a>(label: &str) -> egui_plot::AxisHints<'a> {
