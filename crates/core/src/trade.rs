@@ -162,6 +162,28 @@ impl Samples {
     }
 }
 
+/// The shortest a timed sample is, milliseconds. Browsers give the time to a tenth of a
+/// millisecond and jitter it, and a shared machine's scheduler moves by as much: a build or a
+/// trace of a few thousand rays, timed once, took 1 to 2 ms and its rounds spread by ±100 % and
+/// more in the browser's trade lab. So a configuration runs again until this much time has
+/// passed, and its sample is the time per run.
+pub const MIN_SAMPLE_MS: f64 = 10.0;
+
+/// Runs `run` once, and again until [`MIN_SAMPLE_MS`] have passed by `now_ms`; the time per
+/// run, milliseconds.
+pub fn timed(now_ms: &dyn Fn() -> f64, mut run: impl FnMut()) -> f64 {
+    let start = now_ms();
+    let mut runs = 0u32;
+    loop {
+        run();
+        runs += 1;
+        let elapsed = now_ms() - start;
+        if elapsed >= MIN_SAMPLE_MS {
+            return elapsed / f64::from(runs);
+        }
+    }
+}
+
 /// The `step`-th configuration run in `round` of `count`: odd rounds go through the
 /// configurations backwards, so that none is always first after a pause.
 pub fn interleaved_index(round: usize, step: usize, count: usize) -> usize {
@@ -172,9 +194,10 @@ pub fn interleaved_index(round: usize, step: usize, count: usize) -> usize {
     }
 }
 
-/// Runs `rounds` rounds; in each, calls `run(index)` for every configuration `0..count` (in
-/// [`interleaved_index`]'s order) and times it with `now_ms` (milliseconds from any fixed
-/// start). Returns each configuration's samples.
+/// Runs `rounds` rounds; in each, runs every configuration `0..count` (in
+/// [`interleaved_index`]'s order) with `run(index)` and times it with `now_ms` (milliseconds
+/// from any fixed start; [`timed`]: `run` may be called more than once a sample). Returns
+/// each configuration's samples.
 pub fn interleaved(
     rounds: usize,
     count: usize,
@@ -185,9 +208,7 @@ pub fn interleaved(
     for round in 0..rounds.max(1) {
         for step in 0..count {
             let index = interleaved_index(round, step, count);
-            let start = now_ms();
-            run(index);
-            samples[index].push(now_ms() - start);
+            samples[index].push(timed(&now_ms, || run(index)));
         }
     }
     samples
@@ -608,24 +629,25 @@ impl Lab {
             }
             Task::Build(index, precision) => {
                 let structure = self.structures[index];
-                let start = now_ms();
-                match precision {
-                    Precision::F32 => self.single.build(index, &structure, &self.params),
-                    Precision::F64 => self.double.build(index, &structure, &self.params),
-                }
+                let (single, double, params) = (&mut self.single, &mut self.double, &self.params);
+                let millis = timed(now_ms, || match precision {
+                    Precision::F32 => single.build(index, &structure, params),
+                    Precision::F64 => double.build(index, &structure, params),
+                });
                 let slot = 2 * index + usize::from(precision == Precision::F64);
-                self.builds[slot].push(now_ms() - start);
+                self.builds[slot].push(millis);
             }
             Task::Trace(row) => {
                 let (index, switches) = self.row_key(row);
                 let options = switches.options(self.query);
-                let start = now_ms();
-                let hits = match switches.precision {
-                    Precision::F32 => self.single.trace(index, &options),
-                    Precision::F64 => self.double.trace(index, &options),
-                };
-                self.traces[row].push(now_ms() - start);
-                std::hint::black_box(hits);
+                let millis = timed(now_ms, || {
+                    let hits = match switches.precision {
+                        Precision::F32 => self.single.trace(index, &options),
+                        Precision::F64 => self.double.trace(index, &options),
+                    };
+                    std::hint::black_box(hits);
+                });
+                self.traces[row].push(millis);
             }
             Task::Evaluate(row) => {
                 let (index, switches) = self.row_key(row);
@@ -732,17 +754,22 @@ mod tests {
         assert!((samples.spread_percent() - 10.0 / 11.5 * 100.0).abs() < 1e-9);
         let mut order = Vec::new();
         let clock = std::cell::Cell::new(0.0);
+        // A clock that moves a whole sample's time a read: each configuration runs once.
         let timed = interleaved(
             3,
             3,
             || {
-                clock.set(clock.get() + 1.0);
+                clock.set(clock.get() + MIN_SAMPLE_MS);
                 clock.get()
             },
             |index| order.push(index),
         );
         assert_eq!(order, [0, 1, 2, 2, 1, 0, 0, 1, 2]);
-        assert!(timed.iter().all(|samples| samples.millis == [1.0; 3]));
+        assert!(
+            timed
+                .iter()
+                .all(|samples| samples.millis == [MIN_SAMPLE_MS; 3])
+        );
     }
 
     #[test]

@@ -905,18 +905,15 @@ impl Lesson for TradeLesson {
                 );
                 self.result = Some(Arc::new(result));
                 self.job = None;
-                if self
-                    .selected
-                    .is_none_or(|row| self.result().is_none_or(|r| row >= r.rows.len()))
-                {
+                let rows = self.result().map_or(0, |result| result.rows.len());
+                if self.selected.is_some_and(|row| row >= rows) {
                     self.selected = None;
                 }
             }
         }
+        // What is shown, under way, or cancelled was asked for: a new choice asks again.
         let key = self.key();
-        let current = self.result().map(|result| &result.key);
-        let running = self.job.as_ref().map(TradeJob::key);
-        if current != Some(&key) && running != Some(&key) && self.asked.as_ref() != Some(&key) {
+        if self.asked.as_ref() != Some(&key) {
             self.cancel();
             self.start(key);
         }

@@ -64,21 +64,21 @@ thread_local! {
     static STEADY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
 }
 
-/// Makes the measurements the calling thread starts from now on time every timed task as one
-/// millisecond (on), or by the clock (off, the default). For snapshot tests only: every row
-/// then builds and traces alike.
+/// Makes the measurements the calling thread starts from now on time every timed task alike
+/// (on: [`accelviz_core::trade::MIN_SAMPLE_MS`] each), or by the clock (off, the default).
+/// For snapshot tests only: every row then builds and traces alike.
 pub fn set_steady_clock(on: bool) {
     STEADY.set(on);
 }
 
-/// A clock that reads the time since `start` or, steady, moves a millisecond a read (a timed
-/// task reads it twice: before and after).
+/// A clock that reads the time since `start` or, steady, moves a whole sample's time a read
+/// ([`accelviz_core::trade::MIN_SAMPLE_MS`]: each timed task then runs once).
 fn clock(steady: bool, start: Instant) -> impl Fn() -> f64 {
     let reads = std::cell::Cell::new(0u64);
     move || {
         if steady {
             reads.set(reads.get() + 1);
-            reads.get() as f64
+            reads.get() as f64 * accelviz_core::trade::MIN_SAMPLE_MS
         } else {
             start.elapsed().as_secs_f64() * 1e3
         }

@@ -24,7 +24,7 @@ fn every_lesson_file_parses() {
 
 #[test]
 fn every_lesson_matches_its_snapshot() {
-    // The trade lab's timings as one millisecond a task, so its table is the same every run.
+    // The trade lab's timings alike for every task, so its table is the same every run.
     accelviz_app::mesh::trade::set_steady_clock(true);
     let mut harness = app_harness();
     let count = harness.state().lesson_count();
