@@ -22,6 +22,8 @@
 //!   into a [`Tree`]; [`build_observer`]: how a builder reports each node and why it made each
 //!   leaf; [`facts`]: what views show about a tree (boxes, cells, paths, depths), computed once.
 //! - [`break_even`]: which structure is fastest overall for N rays (build + N × trace).
+//! - [`crack`]: the cases behind the trade: a ray at a shared edge, far from the origin, through
+//!   a box's corner; decided by the core's own tests.
 //! - [`quality`]: what a tree is worth beyond its SAH cost (end-point overlap).
 //! - [`outcome`]: a traced ray's answer against a reference that is sure of itself on the
 //!   same rounded inputs: agree, tie, graze, leak, false hit or wrong.
@@ -38,6 +40,7 @@ pub mod brute;
 pub mod build_observer;
 pub mod bvh;
 pub mod camera;
+pub mod crack;
 pub mod curve;
 pub mod facts;
 pub mod format;

@@ -80,6 +80,10 @@ pub trait Real:
     /// bit flipped for positive numbers, every bit for negative ones.
     fn order_key(self) -> u64;
 
+    /// The gap between `|self|` and the next number of this precision above it: the unit in
+    /// the last place, how far apart the numbers near `self` are.
+    fn ulp(self) -> Self;
+
     /// pbrt's γ(n) = nε/(1 − nε): the relative error bound of n chained roundings
     /// (Pharr, Jakob, Humphreys, "Physically Based Rendering", 3rd ed., §3.9).
     #[inline]
@@ -107,6 +111,11 @@ macro_rules! impl_real {
                 let bits = self.to_bits();
                 let sign = 1 << (8 * Self::KEY_BYTES - 1);
                 (if bits & sign != 0 { !bits } else { bits | sign }) as u64
+            }
+            #[inline]
+            fn ulp(self) -> Self {
+                let magnitude = <$t>::abs(self);
+                magnitude.next_up() - magnitude
             }
             #[inline(always)]
             fn from_f64(value: f64) -> Self {

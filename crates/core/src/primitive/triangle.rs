@@ -151,6 +151,40 @@ pub struct TriangleTestValues<S> {
     pub hit: bool,
 }
 
+impl<S: Real> TriangleTestValues<S> {
+    /// The same values, exactly, in f64 (to show an f32 test beside an f64 one).
+    pub fn widened(&self) -> TriangleTestValues<f64> {
+        let wide = |value: Option<S>| value.map(Real::to_f64);
+        TriangleTestValues {
+            test: self.test,
+            det: wide(self.det),
+            coordinates: self.coordinates.map(wide),
+            recomputed: self.recomputed,
+            t: wide(self.t),
+            hit: self.hit,
+        }
+    }
+
+    /// The weight of corner `corner` (0, 1 or 2) that puts the ray's point where the test
+    /// computed it: the three add up to one, and all are ≥ 0 inside the triangle.
+    /// Möller–Trumbore's are `(1 − u − v, u, v)`, the watertight test's `(U, V, W) / (U + V +
+    /// W)`. `None` where the test stopped before computing what it needs (Möller–Trumbore stops
+    /// after `u` when `u` is outside [0, 1], so corner 1's weight is always there).
+    pub fn weight(&self, corner: usize) -> Option<f64> {
+        let [first, second, third] = self.coordinates.map(|value| value.map(Real::to_f64));
+        match (self.test, corner) {
+            (HitTest::Fast, 0) => Some(1.0 - (first? + second?)),
+            (HitTest::Fast, 1) => first,
+            (HitTest::Fast, _) => second,
+            (HitTest::Watertight, _) => {
+                let sum = first? + second? + third?;
+                let own = [first, second, third][corner.min(2)]?;
+                (sum != 0.0).then(|| own / sum)
+            }
+        }
+    }
+}
+
 /// Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection". `values`, if
 /// given, is told what was computed.
 #[inline(always)]

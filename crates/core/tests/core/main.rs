@@ -4,6 +4,7 @@
 mod brute_agreement;
 mod common;
 mod cost_curves;
+mod cracks;
 mod heatmap;
 mod kd_budget;
 mod kd_cases;

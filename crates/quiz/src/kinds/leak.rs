@@ -6,9 +6,8 @@
 //! (Woop, Benthin & Wald 2013), which two triangles sharing an edge compute alike, so one of
 //! them always has the point.
 
-use accelviz_core::{
-    HitTest, NoObserver, PrimitiveSet, Ray, TraceOptions, TriangleSet, Vector3, brute_force,
-};
+use accelviz_core::crack::SharedEdge;
+use accelviz_core::{HitTest, Vector3};
 use glam::{DVec2, DVec3, Vec3};
 use serde_json::{Map, json};
 
@@ -25,68 +24,26 @@ struct Case {
     computed: [[Option<f64>; 3]; 2],
 }
 
-/// A square of jittered corners split along its diagonal a–c into A = (a, b, c) and
-/// B = (a, c, d), both facing up; a ray from above aimed at a random point of the diagonal.
-/// Everything is rounded to `V`'s precision before the test sees it.
+/// The core's case of a ray aimed at a shared edge ([`SharedEdge`]), tested in `V`'s
+/// precision.
 fn draw<V: Vector3>(generator: &mut Gen, test: HitTest) -> Option<Case> {
-    let mut jittered = |x: f64, y: f64| {
-        [
-            x + 0.4 * generator.uniform() - 0.2,
-            y + 0.4 * generator.uniform() - 0.2,
-            0.2 * generator.uniform(),
-        ]
-    };
-    let [a, b, c, d] = [
-        jittered(-1.0, -1.0),
-        jittered(1.0, -1.0),
-        jittered(1.0, 1.0),
-        jittered(-1.0, 1.0),
-    ];
-    let triangles = TriangleSet::<V>::from_f64(&[[a, b, c], [a, c, d]]);
-    let along = 0.15 + 0.7 * generator.uniform();
-    let target = DVec3::from_array(a).lerp(DVec3::from_array(c), along);
-    let origin = DVec3::new(
-        generator.uniform() - 0.5,
-        generator.uniform() - 0.5,
-        3.0 + generator.uniform(),
-    );
-    let ray = Ray::try_new(
-        V::from_f64_slice(&origin.to_array()),
-        V::from_f64_slice(&(target - origin).to_array()),
-    )
-    .ok()?;
-    let options = TraceOptions {
-        hit_test: test,
-        ..TraceOptions::default()
-    };
-    let hit = brute_force(&triangles, &ray, &options, &mut NoObserver).map(|hit| hit.primitive);
-    let prepared = triangles.prepare(&ray, test);
-    let computed = [0, 1].map(|index| {
-        let values = triangles.explain(
-            &prepared,
-            index,
-            ray.t_min,
-            accelviz_core::Real::from_f64(f64::INFINITY),
-        );
-        let wide = values
-            .coordinates
-            .map(|value| value.map(accelviz_core::Real::to_f64));
-        match test {
-            // u, v and 1 − (u + v): the last from the sum the test compared with 1.
-            HitTest::Fast => [wide[0], wide[1], wide[2].map(|sum| 1.0 - sum)],
-            HitTest::Watertight => wide,
-        }
-    });
-    let widen = |corner: &V| corner.to_f64_array();
-    let stored = triangles.triangles();
-    Some(Case {
-        corners: [
-            stored[0].each_ref().map(widen),
-            stored[1].each_ref().map(widen),
+    let tested = SharedEdge::draw(|| generator.uniform()).test::<V>(test)?;
+    let computed = tested.values.map(|values| match test {
+        // u, v and 1 − (u + v): the last from the sum the test compared with 1.
+        HitTest::Fast => [
+            values.coordinates[0],
+            values.coordinates[1],
+            values.coordinates[2].map(|sum| 1.0 - sum),
         ],
-        origin: ray.origin.to_f64_array(),
-        direction: ray.direction.to_f64_array(),
-        hit,
+        HitTest::Watertight => values.coordinates,
+    });
+    Some(Case {
+        corners: tested
+            .corners
+            .map(|triangle| triangle.map(|corner| corner.to_array())),
+        origin: tested.origin.to_array(),
+        direction: tested.direction.to_array(),
+        hit: tested.hit.map(|hit| hit.primitive),
         computed,
     })
 }
