@@ -333,6 +333,11 @@ impl Canvas {
         }
     }
 
+    /// Shows the world through `view` from now on (a lesson that sets its own zoom).
+    pub fn set_view(&mut self, view: View2d) {
+        self.view = view;
+    }
+
     /// The colour the canvas is painted on (what a label's plate hides lines with).
     pub fn background(&self) -> Color32 {
         self.background

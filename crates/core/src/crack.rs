@@ -43,6 +43,8 @@ pub struct SharedEdge {
     pub origin: DVec3,
     /// Where on the shared edge, from a (0) to c (1), the ray is aimed.
     pub along: f64,
+    /// How far beside the edge, into B, the ray is aimed (0: exactly at it).
+    pub aside: f64,
 }
 
 /// Which of each triangle's corners is the one facing the shared edge (A's b, B's d): its
@@ -72,6 +74,7 @@ impl SharedEdge {
             corners: [[a, b, c], [a, c, d]],
             origin,
             along,
+            aside: 0.0,
         }
     }
 
@@ -83,8 +86,14 @@ impl SharedEdge {
                 .corners
                 .map(|triangle| triangle.map(|corner| corner + offset)),
             origin: self.origin + offset,
-            along: self.along,
+            ..*self
         }
+    }
+
+    /// The same case with the ray aimed `aside` beside the edge, inside B: the exact ray hits
+    /// B there, and a test that misses has a crack at least that wide.
+    pub fn aimed_aside(&self, aside: f64) -> Self {
+        Self { aside, ..*self }
     }
 
     /// The point of the shared edge the ray is aimed at, as drawn.
@@ -98,16 +107,17 @@ impl SharedEdge {
         let triangles = TriangleSet::<V>::from_f64(&self.corners.map(|t| t.map(|c| c.to_array())));
         // Aimed at the edge as rounded, from the origin as rounded: far from the origin the
         // rounding of the corners moves the edge by more than any test errs, and a ray aimed
-        // at the edge as drawn would pass decisively inside one triangle.
+        // at the edge as drawn would pass decisively inside one triangle. The direction is
+        // taken from differences (exact in f64 for corners and origin this close), so that the
+        // aim does not worsen with the distance from the origin.
         let widen = |corner: V| DVec3::from_array(corner.to_f64_array());
-        let [a, _, c] = triangles.triangles()[0];
-        let target = widen(a).lerp(widen(c), self.along);
+        let [a, _, c] = triangles.triangles()[0].map(widen);
+        let d = widen(triangles.triangles()[1][2]);
+        let edge = c - a;
+        let into_b = ((d - a) - edge * ((d - a).dot(edge) / edge.length_squared())).normalize();
         let origin = V::from_f64_slice(&self.origin.to_array());
-        let ray = Ray::try_new(
-            origin,
-            V::from_f64_slice(&(target - widen(origin)).to_array()),
-        )
-        .ok()?;
+        let direction = (a - widen(origin)) + edge * self.along + into_b * self.aside;
+        let ray = Ray::try_new(origin, V::from_f64_slice(&direction.to_array())).ok()?;
         Some((triangles, ray))
     }
 
@@ -163,9 +173,15 @@ impl SharedEdge {
             reference_t: judged.map(|judged| judged.t),
             hit_point_off,
             outcome,
-            coordinate_ulp: V::Scalar::from_f64(self.target().abs().max_element())
-                .ulp()
-                .to_f64(),
+            coordinate_ulp: V::Scalar::from_f64(
+                self.corners
+                    .iter()
+                    .flatten()
+                    .chain([&self.origin])
+                    .fold(0.0, |largest, point| largest.max(point.abs().max_element())),
+            )
+            .ulp()
+            .to_f64(),
         })
     }
 }
@@ -204,12 +220,20 @@ pub struct EdgeTest {
     pub hit_point_off: Option<f64>,
     /// The answer judged against the reference: a slip is a [`Outcome::Leak`].
     pub outcome: Outcome,
-    /// How far apart the numbers near the ray's target are in this precision: how exactly
-    /// a corner or a hit point can be placed there.
+    /// How far apart the numbers are in this precision near the largest coordinate of the
+    /// triangles and the ray's start: how exactly a corner or a hit point can be placed.
     pub coordinate_ulp: f64,
 }
 
 impl EdgeTest {
+    /// `"fast"` or `"watertight"`.
+    pub fn test_name(&self) -> &'static str {
+        match self.test {
+            HitTest::Fast => "fast",
+            HitTest::Watertight => "watertight",
+        }
+    }
+
     /// How far inside triangle `index` (0 = A, 1 = B), across the shared edge, the test put
     /// the ray's point: the weight of the corner facing the edge (≥ 0 inside; exactly, one of
     /// the two is ≥ 0 and the other ≤ 0). `None` where the test stopped before computing it.

@@ -6,6 +6,7 @@ pub mod bounding_volumes;
 pub mod build_steps;
 pub mod bvh;
 pub mod cost_split;
+pub mod cracks;
 pub mod heat;
 pub mod kd;
 pub mod mesh_tree;

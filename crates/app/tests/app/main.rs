@@ -6,6 +6,7 @@ mod background;
 mod bounds;
 mod common;
 mod contrast;
+mod cracks;
 mod interaction;
 mod large_mesh;
 mod layout;
