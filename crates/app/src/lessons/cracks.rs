@@ -200,6 +200,8 @@ pub struct CracksLesson {
     slab_view: View2d,
     /// The far-away part's measurements, made when first shown.
     far: Option<Vec<FarRow>>,
+    /// Whether the first case's answers were logged (the browser test reads them).
+    logged: bool,
 }
 
 /// The inspector's parts a slide can show alone.
@@ -246,6 +248,7 @@ impl CracksLesson {
             along: [View2d::default(), View2d::default()],
             slab_view: View2d::default(),
             far: None,
+            logged: false,
         };
         lesson.next_slip();
         lesson
@@ -368,7 +371,7 @@ impl CracksLesson {
                     scene.seed += 1;
                 }
                 if ui
-                    .button("next ray that slips (fast, f32)")
+                    .button("next that slips")
                     .on_hover_text("draws rays until the fast f32 test lets one through")
                     .clicked()
                 {
@@ -381,24 +384,24 @@ impl CracksLesson {
                             .prefix("mesh at 10^"),
                     );
                 }
-                ui.add(
-                    egui::Slider::new(&mut scene.zoom_power, 0.0..=9.0)
-                        .step_by(0.5)
-                        .text("zoom (power of ten)"),
-                );
             }
-            Part::SlabPlane => {
+            Part::SlabPlane | Part::Corner => {
                 ui.checkbox(&mut scene.robust, "conservative (Ize 2013)");
-            }
-            Part::Corner => {
-                ui.checkbox(&mut scene.robust, "conservative (Ize 2013)");
-                ui.add(
-                    egui::Slider::new(&mut scene.zoom_power, 0.0..=8.0)
-                        .step_by(0.5)
-                        .text("zoom (power of ten)"),
-                );
             }
         });
+        if scene.part != Part::SlabPlane {
+            // On its own row, as wide as there is room for: at lecture scale a fixed slider
+            // and its words would push the inspector off.
+            ui.horizontal(|ui| {
+                ui.spacing_mut().slider_width = (ui.available_width() - 140.0).clamp(40.0, 240.0);
+                let most = if scene.part == Part::Corner { 8.0 } else { 9.0 };
+                ui.add(
+                    egui::Slider::new(&mut scene.zoom_power, 0.0..=most)
+                        .step_by(0.5)
+                        .text("zoom 10^x"),
+                );
+            });
+        }
         if find_slip {
             self.next_slip();
         }
@@ -1149,21 +1152,41 @@ impl Lesson for CracksLesson {
                     return;
                 };
                 let zoom = scene.zoom_power;
+                if !self.logged {
+                    self.logged = true;
+                    let said = |tested: &EdgeTest| match tested.hit {
+                        Some(_) => "hits",
+                        None => "slips through",
+                    };
+                    log::info!(
+                        "accelviz: cracks: the {} test in f32 {}, in f64 {}",
+                        tested[0].test_name(),
+                        said(&tested[0]),
+                        said(&tested[1])
+                    );
+                }
                 let available = ui.available_size();
-                let left = Vec2::new((available.x * 0.45).max(60.0), available.y);
+                let left = Vec2::new((available.x * 0.4).max(60.0), available.y);
                 // Each precision: its view seen along the ray, and under it the numbers.
                 let values_height =
                     6.0 * (ui.text_style_height(&egui::TextStyle::Monospace) + 8.0) + 6.0;
                 let right = Vec2::new(
-                    available.x - left.x - 8.0,
+                    available.x - left.x - 2.0 * ui.spacing().item_spacing.x - 4.0,
                     ((available.y - 12.0) / 2.0 - values_height).max(60.0),
                 );
                 ui.horizontal(|ui| {
                     self.view3d_ui(ui, left, &tested[0]);
                     ui.vertical(|ui| {
+                        let width = ui.available_width().min(right.x).max(60.0);
                         for (view, tested) in self.along.iter_mut().zip(&tested) {
-                            Self::along_ui(ui, view, right.max(Vec2::splat(60.0)), tested, zoom);
-                            Self::values_ui(ui, tested);
+                            let size = Vec2::new(width, right.y.max(60.0));
+                            Self::along_ui(ui, view, size, tested, zoom);
+                            // Every digit of f64 is wide: at lecture scale the numbers
+                            // scroll sideways rather than push the inspector off.
+                            egui::ScrollArea::horizontal()
+                                .id_salt(("crack values scroll", tested.precision.name()))
+                                .max_width(width)
+                                .show(ui, |ui| Self::values_ui(ui, tested));
                         }
                     });
                 });
