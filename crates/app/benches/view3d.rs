@@ -116,6 +116,7 @@ fn view3d_costs(c: &mut Criterion) {
             width: 512,
             height: 512,
             tile,
+            ray_kind: accelviz_scene::rays::RayKind::Camera,
         };
         c.bench_function(
             &format!("3D: bunny heat maps 512x512, both orders, {threads} threads, tiles of {tile}x{tile}"),

@@ -8,8 +8,7 @@ use accelviz_core::camera::Camera;
 use accelviz_core::heatmap::{Counter, HeatMap};
 use accelviz_core::{NoObserver, Query, TraceOptions, TraversalStacks, TriangleSet, Vector3};
 use accelviz_scene::output::{encode_png, write_all_or_nothing};
-use accelviz_scene::rays::{RayKind, rays_from_hit};
-use accelviz_scene::rng::SplitMix64;
+use accelviz_scene::rays::{RayKind, pixel_secondary_rays};
 use anyhow::{Result, anyhow, bail};
 use clap::{Args, ValueEnum};
 
@@ -191,8 +190,7 @@ fn trace<V: Vector3>(
     let options = args.trace.options_for(Some(args.ray_kind));
     if args.ray_kind != RayKind::Camera {
         // Each pixel's ray finds its hit (uncounted); the secondary rays from there are
-        // counted at that pixel. Their directions are drawn from a generator seeded by the
-        // pixel's ray, so a map is the same every time.
+        // counted at that pixel (the same rays as lesson 14's maps).
         let bounds = mesh.bounds();
         let primary = TraceOptions {
             query: Query::Closest,
@@ -207,27 +205,8 @@ fn trace<V: Vector3>(
                 let Some(hit) = accel.trace(ray, &primary, stacks, &mut NoObserver) else {
                     return;
                 };
-                let wide = ray.cast::<glam::DVec3>();
-                let seed = wide
-                    .origin
-                    .to_array()
-                    .iter()
-                    .chain(&wide.direction.to_array())
-                    .fold(0u64, |seed, value| seed.rotate_left(13) ^ value.to_bits());
-                let triangle = mesh.triangles[hit.primitive as usize].map(glam::DVec3::from_array);
-                let point = wide.at(accelviz_core::Real::to_f64(hit.t));
-                let secondary = rays_from_hit(
-                    args.ray_kind,
-                    &bounds,
-                    triangle,
-                    point,
-                    wide.direction,
-                    &mut SplitMix64::new(seed),
-                );
-                for spec in secondary {
-                    if let Ok(ray) = spec.to_ray::<V>() {
-                        accel.trace(&ray, &options, stacks, counters);
-                    }
+                for secondary in pixel_secondary_rays(args.ray_kind, mesh, &bounds, ray, hit) {
+                    accel.trace(&secondary, &options, stacks, counters);
                 }
             },
         );

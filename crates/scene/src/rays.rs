@@ -757,6 +757,42 @@ pub fn rays_from_hit(
     }
 }
 
+/// The secondary rays of `kind` that a heat map's pixel traces, the same in the CLI's
+/// `heatmap` and in lesson 14: the pixel's camera ray `ray` found `hit` on `mesh`, and
+/// [`rays_from_hit`] makes the rays from there, in `V`'s precision (a ray that precision
+/// cannot hold is left out). Their directions are drawn from a generator seeded by the camera
+/// ray's numbers, so a map is the same every time and on every machine.
+pub fn pixel_secondary_rays<V: accelviz_core::Vector3>(
+    kind: RayKind,
+    mesh: &crate::Mesh,
+    bounds: &Aabb<DVec3>,
+    ray: &Ray<V>,
+    hit: accelviz_core::Hit<V::Scalar>,
+) -> Vec<Ray<V>> {
+    let Some(triangle) = mesh.triangles.get(hit.primitive as usize) else {
+        return Vec::new();
+    };
+    let wide = ray.cast::<DVec3>();
+    let seed = wide
+        .origin
+        .to_array()
+        .iter()
+        .chain(&wide.direction.to_array())
+        .fold(0u64, |seed, value| seed.rotate_left(13) ^ value.to_bits());
+    let point = wide.at(accelviz_core::Real::to_f64(hit.t));
+    rays_from_hit(
+        kind,
+        bounds,
+        triangle.map(DVec3::from_array),
+        point,
+        wide.direction,
+        &mut SplitMix64::new(seed),
+    )
+    .iter()
+    .filter_map(|spec| spec.to_ray::<V>().ok())
+    .collect()
+}
+
 /// A unit direction about `normal`, with density proportional to the cosine of its angle
 /// to it (Malley's method: a uniform point of the unit disc lifted onto the hemisphere).
 fn cosine_direction(rng: &mut SplitMix64, normal: DVec3) -> DVec3 {

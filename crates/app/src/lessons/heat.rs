@@ -10,6 +10,7 @@ use accelviz_core::camera::Camera;
 use accelviz_core::format::{count, counted, number};
 use accelviz_core::heatmap::{Counter, HeatMap, difference_colors, diverging, sequential};
 use accelviz_core::{CATALOGUE, Family, Order, Ray, Structure, Width};
+use accelviz_scene::rays::{RayKind, pixel_secondary_rays};
 use egui::{Color32, ColorImage, Rect, Sense, TextureHandle, TextureOptions, Vec2};
 use glam::DVec3;
 
@@ -27,10 +28,13 @@ use crate::view3d::{Content, HiddenEdges, View3d, revision_of};
 /// A clicked pixel's ray, in the order it is traced.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Picked {
+    /// The pixel's camera ray, or the first of the secondary rays from its hit.
     ray: Ray<DVec3>,
     /// The maps' pixel it goes through.
     pixel: [usize; 2],
     order: Order,
+    /// Closest or any hit, as the map traced it.
+    query: accelviz_core::Query,
     revision: u64,
 }
 
@@ -56,6 +60,9 @@ pub struct HeatLesson {
     pub counter: Counter,
     /// Whether the camera's rays are traced in packets of 8×8 pixels.
     pub packets: bool,
+    /// Whose cost a pixel shows: its camera ray's, or the shadow, AO or bounce rays' from
+    /// its camera ray's hit.
+    pub ray_kind: RayKind,
     job: Option<HeatJob>,
     /// Counts the jobs started, so textures know which job they show.
     job_serial: u64,
@@ -73,6 +80,31 @@ pub struct HeatLesson {
     export: Option<crate::view3d::Export>,
 }
 
+/// The rays a heat map can show the cost of: the camera's, or the secondary rays from each
+/// pixel's hit (the CLI's `heatmap --ray-kind`).
+pub const HEAT_RAY_KINDS: [RayKind; 4] = [
+    RayKind::Camera,
+    RayKind::Shadow,
+    RayKind::Ao,
+    RayKind::Bounce,
+];
+
+/// What a pixel of a map of `kind` shows.
+fn ray_kind_about(kind: RayKind) -> &'static str {
+    match kind {
+        RayKind::Shadow => {
+            "the cost of each pixel's shadow ray, from its hit to the light (any hit)"
+        }
+        RayKind::Ao => {
+            "the cost of each pixel's ambient-occlusion rays, a few short ones from its hit (any hit)"
+        }
+        RayKind::Bounce => {
+            "the cost of each pixel's diffuse bounce from its hit (closest hit): incoherent rays"
+        }
+        _ => "the cost of each pixel's camera ray",
+    }
+}
+
 impl HeatLesson {
     /// The lesson with its file's mesh and structure.
     pub fn new(text: LessonText) -> Self {
@@ -85,6 +117,7 @@ impl HeatLesson {
             tree: Derived::default(),
             counter: Counter::Nodes,
             packets: false,
+            ray_kind: RayKind::Camera,
             job: None,
             job_serial: 0,
             maps_bands: 0,
@@ -125,16 +158,35 @@ impl HeatLesson {
         let (origin, direction) =
             key.camera
                 .ray_through(x as f64 + 0.5, y as f64 + 0.5, key.width, key.height);
-        if let Ok(ray) = Ray::try_new(origin, direction) {
-            let revision = self.picked.map_or(1, |picked| picked.revision + 1);
-            self.picked = Some(Picked {
-                ray,
-                pixel: [x, y],
-                order,
-                revision,
-            });
-            self.stage.timeline.rewind();
-        }
+        let Ok(camera_ray) = Ray::try_new(origin, direction) else {
+            return;
+        };
+        // A map of secondary rays steps the pixel's first secondary ray: the one whose cost
+        // it shows (the camera ray that found its start is not counted).
+        let ray = match key.ray_kind {
+            RayKind::Camera => Some(camera_ray),
+            kind => self.tree.get().and_then(|tree| {
+                let hit = tree.build.built.tree.trace(
+                    &tree.triangles,
+                    &camera_ray,
+                    &accelviz_core::TraceOptions::default(),
+                    &mut accelviz_core::TraversalStacks::default(),
+                    &mut accelviz_core::NoObserver,
+                )?;
+                pixel_secondary_rays(kind, &tree.mesh, &tree.mesh.bounds(), &camera_ray, hit)
+                    .into_iter()
+                    .next()
+            }),
+        };
+        let revision = self.picked.map_or(1, |picked| picked.revision + 1);
+        self.picked = ray.map(|ray| Picked {
+            ray,
+            pixel: [x, y],
+            order,
+            query: key.ray_kind.default_query(),
+            revision,
+        });
+        self.stage.timeline.rewind();
     }
 
     /// The camera the maps are made with for the current tree.
@@ -220,7 +272,20 @@ impl HeatLesson {
                 ui.selectable_value(&mut self.counter, counter, counter.label());
             }
             ui.separator();
-            ui.checkbox(&mut self.packets, "8×8 packets").on_hover_text(
+            for kind in HEAT_RAY_KINDS {
+                ui.selectable_value(&mut self.ray_kind, kind, kind.name())
+                    .on_hover_text(ray_kind_about(kind));
+            }
+            ui.separator();
+            let secondary = self.ray_kind != RayKind::Camera;
+            ui.add_enabled(
+                !secondary,
+                egui::Checkbox::new(&mut self.packets, "8×8 packets"),
+            )
+            .on_disabled_hover_text(
+                "Secondary rays start at scattered hits, so they are traced one at a time.",
+            )
+            .on_hover_text(
                 "Trace the camera's rays in packets of 8×8 pixels, as renderers do: a wide BVH \
                  visits a node once for all the packet's rays that reach it, and each pixel \
                  shows what that cost its ray. Binary BVHs and kD-trees trace a packet ray by \
@@ -419,6 +484,7 @@ impl Lesson for HeatLesson {
             "none".to_owned()
         };
         values.push(("packets".to_owned(), packets));
+        values.push(("rays".to_owned(), self.ray_kind.name().to_owned()));
         values
     }
 
@@ -429,6 +495,14 @@ impl Lesson for HeatLesson {
                     .into_iter()
                     .find(|counter| counter.name() == value)
                     .ok_or_else(|| format!("no counter '{value}' (nodes, boxes or prims)"))?;
+            }
+            "rays" => {
+                self.ray_kind = HEAT_RAY_KINDS
+                    .into_iter()
+                    .find(|kind| kind.name() == value)
+                    .ok_or_else(|| {
+                        format!("no heat map rays '{value}' (camera, shadow, ao or bounce)")
+                    })?;
             }
             "packets" => {
                 self.packets = match value {
@@ -468,7 +542,12 @@ impl Lesson for HeatLesson {
                 camera: self.camera(&tree),
                 width,
                 height,
-                tile: if self.packets { PACKET_TILE } else { 1 },
+                tile: if self.packets && self.ray_kind == RayKind::Camera {
+                    PACKET_TILE
+                } else {
+                    1
+                },
+                ray_kind: self.ray_kind,
             };
             // A layout that moves by a few pixels (a panel fitting new numbers) keeps the
             // maps: only a new tree, a new camera or a real resize starts them again.
@@ -476,6 +555,7 @@ impl Lesson for HeatLesson {
                 let made = job.key();
                 made.tree == key.tree
                     && made.tile == key.tile
+                    && made.ray_kind == key.ray_kind
                     && made.camera == key.camera
                     && made.width.abs_diff(key.width) <= 32
                     && made.height.abs_diff(key.height) <= 32
@@ -522,7 +602,10 @@ impl Lesson for HeatLesson {
                     &tree.build.built.tree,
                     &tree.triangles,
                     &picked.ray,
-                    &options_in(picked.order),
+                    &accelviz_core::TraceOptions {
+                        query: picked.query,
+                        ..options_in(picked.order)
+                    },
                 )
             });
         self.stage.timeline.set_len(trace.frames());
@@ -537,7 +620,12 @@ impl Lesson for HeatLesson {
         Some(tree.caption(
             self.trace.get(),
             self.stage.timeline.shown,
-            "Click a pixel of a heat map: its ray is traced here, step by step.",
+            match self.ray_kind {
+                RayKind::Camera => {
+                    "Click a pixel of a heat map: its ray is traced here, step by step."
+                }
+                _ => "Click a pixel of a heat map: the first of the rays from its hit is traced here, step by step.",
+            },
         ))
     }
 
@@ -596,10 +684,10 @@ impl Lesson for HeatLesson {
                         }
                     });
             });
-        let how = if self.packets {
-            format!(", in {PACKET_TILE}×{PACKET_TILE} packets")
-        } else {
-            ", one ray at a time".to_owned()
+        let how = match self.ray_kind {
+            RayKind::Camera if self.packets => format!(", in {PACKET_TILE}×{PACKET_TILE} packets"),
+            RayKind::Camera => ", one ray at a time".to_owned(),
+            kind => format!(", {}", ray_kind_about(kind)),
         };
         let state = if maps.progress < 1.0 {
             format!("{:.0} % traced{how}", maps.progress * 100.0)
@@ -614,7 +702,7 @@ impl Lesson for HeatLesson {
             .on_hover_text(timing);
         // What a switch does where the maps cannot show it.
         let structure = tree.build.built.structure;
-        if self.packets {
+        if self.packets && self.ray_kind == RayKind::Camera {
             let wide = structure.family() == Family::Bvh && structure.width() != Width::Binary;
             ui.label(if wide {
                 "In packets each pixel still counts its own ray's tests, and a packet's rays are tested as each would be alone: what the 64 rays share is each node's fetch from memory. So the maps match one ray at a time; packets change the speed (accelviz-cli bench --packet 1,64 times both)."

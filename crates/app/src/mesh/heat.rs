@@ -9,8 +9,9 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
 use accelviz_core::camera::Camera;
-use accelviz_core::heatmap::{HeatMap, PixelCost, trace_rows_in_packets};
-use accelviz_core::{Order, TraceOptions, TraversalStacks};
+use accelviz_core::heatmap::{HeatMap, PixelCost, trace_rows, trace_rows_in_packets};
+use accelviz_core::{NoObserver, Order, Query, TraceOptions, TraversalStacks};
+use accelviz_scene::rays::{RayKind, pixel_secondary_rays};
 use web_time::Instant;
 
 use super::tree::MeshTree;
@@ -55,6 +56,9 @@ pub struct HeatKey {
     pub height: usize,
     /// Rays are traced in packets of `tile × tile` pixels (1: one at a time).
     pub tile: usize,
+    /// Whose cost a pixel shows: its camera ray's, or (shadow, AO, bounce) the secondary
+    /// rays' from its camera ray's hit, traced one at a time.
+    pub ray_kind: RayKind,
 }
 
 /// Heat maps being made or made, for one key.
@@ -204,26 +208,56 @@ fn trace_next_band(shared: &Shared, tree: &MeshTree, key: &HeatKey) -> bool {
     let rows = band * BAND_ROWS..((band + 1) * BAND_ROWS).min(key.height);
     let mut stacks = TraversalStacks::default();
     let ordered = tree.ordered();
+    let bounds = tree.mesh.bounds();
     let traced = ORDERS.map(|order| {
         let options = TraceOptions {
             order,
+            query: key.ray_kind.default_query(),
             ..TraceOptions::default()
         };
         let mut out = vec![PixelCost::default(); rows.len() * key.width];
-        let tree = &tree.build.built.tree;
-        trace_rows_in_packets(
-            &key.camera,
-            key.width,
-            key.height,
-            rows.start,
-            &mut out,
-            key.tile,
-            |rays, counters| {
-                let mut hits = [None; accelviz_core::bvh::MAX_PACKET];
-                let hits = &mut hits[..rays.len()];
-                tree.trace_packet(ordered, rays, &options, &mut stacks, counters, hits);
-            },
-        );
+        let built = &tree.build.built.tree;
+        if key.ray_kind == RayKind::Camera {
+            trace_rows_in_packets(
+                &key.camera,
+                key.width,
+                key.height,
+                rows.start,
+                &mut out,
+                key.tile,
+                |rays, counters| {
+                    let mut hits = [None; accelviz_core::bvh::MAX_PACKET];
+                    let hits = &mut hits[..rays.len()];
+                    built.trace_packet(ordered, rays, &options, &mut stacks, counters, hits);
+                },
+            );
+        } else {
+            // The camera ray finds its hit (uncounted); the secondary rays from
+            // there are counted at its pixel: the CLI's `heatmap --ray-kind`, ray for ray.
+            let primary = TraceOptions {
+                query: Query::Closest,
+                ..options
+            };
+            trace_rows(
+                &key.camera,
+                key.width,
+                key.height,
+                rows.start,
+                &mut out,
+                |ray, counters| {
+                    let Some(hit) =
+                        built.trace(ordered, ray, &primary, &mut stacks, &mut NoObserver)
+                    else {
+                        return;
+                    };
+                    for secondary in
+                        pixel_secondary_rays(key.ray_kind, &tree.mesh, &bounds, ray, hit)
+                    {
+                        built.trace(ordered, &secondary, &options, &mut stacks, counters);
+                    }
+                },
+            );
+        }
         out
     });
     if let Ok(mut maps) = shared.maps.lock() {

@@ -10,6 +10,7 @@ use accelviz_app::lessons::slab3d::Slab3dLesson;
 use accelviz_app::view3d::HiddenEdges;
 use accelviz_core::heatmap::Counter;
 use accelviz_core::{Counters, Order, Ray, TraceOptions, TraversalStacks, brute_force};
+use accelviz_scene::rays::{RayKind, pixel_secondary_rays};
 use common::{lesson_harness_3d, lesson_text};
 use glam::DVec3;
 
@@ -186,6 +187,80 @@ fn heat_maps_of_packets_on_an_eight_wide_tree() {
     let key = *harness.state().job().expect("job").key();
     assert_eq!(key.tile, 8);
     harness.snapshot("heat_3d_packets_bvh8");
+}
+
+#[test]
+fn heat_maps_of_shadow_rays_count_the_clis_rays_from_each_pixels_hit() {
+    let mut harness = lesson_harness_3d(heat_lesson());
+    harness.state_mut().ray_kind = RayKind::Shadow;
+    harness.state_mut().packets = true;
+    finish_heat_maps(&mut harness);
+    let tree = harness.state().tree().expect("built").clone();
+    let key = *harness.state().job().expect("job").key();
+    assert_eq!(
+        (key.ray_kind, key.tile),
+        (RayKind::Shadow, 1),
+        "one ray at a time"
+    );
+    let maps = harness.state().maps().expect("maps");
+    let bounds = tree.mesh.bounds();
+    for (order, map) in [Order::NearFirst, Order::FileOrder]
+        .into_iter()
+        .zip(&maps.maps)
+    {
+        // Each pixel: brute force finds its camera ray's hit; the shadow ray from there is
+        // traced any-hit, as the CLI's `heatmap --ray-kind shadow` does.
+        let options = TraceOptions {
+            order,
+            query: RayKind::Shadow.default_query(),
+            ..TraceOptions::default()
+        };
+        let mut stacks = TraversalStacks::default();
+        let mut missed_pixels_cost = 0;
+        for row in 0..key.height {
+            for column in 0..key.width {
+                let ray = key
+                    .camera
+                    .pixel_ray::<DVec3>(column, row, key.width, key.height)
+                    .expect("a ray");
+                let cost = map.at(column, row).expect("a pixel");
+                let Some(hit) = brute_force(
+                    &tree.triangles,
+                    &ray,
+                    &TraceOptions::default(),
+                    &mut accelviz_core::NoObserver,
+                ) else {
+                    missed_pixels_cost += cost.nodes;
+                    continue;
+                };
+                let mut counters = Counters::default();
+                for shadow in pixel_secondary_rays(RayKind::Shadow, &tree.mesh, &bounds, &ray, hit)
+                {
+                    tree.build.built.tree.trace(
+                        &tree.triangles,
+                        &shadow,
+                        &options,
+                        &mut stacks,
+                        &mut counters,
+                    );
+                }
+                assert_eq!(
+                    cost.nodes, counters.nodes_visited as u32,
+                    "{order:?} {column},{row}"
+                );
+                assert_eq!(
+                    cost.prims, counters.primitive_tests as u32,
+                    "{order:?} {column},{row}"
+                );
+            }
+        }
+        assert_eq!(
+            missed_pixels_cost, 0,
+            "a pixel that sees nothing casts no shadow ray"
+        );
+        assert!(map.summary(Counter::Nodes).total > 0);
+    }
+    harness.snapshot("heat_3d_shadow");
 }
 
 #[test]
