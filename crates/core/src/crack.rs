@@ -10,10 +10,13 @@
 //!   for both triangles (one with the other's sign), so the point is inside at least one of
 //!   them; an exact zero is inside both, at the same `t`, and the closest hit's tie rule (the
 //!   lower primitive number, [`Hit::is_beaten_by`]) keeps one.
-//! - **Far from the origin** ([`SharedEdge::moved`]): the same two triangles and ray moved
-//!   by an offset. The numbers near the coordinates grow apart (their ulp), the differences
-//!   the tests take lose digits, and `u`, `v` and `t` err by more; the fast test slips more
-//!   often ([`slip_count`]).
+//! - **Far from the origin** ([`SharedEdge::moved`]): the same case moved by an offset, the ray
+//!   starting as near the mesh as before. The tests work on differences (a corner minus the
+//!   ray's start), which stay exact this close, so the crack keeps its width: rays aimed a
+//!   little beside the edge ([`SharedEdge::aimed_aside`]) do not slip ([`slip_count`]). What
+//!   grows is the spacing of the numbers themselves (their ulp): the corners snap to it, and
+//!   a hit point `o + t·d` lands off the surface by up to about it
+//!   ([`EdgeTest::hit_point_off`]), which is how far a secondary ray must start off it.
 //! - **A ray through a box's corner** ([`corner_graze`]): exactly through it, so that the slab
 //!   test's `t_enter` and `t_exit` are both 1 in exact arithmetic; rounded, `t_enter` can come
 //!   out above `t_exit` and the plain test misses the box. Multiplying `t_exit` by

@@ -86,18 +86,23 @@ fn the_fast_test_slips_through_in_f32_with_both_points_outside() {
 }
 
 #[test]
-fn far_from_the_origin_the_numbers_grow_apart_and_the_fast_test_slips_more() {
+fn far_from_the_origin_the_crack_keeps_its_width_and_the_numbers_grow_apart() {
     let near = cases(2000, 3);
     let offset = DVec3::splat(1000.0);
     let far: Vec<SharedEdge> = near.iter().map(|case| case.moved(offset)).collect();
+    // Aimed exactly at the edge, rounding decides near and far alike: some slip.
     let (slipped_near, tested_near) = slip_count::<Vec3>(&near, HitTest::Fast);
     let (slipped_far, tested_far) = slip_count::<Vec3>(&far, HitTest::Fast);
     assert_eq!((tested_near, tested_far), (2000, 2000));
     assert!(
-        slipped_far > slipped_near,
-        "{slipped_far} <= {slipped_near}"
+        slipped_near > 100 && slipped_far > 100,
+        "{slipped_near} {slipped_far}"
     );
-    eprintln!("fast f32 slips: {slipped_near} of 2000 near the origin, {slipped_far} at 1000");
+    // A millionth beside it, none slip, near or far: the tests work on exact differences.
+    for cases in [&near, &far] {
+        let aside: Vec<SharedEdge> = cases.iter().map(|case| case.aimed_aside(1e-6)).collect();
+        assert_eq!(slip_count::<Vec3>(&aside, HitTest::Fast).0, 0);
+    }
     assert_eq!(slip_count::<Vec3>(&far, HitTest::Watertight).0, 0);
     assert_eq!(slip_count::<DVec3>(&far, HitTest::Watertight).0, 0);
     // Near 1000 (in [512, 1024)) f32's numbers are 2^-14 apart; near 1 they are 2^-23 or
