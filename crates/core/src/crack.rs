@@ -231,10 +231,7 @@ pub struct EdgeTest {
 impl EdgeTest {
     /// `"fast"` or `"watertight"`.
     pub fn test_name(&self) -> &'static str {
-        match self.test {
-            HitTest::Fast => "fast",
-            HitTest::Watertight => "watertight",
-        }
+        self.test.name()
     }
 
     /// How far inside triangle `index` (0 = A, 1 = B), across the shared edge, the test put

@@ -88,9 +88,9 @@ impl Switches {
     /// `"fast"` or `"watertight"`.
     pub fn test_name(self) -> &'static str {
         if self.watertight {
-            "watertight"
+            HitTest::Watertight.name()
         } else {
-            "fast"
+            HitTest::Fast.name()
         }
     }
 

@@ -14,6 +14,7 @@
 
 use accelviz_core::crack::{CornerGraze, EdgeTest, SharedEdge, corner_graze, slip_count};
 use accelviz_core::format::{count, number};
+use accelviz_core::primitive::clipped_polygon;
 use accelviz_core::slab::{SlabRay, axis_interval};
 use accelviz_core::trade::Precision;
 use accelviz_core::{Aabb, HitTest, Ray, slab_record};
@@ -506,7 +507,9 @@ impl CracksLesson {
         let window = Aabb::new(-half, half);
         let colours = [palette::BOX, palette::SPHERE];
         for (index, (corners, colour)) in seen.iter().zip(colours).enumerate() {
-            let clipped = clip_to(corners, &window);
+            // Zoomed a billion times, only the part on screen is drawn: its corners stay
+            // within screen coordinates.
+            let clipped = clipped_polygon(corners, &window);
             if clipped.len() >= 3 {
                 let points = clipped.iter().map(|&p| canvas.to_screen(p)).collect();
                 canvas.painter.add(egui::Shape::convex_polygon(
@@ -618,10 +621,12 @@ impl CracksLesson {
             return;
         };
         // The test as f32 runs it (the corner's ray was found in f32).
+        let Ok(ray_f32) = Ray::try_new(origin.as_vec2(), direction.as_vec2()) else {
+            return;
+        };
         let record = slab_record(
             &Aabb::new(bounds.min.as_vec2(), bounds.max.as_vec2()),
-            &Ray::try_new(origin.as_vec2(), direction.as_vec2())
-                .unwrap_or(Ray::try_new(glam::Vec2::ZERO, glam::Vec2::X).expect("a direction")),
+            &ray_f32,
             scene.robust,
         );
         // Zoomed a millionfold, only the part of the ray on screen is drawn: the screen's
@@ -826,31 +831,26 @@ impl CracksLesson {
                         ui.monospace(graze.map_or("—".into(), |g| direction_text(g.direction)));
                         ui.monospace(graze_f64.map_or("—".into(), |g| direction_text(g.direction)));
                         ui.end_row();
-                        ui.label("max t_near");
-                        ui.monospace(graze.map_or("—".into(), |g| {
-                            digits(f64::from(g.t_enter), Precision::F32)
-                        }));
-                        ui.monospace(
-                            graze_f64.map_or("—".into(), |g| digits(g.t_enter, Precision::F64)),
-                        );
-                        ui.end_row();
-                        ui.label("min t_far");
-                        ui.monospace(graze.map_or("—".into(), |g| {
-                            digits(f64::from(g.t_exit), Precision::F32)
-                        }));
-                        ui.monospace(
-                            graze_f64.map_or("—".into(), |g| digits(g.t_exit, Precision::F64)),
-                        );
-                        ui.end_row();
-                        ui.label("× (1 + 2γ(3))");
-                        ui.monospace(graze.map_or("—".into(), |g| {
-                            digits(f64::from(g.t_exit_widened), Precision::F32)
-                        }));
-                        ui.monospace(
-                            graze_f64
-                                .map_or("—".into(), |g| digits(g.t_exit_widened, Precision::F64)),
-                        );
-                        ui.end_row();
+                        let rows: [(
+                            &str,
+                            fn(&CornerGraze<f32>) -> f32,
+                            fn(&CornerGraze<f64>) -> f64,
+                        ); 3] = [
+                            ("max t_near", |g| g.t_enter, |g| g.t_enter),
+                            ("min t_far", |g| g.t_exit, |g| g.t_exit),
+                            ("× (1 + 2γ(3))", |g| g.t_exit_widened, |g| g.t_exit_widened),
+                        ];
+                        for (label, in_f32, in_f64) in rows {
+                            ui.label(label);
+                            ui.monospace(graze.map_or("—".into(), |g| {
+                                digits(f64::from(in_f32(&g)), Precision::F32)
+                            }));
+                            ui.monospace(
+                                graze_f64
+                                    .map_or("—".into(), |g| digits(in_f64(&g), Precision::F64)),
+                            );
+                            ui.end_row();
+                        }
                     });
                 ui.label("Both would be exactly 1: the ray only touches the box at its corner. Rounded, max t_near came out above min t_far, so the plain test misses the box, and every triangle in it. Multiplying t_far by 1 + 2γ(3), the bound on three roundings, makes the test conservative: it never misses a box the exact ray touches (Ize 2013).");
                 if let Some(graze) = graze {
@@ -959,39 +959,6 @@ fn float_line_ui(ui: &mut egui::Ui, graze: &CornerGraze<f32>) {
     ));
 }
 
-/// `corners` clipped to `window` (Sutherland–Hodgman): a triangle zoomed a billion times is
-/// drawn as the part of it on screen, not as points too far away for screen coordinates.
-fn clip_to(corners: &[DVec2; 3], window: &Aabb<DVec2>) -> Vec<DVec2> {
-    let mut polygon = corners.to_vec();
-    for axis in 0..2 {
-        for (bound, keep_below) in [(window.max[axis], true), (window.min[axis], false)] {
-            let inside = |p: DVec2| {
-                if keep_below {
-                    p[axis] <= bound
-                } else {
-                    p[axis] >= bound
-                }
-            };
-            let mut clipped = Vec::with_capacity(polygon.len() + 2);
-            for (index, &current) in polygon.iter().enumerate() {
-                let previous = polygon[(index + polygon.len() - 1) % polygon.len()];
-                if inside(current) != inside(previous) {
-                    let t = (bound - previous[axis]) / (current[axis] - previous[axis]);
-                    clipped.push(previous + (current - previous) * t);
-                }
-                if inside(current) {
-                    clipped.push(current);
-                }
-            }
-            polygon = clipped;
-            if polygon.is_empty() {
-                return polygon;
-            }
-        }
-    }
-    polygon
-}
-
 impl Lesson for CracksLesson {
     crate::staged!();
 
@@ -1017,14 +984,7 @@ impl Lesson for CracksLesson {
         vec![
             ("part".to_owned(), scene.part.name().to_owned()),
             ("seed".to_owned(), scene.seed.to_string()),
-            (
-                "test".to_owned(),
-                match scene.test {
-                    HitTest::Fast => "fast",
-                    HitTest::Watertight => "watertight",
-                }
-                .to_owned(),
-            ),
+            ("test".to_owned(), scene.test.name().to_owned()),
             ("offset".to_owned(), scene.offset_power.to_string()),
         ]
     }
@@ -1040,11 +1000,8 @@ impl Lesson for CracksLesson {
             }
             "seed" => scene.seed = value.parse().map_err(|_| format!("bad seed '{value}'"))?,
             "test" => {
-                scene.test = match value {
-                    "fast" => HitTest::Fast,
-                    "watertight" => HitTest::Watertight,
-                    _ => return Err(format!("no test '{value}'")),
-                }
+                scene.test = HitTest::from_name(value)
+                    .ok_or_else(|| format!("no test '{value}' (fast or watertight)"))?;
             }
             "offset" => {
                 let power: i32 = value.parse().map_err(|_| format!("bad offset '{value}'"))?;
@@ -1104,12 +1061,9 @@ impl Lesson for CracksLesson {
                             ui.strong(heading);
                         }
                         for (precision, test, aside) in SLIP_COLUMNS {
-                            let test = match test {
-                                HitTest::Fast => "fast",
-                                HitTest::Watertight => "watertight",
-                            };
                             ui.strong(format!(
-                                "slipped: {test} {}, {}",
+                                "slipped: {} {}, {}",
+                                test.name(),
                                 precision.name(),
                                 aside_text(aside)
                             ));

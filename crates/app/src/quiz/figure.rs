@@ -133,10 +133,7 @@ fn crack_ui(canvas: &Canvas, state: &FigureState, crack: &accelviz_quiz::CrackFi
     canvas.label(crack.ray_at + DVec2::new(0.0, -1.2), said, colour);
     canvas.note(&format!(
         "seen along the ray · {} test in {}",
-        match crack.test {
-            accelviz_core::HitTest::Fast => "fast",
-            accelviz_core::HitTest::Watertight => "watertight",
-        },
+        crack.test.name(),
         crack.precision
     ));
 }

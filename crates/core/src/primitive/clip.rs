@@ -96,6 +96,17 @@ fn clip_polygon<V: Vector>(corners: &[V], cell: &Aabb<V>) -> Option<Vec<([f64; 3
     Some(polygon)
 }
 
+/// The part of the convex polygon `corners` inside the closed box `cell`, as its corners (none
+/// when no part is inside): also what a view zoomed far in draws of a triangle.
+pub fn clipped_polygon<V: Vector>(corners: &[V], cell: &Aabb<V>) -> Vec<V> {
+    clip_polygon(corners, cell).map_or_else(Vec::new, |polygon| {
+        polygon
+            .iter()
+            .map(|(point, _)| V::from_f64_slice(&point[..V::DIM]))
+            .collect()
+    })
+}
+
 /// The area of the part of triangle `corners` inside the closed box `cell` (0 when none is).
 pub(crate) fn clipped_area<V: Vector>(corners: &[V; 3], cell: &Aabb<V>) -> f64 {
     let Some(polygon) = clip_polygon(corners, cell) else {

@@ -5,6 +5,7 @@
 //! segments and discs run the same code.
 
 pub(crate) mod clip;
+pub use clip::clipped_polygon;
 mod shape;
 mod triangle;
 
@@ -27,6 +28,24 @@ pub enum HitTest {
     /// Woop, Benthin & Wald 2013, "Watertight Ray/Triangle Intersection": never misses
     /// through a shared edge or vertex of a closed mesh.
     Watertight,
+}
+
+impl HitTest {
+    /// Both tests.
+    pub const ALL: [HitTest; 2] = [HitTest::Fast, HitTest::Watertight];
+
+    /// `"fast"` or `"watertight"`, as links, JSON and the CLI spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            HitTest::Fast => "fast",
+            HitTest::Watertight => "watertight",
+        }
+    }
+
+    /// The test called `name`.
+    pub fn from_name(name: &str) -> Option<HitTest> {
+        HitTest::ALL.into_iter().find(|test| test.name() == name)
+    }
 }
 
 /// An indexed set of primitives that a ray can be tested against.

@@ -153,3 +153,11 @@ fn a_ray_through_a_corner_misses_the_plain_box_and_hits_the_widened_one() {
     let graze = corner_graze(&wide).unwrap();
     assert!(graze.t_enter > graze.t_exit && graze.t_exit_widened >= graze.t_enter);
 }
+
+#[test]
+fn each_test_reads_back_from_its_name() {
+    for test in HitTest::ALL {
+        assert_eq!(HitTest::from_name(test.name()), Some(test));
+    }
+    assert_eq!(HitTest::from_name("exact"), None);
+}

@@ -161,13 +161,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         json!({"origin": case.origin, "direction": case.direction}),
     );
     fields.insert("precision".into(), json!(precision));
-    fields.insert(
-        "test".into(),
-        json!(match test {
-            HitTest::Fast => "fast",
-            HitTest::Watertight => "watertight",
-        }),
-    );
+    fields.insert("test".into(), json!(test.name()));
     Some(Draft {
         prompt: format!(
             "Two triangles, A and B, share an edge, as every two neighbours of a closed mesh do. A ray comes from above, aimed exactly at a point of that edge, and is tested against both in {precision} by {test_name}; below, what the test computed for each."
