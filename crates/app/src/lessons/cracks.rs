@@ -831,11 +831,7 @@ impl CracksLesson {
                         ui.monospace(graze.map_or("—".into(), |g| direction_text(g.direction)));
                         ui.monospace(graze_f64.map_or("—".into(), |g| direction_text(g.direction)));
                         ui.end_row();
-                        let rows: [(
-                            &str,
-                            fn(&CornerGraze<f32>) -> f32,
-                            fn(&CornerGraze<f64>) -> f64,
-                        ); 3] = [
+                        let rows: [CornerRow; 3] = [
                             ("max t_near", |g| g.t_enter, |g| g.t_enter),
                             ("min t_far", |g| g.t_exit, |g| g.t_exit),
                             ("× (1 + 2γ(3))", |g| g.t_exit_widened, |g| g.t_exit_widened),
@@ -860,6 +856,13 @@ impl CracksLesson {
         }
     }
 }
+
+/// A row of the corner's table: its label, and the number in f32 and in f64.
+type CornerRow = (
+    &'static str,
+    fn(&CornerGraze<f32>) -> f32,
+    fn(&CornerGraze<f64>) -> f64,
+);
 
 /// The corner case in f32 for the lesson's box.
 fn corner_case() -> Option<CornerGraze<f32>> {
