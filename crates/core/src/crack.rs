@@ -229,11 +229,6 @@ pub struct EdgeTest {
 }
 
 impl EdgeTest {
-    /// `"fast"` or `"watertight"`.
-    pub fn test_name(&self) -> &'static str {
-        self.test.name()
-    }
-
     /// How far inside triangle `index` (0 = A, 1 = B), across the shared edge, the test put
     /// the ray's point: the weight of the corner facing the edge (≥ 0 inside; exactly, one of
     /// the two is ≥ 0 and the other ≤ 0). `None` where the test stopped before computing it.

@@ -576,7 +576,7 @@ impl CracksLesson {
         canvas.note(&format!(
             "{} · {} test · seen along the ray · {} across = {} of the coordinates' ulp ({})",
             tested.precision.name(),
-            tested.test_name(),
+            tested.test.name(),
             number(width),
             number(width / tested.coordinate_ulp),
             number(tested.coordinate_ulp),
@@ -720,7 +720,7 @@ impl CracksLesson {
     /// The numbers of the shared-edge parts, f32 beside f64.
     fn edge_numbers_ui(ui: &mut egui::Ui, tested: &[EdgeTest; 2]) {
         let test = tested[0].test;
-        ui.label(RichText::new(format!("{} test, f32 beside f64", tested[0].test_name())).strong());
+        ui.label(RichText::new(format!("{} test, f32 beside f64", tested[0].test.name())).strong());
         for tested in tested {
             let (answer, colour) = match tested.hit {
                 Some(hit) if tested.both_hit() => (
@@ -1117,7 +1117,7 @@ impl Lesson for CracksLesson {
                     };
                     log::info!(
                         "accelviz: cracks: the {} test in f32 {}, in f64 {}",
-                        tested[0].test_name(),
+                        tested[0].test.name(),
                         said(&tested[0]),
                         said(&tested[1])
                     );
