@@ -28,6 +28,30 @@ fn panel_widths(width: f32) -> (f32, f32, f32, f32) {
     (list, inspector, least, most)
 }
 
+/// The inspector: a panel at the right of the window, resizable by hand, holding `contents`.
+/// Its width is its own (its default for the window, or the width the user dragged it to,
+/// within the window's range), never the content's: what is wider scrolls sideways and what
+/// is longer scrolls down. A panel that grew with its content would keep the width of the
+/// widest thing it ever showed (a long name measured once), and a lesson's layout would then
+/// depend on what came before it. The test harnesses draw their inspector with it too.
+pub fn inspector_panel<R>(
+    ui: &mut Ui,
+    contents: impl FnOnce(&mut Ui) -> R,
+) -> egui::InnerResponse<R> {
+    let (_, default, least, most) = panel_widths(ui.ctx().content_rect().width());
+    egui::Panel::right("inspector")
+        .resizable(true)
+        .default_size(default)
+        .min_size(least)
+        .max_size(most)
+        .show(ui, |ui| {
+            egui::ScrollArea::both()
+                .auto_shrink([false, false])
+                .show(ui, contents)
+                .inner
+        })
+}
+
 /// The accelviz app.
 pub struct AccelvizApp {
     pub(crate) lessons: Vec<Result<Box<dyn Lesson>, BrokenLesson>>,
@@ -294,16 +318,7 @@ impl AccelvizApp {
             .resizable(false)
             .exact_size(list_width)
             .show(ui, |ui| self.lesson_list_ui(ui));
-        self.last_layout.inspector = egui::Panel::right("inspector")
-            .resizable(true)
-            .default_size(inspector_width)
-            .min_size(inspector_min)
-            .max_size(inspector_max)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| inspector(self, ui));
-            })
-            .response
-            .rect;
+        self.last_layout.inspector = inspector_panel(ui, |ui| inspector(self, ui)).response.rect;
         // A width that changed with the window the same size was dragged there by the user.
         let width = self.last_layout.inspector.width();
         if !resized

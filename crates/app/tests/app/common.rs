@@ -25,22 +25,23 @@ pub fn lesson_text(file: &str) -> LessonText {
 pub fn lesson_harness<L: Lesson + 'static>(lesson: L) -> Harness<'static, L> {
     Harness::builder()
         .with_size(egui::vec2(1300.0, 800.0))
-        .build_ui_state(
-            |ui, lesson: &mut L| {
-                lesson.update();
-                let caption = lesson.caption();
-                egui::Panel::bottom("timeline").show(ui, |ui| {
-                    if let Some(caption) = caption {
-                        lesson.stage_mut().timeline.ui(ui, &caption);
-                    }
-                });
-                egui::Panel::right("inspector").show(ui, |ui| {
-                    lesson.inspector_ui(ui, accelviz_app::lesson::Parts::All)
-                });
-                egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
-            },
-            lesson,
-        )
+        .build_ui_state(draw_lesson::<L>, lesson)
+}
+
+/// A frame of `lesson` as the app draws it: updated first, its timeline at the bottom, the
+/// app's own inspector panel at the right, its canvas in the middle.
+pub fn draw_lesson<L: Lesson>(ui: &mut egui::Ui, lesson: &mut L) {
+    lesson.update();
+    let caption = lesson.caption();
+    egui::Panel::bottom("timeline").show(ui, |ui| {
+        if let Some(caption) = caption {
+            lesson.stage_mut().timeline.ui(ui, &caption);
+        }
+    });
+    accelviz_app::app::inspector_panel(ui, |ui| {
+        lesson.inspector_ui(ui, accelviz_app::lesson::Parts::All)
+    });
+    egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
 }
 
 /// The whole app at a projector-like size, rendered on the software adapter, with the GPU
@@ -79,22 +80,7 @@ pub fn lesson_harness_3d<L: Lesson + 'static>(lesson: L) -> Harness<'static, L> 
     let harness = Harness::builder()
         .with_size(egui::vec2(1300.0, 800.0))
         .renderer(renderer)
-        .build_ui_state(
-            |ui, lesson: &mut L| {
-                lesson.update();
-                let caption = lesson.caption();
-                egui::Panel::bottom("timeline").show(ui, |ui| {
-                    if let Some(caption) = caption {
-                        lesson.stage_mut().timeline.ui(ui, &caption);
-                    }
-                });
-                egui::Panel::right("inspector").show(ui, |ui| {
-                    lesson.inspector_ui(ui, accelviz_app::lesson::Parts::All)
-                });
-                egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
-            },
-            lesson,
-        );
+        .build_ui_state(draw_lesson::<L>, lesson);
     Gpu::install(&harness.ctx, render_state);
     harness
 }

@@ -16,13 +16,7 @@ use egui_kittest::Harness;
 fn slab_labels_never_overlap_in_any_edge_case() {
     let size = egui::vec2(1200.0, 760.0);
     let mut harness = Harness::builder().with_size(size).build_ui_state(
-        |ui, lesson: &mut SlabLesson| {
-            lesson.update();
-            egui::Panel::right("inspector").show(ui, |ui| {
-                lesson.inspector_ui(ui, accelviz_app::lesson::Parts::All)
-            });
-            egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
-        },
+        common::draw_lesson::<SlabLesson>,
         SlabLesson::new(lesson_text("03-slab-test.ron")),
     );
     harness.run();
@@ -121,6 +115,57 @@ fn huge_coordinates_keep_the_layout() {
             harness.query_by_label_contains("0000000000").is_none(),
             "{title}: a number written out in full"
         );
+    }
+}
+
+/// Content never pushes the inspector: in every lesson, at its first and its last step and
+/// with each thing it shows by name (lesson 17's ten-column table of distances among them),
+/// the inspector keeps the width it opened with, and what is wider scrolls sideways. A panel
+/// that grew with its content kept the width of the widest thing it had shown: lesson 16's
+/// layout depended on which structure its measurement happened to find fastest.
+#[test]
+fn content_never_widens_the_inspector() {
+    // A laptop's window, where the inspector is narrower than on a projector.
+    let mut harness = common::app_harness_sized(egui::vec2(1100.0, 760.0));
+    harness.run();
+    let opened = harness.state().last_layout.inspector.width();
+    for index in 0..harness.state().lesson_count() {
+        harness.state_mut().selected = index;
+        // Until what the lesson builds or measures aside (a 3D tree, the trade lab) is in.
+        for _ in 0..100 {
+            harness.run_steps(2);
+            if harness
+                .state()
+                .lesson()
+                .is_none_or(|lesson| lesson.building().is_none())
+            {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(50));
+        }
+        let title = harness.state().titles()[index].clone();
+        let names = harness
+            .state()
+            .lesson()
+            .map(|lesson| lesson.named())
+            .unwrap_or_default();
+        for name in std::iter::once(None).chain(names.iter().map(Some)) {
+            if let (Some(name), Some(lesson)) = (name, harness.state_mut().lesson_mut()) {
+                assert!(lesson.show_named(name), "{title}: shows {name}");
+            }
+            for last in [false, true] {
+                if let Some(lesson) = harness.state_mut().lesson_mut() {
+                    let timeline = &mut lesson.stage_mut().timeline;
+                    timeline.shown = if last { timeline.len } else { 0 };
+                }
+                harness.run_steps(2);
+                let width = harness.state().last_layout.inspector.width();
+                assert!(
+                    (width - opened).abs() < 0.5,
+                    "{title}, {name:?}, last step {last}: the inspector is {width} points wide, it opened {opened} wide"
+                );
+            }
+        }
     }
 }
 
