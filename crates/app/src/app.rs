@@ -28,28 +28,37 @@ fn panel_widths(width: f32) -> (f32, f32, f32, f32) {
     (list, inspector, least, most)
 }
 
-/// The inspector: a panel at the right of the window, resizable by hand, holding `contents`.
-/// Its width is its own (its default for the window, or the width the user dragged it to,
-/// within the window's range), never the content's: what is wider scrolls sideways and what
-/// is longer scrolls down. A panel that grew with its content would keep the width of the
-/// widest thing it ever showed (a long name measured once), and a lesson's layout would then
-/// depend on what came before it. The test harnesses draw their inspector with it too.
+/// The inspector: a panel at the right of the window, resizable by hand, holding `contents`
+/// ([`scrolled_panel`]: its width is its own, never its content's). The test harnesses draw
+/// their inspector with it too.
 pub fn inspector_panel<R>(
     ui: &mut Ui,
     contents: impl FnOnce(&mut Ui) -> R,
-) -> egui::InnerResponse<R> {
+) -> egui::InnerResponse<egui::scroll_area::ScrollAreaOutput<R>> {
     let (_, default, least, most) = panel_widths(ui.ctx().content_rect().width());
-    egui::Panel::right("inspector")
+    let panel = egui::Panel::right("inspector")
         .resizable(true)
         .default_size(default)
         .min_size(least)
-        .max_size(most)
-        .show(ui, |ui| {
-            egui::ScrollArea::both()
-                .auto_shrink([false, false])
-                .show(ui, contents)
-                .inner
-        })
+        .max_size(most);
+    scrolled_panel(panel, ui, contents)
+}
+
+/// `panel` holding `contents` in a scroll area that fills it. The panel's width is its own
+/// (its default, or the width the user dragged it to), never its content's: what is wider
+/// scrolls sideways and what is longer scrolls down. A panel that grew with its content kept
+/// the width of the widest thing it had ever shown (a long name measured once), and a lesson's
+/// layout then depended on what came before it.
+pub fn scrolled_panel<R>(
+    panel: egui::Panel,
+    ui: &mut Ui,
+    contents: impl FnOnce(&mut Ui) -> R,
+) -> egui::InnerResponse<egui::scroll_area::ScrollAreaOutput<R>> {
+    panel.show(ui, |ui| {
+        egui::ScrollArea::both()
+            .auto_shrink([false, false])
+            .show(ui, contents)
+    })
 }
 
 /// The accelviz app.

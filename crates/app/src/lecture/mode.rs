@@ -166,23 +166,22 @@ impl AccelvizApp {
                 // own (the lessons' inspector keeps its width).
                 let width =
                     (ui.ctx().content_rect().width() * LECTURE_PANEL_SHARE).max(INSPECTOR_WIDTH.0);
-                egui::Panel::right("lecture panels")
+                let panel = egui::Panel::right("lecture panels")
                     .resizable(true)
-                    .default_size(width)
-                    .show(ui, |ui| {
-                        // The lesson's panels without its text: the lecturer tells it, and
-                        // at lecture scale the text would push the panels off the screen.
-                        let shown = egui::ScrollArea::vertical().show(ui, |ui| {
-                            let parts = self
-                                .lecture
-                                .as_ref()
-                                .map(|lecture| lecture.parts().to_vec())
-                                .unwrap_or_default();
-                            self.lesson_panels_ui(ui, &parts);
-                        });
-                        self.last_layout.lecture_panels_overflow =
-                            shown.content_size.y - shown.inner_rect.height();
-                    });
+                    .default_size(width);
+                // The lesson's panels without its text: the lecturer tells it, and at lecture
+                // scale the text would push the panels off the screen.
+                let shown = crate::app::scrolled_panel(panel, ui, |ui| {
+                    let parts = self
+                        .lecture
+                        .as_ref()
+                        .map(|lecture| lecture.parts().to_vec())
+                        .unwrap_or_default();
+                    self.lesson_panels_ui(ui, &parts);
+                })
+                .inner;
+                self.last_layout.lecture_panels_overflow =
+                    shown.content_size.y - shown.inner_rect.height();
             }
             self.lesson_canvas_ui(ui);
         } else if let Some(lecture) = &mut self.lecture {
