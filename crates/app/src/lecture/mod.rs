@@ -384,30 +384,34 @@ impl Lecture {
         })
     }
 
-    /// The question's asks, answered up to `steps` of them (not revealed).
-    fn question_at(&mut self, steps: usize) {
+    /// The question's asks, answered up to `steps` of them (not revealed); returns how many
+    /// were answered (fewer when the question has fewer steps).
+    fn question_at(&mut self, steps: usize) -> usize {
         let Some(session) = &self.question else {
-            return;
+            return 0;
         };
         let question = &session.questions()[0];
         let Ok(mut fresh) = Session::new(question.seed, question.level, 1, &[question.kind]) else {
-            return;
+            return 0;
         };
-        for _ in 0..steps {
+        let mut answered = 0;
+        while answered < steps {
             let Some(response) = fresh.ask().map(|ask| model_response(&ask.expected)) else {
                 break;
             };
             fresh.answer(response);
             fresh.move_on();
-            if fresh.is_finished() {
-                break;
-            }
+            answered += 1;
         }
         self.question = Some(fresh);
+        answered
     }
 
+    /// The question's last step, asked and its answer hidden (R reveals it): every step
+    /// before it answered. (With every step answered there would be nothing left to reveal.)
     fn question_to_last(&mut self) {
-        self.question_at(usize::MAX / 2);
+        let steps = self.question_at(usize::MAX / 2);
+        self.question_at(steps.saturating_sub(1));
     }
 
     /// What the app must do after an action.

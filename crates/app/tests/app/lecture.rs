@@ -340,10 +340,20 @@ fn a_question_slides_step_counter_follows_home_end_and_page_up() {
     assert_eq!(counter(&harness), (1, count));
     let bar = format!("step 1 of {count}");
     assert!(harness.query_by_label_contains(&bar).is_some(), "{bar}");
+    let revealed =
+        |harness: &Harness<'_, AccelvizApp>| harness.state().lecture.as_ref().unwrap().revealed();
     press(&mut harness, Key::End);
     assert_eq!(counter(&harness), (count, count));
     let bar = format!("step {count} of {count}");
     assert!(harness.query_by_label_contains(&bar).is_some(), "{bar}");
+    // The last step is asked, its answer hidden until R.
+    assert!(!revealed(&harness));
+    press(&mut harness, Key::R);
+    assert!(
+        revealed(&harness),
+        "R reveals the last step's answer after End"
+    );
+    assert_eq!(counter(&harness), (count, count));
     press(&mut harness, Key::Home);
     assert_eq!(counter(&harness), (1, count));
     // Past the last step to the next slide, then back: the question at its last step.
@@ -354,6 +364,12 @@ fn a_question_slides_step_counter_follows_home_end_and_page_up() {
     press(&mut harness, Key::PageUp);
     assert_eq!(place(&harness).0, index);
     assert_eq!(counter(&harness), (count, count));
+    assert!(!revealed(&harness));
+    press(&mut harness, Key::R);
+    assert!(
+        revealed(&harness),
+        "R reveals the last step's answer after coming back"
+    );
 }
 
 /// Whether the scene of the lesson shown (every shape, the ray's origin and head) lies on its
