@@ -135,7 +135,7 @@ impl EditableScene {
             count: scene.shapes.shapes.len().max(1),
             seed: 1,
         });
-        let origin = if scene.generator.is_some() {
+        let origin = if scene.is_generated() {
             SceneOrigin::Generated
         } else {
             SceneOrigin::Lesson

@@ -353,8 +353,22 @@ pub struct Scene2d {
     pub ray_toward: DVec2,
     /// Structure settings.
     pub settings: SceneSettings,
-    /// The generator that made the shapes, if one did (for the generator controls).
+    /// The generator the scene names (for the generator controls): it made the shapes when
+    /// the document listed none, or when they are listed as it makes them (a generated scene
+    /// saved); beside other shapes it is only the controls' preset ([`Scene2d::is_generated`]).
     pub generator: Option<GeneratorEntry>,
+}
+
+impl Scene2d {
+    /// Whether the shapes are exactly what the scene's generator makes: only then was the
+    /// scene generated (a lesson may list its own shapes and name a generator as the
+    /// controls' preset).
+    pub fn is_generated(&self) -> bool {
+        self.generator.is_some_and(|generator| {
+            generator.count == self.shapes.shapes.len()
+                && generate(generator.layout.into(), generator.count, generator.seed) == self.shapes
+        })
+    }
 }
 
 fn point((x, y): (f64, f64)) -> DVec2 {
@@ -533,6 +547,15 @@ mod tests {
         let text = "(generator: Some((layout: Teapot, count: 50, seed: 3)), ray: (origin: (0, 0), toward: (1, 1)))";
         let scene = Scene2d::parse(text, "gen.ron").unwrap();
         assert_eq!(scene.shapes, generate(Layout::TeapotInStadium, 50, 3));
+        assert!(scene.is_generated());
+        // Saved and read again, every shape listed: still the generator's.
+        let saved = ron::to_string(&scene.to_document()).unwrap();
+        assert!(Scene2d::parse(&saved, "saved.ron").unwrap().is_generated());
+        // Listed shapes beside a generator that does not make them: a preset, not generated.
+        let listed = "(shapes: [Disc(center: (1, 2), radius: 1)], generator: Some((layout: Teapot, count: 50, seed: 3)), ray: (origin: (0, 0), toward: (1, 1)))";
+        let scene = Scene2d::parse(listed, "listed.ron").unwrap();
+        assert_eq!(scene.shapes.shapes.len(), 1);
+        assert!(!scene.is_generated());
     }
 
     #[test]

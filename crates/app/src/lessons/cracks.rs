@@ -1127,23 +1127,38 @@ impl Lesson for CracksLesson {
                 // Each precision: its view seen along the ray, and under it the numbers.
                 let values_height =
                     6.0 * (ui.text_style_height(&egui::TextStyle::Monospace) + 8.0) + 6.0;
-                let right = Vec2::new(
-                    available.x - left.x - 2.0 * ui.spacing().item_spacing.x - 4.0,
-                    ((available.y - 12.0) / 2.0 - values_height).max(60.0),
-                );
+                let right_width = available.x - left.x - 2.0 * ui.spacing().item_spacing.x - 4.0;
+                let row_height = (available.y - 12.0) / 2.0;
+                // The numbers under each view, or, where that would leave the view a strip
+                // its caption covers (a lecture slide's large text), beside it.
+                let beside = row_height - values_height < 150.0;
+                let view_size = if beside {
+                    Vec2::new(right_width * 0.45, row_height - 4.0)
+                } else {
+                    Vec2::new(right_width, row_height - values_height)
+                }
+                .max(Vec2::splat(60.0));
                 ui.horizontal(|ui| {
                     self.view3d_ui(ui, left, &tested[0]);
                     ui.vertical(|ui| {
-                        let width = ui.available_width().min(right.x).max(60.0);
                         for (view, tested) in self.along.iter_mut().zip(&tested) {
-                            let size = Vec2::new(width, right.y.max(60.0));
-                            Self::along_ui(ui, view, size, tested, zoom);
-                            // Every digit of f64 is wide: at lecture scale the numbers
-                            // scroll sideways rather than push the inspector off.
-                            egui::ScrollArea::horizontal()
-                                .id_salt(("crack values scroll", tested.precision.name()))
-                                .max_width(width)
-                                .show(ui, |ui| Self::values_ui(ui, tested));
+                            let mut view_and_values = |ui: &mut egui::Ui| {
+                                Self::along_ui(ui, view, view_size, tested, zoom);
+                                // Every digit of f64 is wide: at lecture scale the numbers
+                                // scroll sideways rather than push the inspector off.
+                                egui::ScrollArea::horizontal()
+                                    .id_salt(("crack values scroll", tested.precision.name()))
+                                    .max_width(ui.available_width().max(60.0))
+                                    .show(ui, |ui| Self::values_ui(ui, tested));
+                            };
+                            if beside {
+                                ui.horizontal_top(view_and_values);
+                            } else {
+                                ui.scope(|ui| {
+                                    ui.set_max_width(right_width.max(60.0));
+                                    view_and_values(ui)
+                                });
+                            }
                         }
                     });
                 });
