@@ -1123,15 +1123,17 @@ impl Lesson for CracksLesson {
                     );
                 }
                 let available = ui.available_size();
-                let left = Vec2::new((available.x * 0.4).max(60.0), available.y);
                 // Each precision: its view seen along the ray, and under it the numbers.
                 let values_height =
                     6.0 * (ui.text_style_height(&egui::TextStyle::Monospace) + 8.0) + 6.0;
-                let right_width = available.x - left.x - 2.0 * ui.spacing().item_spacing.x - 4.0;
                 let row_height = (available.y - 12.0) / 2.0;
                 // The numbers under each view, or, where that would leave the view a strip
-                // its caption covers (a lecture slide's large text), beside it.
+                // its caption covers (a lecture slide's large text), beside it, the 3D view
+                // narrower to make room for every digit.
                 let beside = row_height - values_height < 150.0;
+                let left_share = if beside { 0.3 } else { 0.4 };
+                let left = Vec2::new((available.x * left_share).max(60.0), available.y);
+                let right_width = available.x - left.x - 2.0 * ui.spacing().item_spacing.x - 4.0;
                 let view_size = if beside {
                     Vec2::new(right_width * 0.45, row_height - 4.0)
                 } else {
