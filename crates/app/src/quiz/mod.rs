@@ -523,18 +523,28 @@ impl QuizMode {
         ui.add_space(4.0);
         ui.label(&question.prompt);
         ui.add_space(6.0);
-        numbers_ui(ui, &question.numbers(session.step()), None);
+        // The step and its answers first, the numbers under them: a long list (a kD-tree's
+        // every cell) would otherwise push the answers below the window.
+        let numbers = question.numbers(session.step());
         let Some(ask) = session.ask().cloned() else {
+            numbers_ui(ui, &numbers, None);
             return;
         };
         let place = (session.position(), session.step());
+        let verdict = session.is_revealed().then(|| session.verdict().copied());
         ui.label(RichText::new(&ask.prompt).strong().size(15.0));
         ui.add_space(4.0);
-        if session.is_revealed() {
-            let verdict = session.verdict().copied();
-            self.verdict_ui(ui, &ask, verdict);
-            return;
+        match verdict {
+            Some(verdict) => self.verdict_ui(ui, &ask, verdict),
+            None => self.answers_ui(ui, &ask, place),
         }
+        ui.add_space(6.0);
+        numbers_ui(ui, &numbers, None);
+    }
+
+    /// The step's answers: a number field, or its options (buttons, letters, or the node or
+    /// shape clicked in the canvas or the tree).
+    fn answers_ui(&mut self, ui: &mut Ui, ask: &accelviz_quiz::Ask, place: (usize, usize)) {
         match &ask.expected {
             Expected::Number { tolerance, .. } => {
                 let mut submit = false;

@@ -124,6 +124,25 @@ fn a_whole_quiz_by_keyboard_alone_with_the_review() {
         if !questions_seen.contains(&position) {
             questions_seen.push(position);
         }
+        // The answers come before the numbers, so however long those are (the lecture
+        // question lists every cell of its kD-tree) they cannot push the answers off screen.
+        if session(&harness)
+            .ask()
+            .unwrap()
+            .expected
+            .correct_option()
+            .is_some()
+        {
+            let numbers = harness.get_by_label("The numbers").rect();
+            let first: Vec<egui::Rect> = harness
+                .query_all_by_label_contains("(a) ")
+                .map(|node| node.rect())
+                .collect();
+            assert!(
+                first.iter().any(|rect| rect.bottom() <= numbers.top()),
+                "question {position}, step {step}: the first answer {first:?} is not above the numbers {numbers:?}"
+            );
+        }
         answer_by_keyboard(&mut harness, (position, step) != (2, 2));
         press(&mut harness, Key::Enter);
     }
