@@ -44,6 +44,41 @@ pub fn draw_lesson<L: Lesson>(ui: &mut egui::Ui, lesson: &mut L) {
     egui::CentralPanel::default().show(ui, |ui| lesson.canvas_ui(ui));
 }
 
+/// Runs the app until what its lesson builds or measures aside (a 3D tree, the trade lab) is
+/// in, for at most `tries` rounds of two frames and 50 ms.
+pub fn run_until_built(harness: &mut Harness<'_, AccelvizApp>, tries: usize) {
+    for _ in 0..tries {
+        harness.run_steps(2);
+        if harness
+            .state()
+            .lesson()
+            .is_none_or(|lesson| lesson.building().is_none())
+        {
+            return;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+}
+
+/// The 2D scene `lesson` shows (the tests that ask open a 2D lesson).
+pub fn flat<L: Lesson + ?Sized>(lesson: &L) -> &accelviz_app::editor::EditableScene {
+    lesson.stage().scene.flat().expect("a 2D scene")
+}
+
+/// Drags the pointer from `start` to `end` in four moves, as a hand does, and drops it there.
+pub fn drag<S>(harness: &mut Harness<'_, S>, start: egui::Pos2, end: egui::Pos2) {
+    harness.hover_at(start);
+    harness.run();
+    harness.drag_at(start);
+    harness.run();
+    for step in 1..=4 {
+        harness.hover_at(start + (end - start) * step as f32 / 4.0);
+        harness.run();
+    }
+    harness.drop_at(end);
+    harness.run();
+}
+
 /// The whole app at a projector-like size, rendered on the software adapter, with the GPU
 /// given to the 3D views as eframe gives it.
 pub fn app_harness() -> Harness<'static, AccelvizApp> {

@@ -7,7 +7,6 @@ use crate::common;
 use common::{app_harness, lesson_harness, lesson_text};
 
 use accelviz_app::AccelvizApp;
-use accelviz_app::lesson::Lesson;
 use accelviz_app::lessons::slab::SlabLesson;
 use accelviz_app::lessons::splits::SplitsLesson;
 use egui::Key;
@@ -73,41 +72,13 @@ fn dragging_the_ray_changes_the_slab_intervals() {
     let mut harness = lesson_harness(lesson);
     harness.run();
     let (_, before) = harness.state().record().expect("box and ray");
-    let origin = harness
-        .state()
-        .stage()
-        .scene
-        .flat()
-        .expect("a 2D scene")
-        .scene
-        .ray_origin;
-    let start = harness
-        .state()
-        .stage()
-        .scene
-        .flat()
-        .expect("a 2D scene")
+    let origin = common::flat(harness.state()).scene.ray_origin;
+    let start = common::flat(harness.state())
         .screen_position(origin)
         .expect("drawn");
     let end = start + egui::vec2(60.0, -80.0);
-    harness.hover_at(start);
-    harness.run();
-    harness.drag_at(start);
-    harness.run();
-    for step in 1..=4 {
-        harness.hover_at(start + (end - start) * step as f32 / 4.0);
-        harness.run();
-    }
-    harness.drop_at(end);
-    harness.run();
-    let moved = harness
-        .state()
-        .stage()
-        .scene
-        .flat()
-        .expect("a 2D scene")
-        .scene
-        .ray_origin;
+    common::drag(&mut harness, start, end);
+    let moved = common::flat(harness.state()).scene.ray_origin;
     assert!(
         moved.x > origin.x && moved.y > origin.y,
         "the origin followed the drag: {origin} to {moved}"
@@ -162,26 +133,10 @@ fn hovering_a_sah_candidate_selects_it() {
 #[test]
 fn a_saved_scene_opens_in_another_lesson_and_a_broken_one_is_refused() {
     let mut app = AccelvizApp::new();
-    let saved = app
-        .lesson()
-        .expect("lesson 1")
-        .stage()
-        .scene
-        .flat()
-        .expect("a 2D scene")
-        .scene
-        .to_ron();
+    let saved = common::flat(app.lesson().expect("lesson 1")).scene.to_ron();
     app.selected = 3;
     assert!(app.open_scene_text("saved.ron", &saved));
-    let opened = app
-        .lesson()
-        .expect("lesson 4")
-        .stage()
-        .scene
-        .flat()
-        .expect("a 2D scene")
-        .scene
-        .clone();
+    let opened = common::flat(app.lesson().expect("lesson 4")).scene.clone();
     assert_eq!(
         opened.shapes.shapes.len(),
         16,
@@ -197,30 +152,14 @@ fn a_saved_scene_opens_in_another_lesson_and_a_broken_one_is_refused() {
         message.starts_with("broken.ron:") && message.contains("Dics"),
         "{message}"
     );
-    let after = app
-        .lesson()
-        .expect("lesson 4")
-        .stage()
-        .scene
-        .flat()
-        .expect("a 2D scene")
-        .scene
-        .clone();
+    let after = common::flat(app.lesson().expect("lesson 4")).scene.clone();
     assert_eq!(after, opened, "a broken file changes nothing");
 
     app.lesson_mut()
         .expect("lesson 4")
         .stage_mut()
         .reset_scene();
-    let reset = app
-        .lesson()
-        .expect("lesson 4")
-        .stage()
-        .scene
-        .flat()
-        .expect("a 2D scene")
-        .scene
-        .clone();
+    let reset = common::flat(app.lesson().expect("lesson 4")).scene.clone();
     assert_eq!(
         reset.shapes.shapes.len(),
         5,
@@ -282,14 +221,7 @@ fn without_a_file_dialog_the_in_app_panel_opens_and_saves_scenes() {
     harness.run();
     harness.get_by_label("Open").click();
     harness.run();
-    let opened = harness
-        .state()
-        .lesson()
-        .expect("lesson 1")
-        .stage()
-        .scene
-        .flat()
-        .expect("a 2D scene")
+    let opened = common::flat(harness.state().lesson().expect("lesson 1"))
         .scene
         .clone();
     assert_eq!(

@@ -131,18 +131,7 @@ fn content_never_widens_the_inspector() {
     let opened = harness.state().last_layout.inspector.width();
     for index in 0..harness.state().lesson_count() {
         harness.state_mut().selected = index;
-        // Until what the lesson builds or measures aside (a 3D tree, the trade lab) is in.
-        for _ in 0..100 {
-            harness.run_steps(2);
-            if harness
-                .state()
-                .lesson()
-                .is_none_or(|lesson| lesson.building().is_none())
-            {
-                break;
-            }
-            std::thread::sleep(std::time::Duration::from_millis(50));
-        }
+        common::run_until_built(&mut harness, 100);
         let title = harness.state().titles()[index].clone();
         let names = harness
             .state()

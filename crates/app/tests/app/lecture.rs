@@ -606,17 +606,7 @@ fn a_slides_named_panels_fit_the_screen_without_scrolling() {
         harness.state_mut().open_slide(index, false);
         for key in [Key::Home, Key::End] {
             // Long enough for a 3D lesson's tree, built aside.
-            for _ in 0..40 {
-                harness.run();
-                if harness
-                    .state()
-                    .lesson()
-                    .is_some_and(|lesson| lesson.building().is_none())
-                {
-                    break;
-                }
-                std::thread::sleep(std::time::Duration::from_millis(50));
-            }
+            common::run_until_built(&mut harness, 40);
             press(&mut harness, key);
             harness.run();
             let overflow = harness.state().last_layout.lecture_panels_overflow;

@@ -24,7 +24,7 @@ use egui_kittest::kittest::Queryable;
 
 /// The core's recording of `structure` traced over the lesson's scene and ray.
 fn core_steps(lesson: &dyn Lesson, structure: Structure, options: &TraceOptions) -> Vec<Step<f64>> {
-    let scene = &lesson.stage().scene.flat().expect("a 2D scene").scene;
+    let scene = &common::flat(lesson).scene;
     let structure = with_settings(structure, &scene.settings);
     let built = Built::new(
         structure,
@@ -32,13 +32,7 @@ fn core_steps(lesson: &dyn Lesson, structure: Structure, options: &TraceOptions)
         &build_params(&scene.settings),
         &mut NoBuildObserver,
     );
-    let ray = lesson
-        .stage()
-        .scene
-        .flat()
-        .expect("a 2D scene")
-        .ray()
-        .expect("the lesson's ray");
+    let ray = common::flat(lesson).ray().expect("the lesson's ray");
     let mut recorder = Recorder::default();
     built.tree.trace(
         &scene.shapes,
@@ -55,20 +49,8 @@ fn the_trivial_loop_shows_the_cores_state_at_every_step() {
     let mut harness = lesson_harness(TrivialLoop::new(lesson_text("01-trivial.ron")));
     harness.run();
     let lesson = harness.state();
-    let scene = lesson
-        .stage()
-        .scene
-        .flat()
-        .expect("a 2D scene")
-        .scene
-        .clone();
-    let ray = lesson
-        .stage()
-        .scene
-        .flat()
-        .expect("a 2D scene")
-        .ray()
-        .expect("ray");
+    let scene = common::flat(lesson).scene.clone();
+    let ray = common::flat(lesson).ray().expect("ray");
     let mut recorder = Recorder::default();
     brute_force(&scene.shapes, &ray, &TraceOptions::default(), &mut recorder);
     let total = scene.shapes.shapes.len();
@@ -358,7 +340,7 @@ fn near_first_generated_scenes_make_the_point() {
                 .take_generated()
         );
         let (origin, toward) = lesson
-            .place_generated_ray(&lesson.stage().scene.flat().expect("a 2D scene").scene)
+            .place_generated_ray(&common::flat(lesson).scene)
             .expect("the lesson places the ray");
         let scene = &mut lesson.stage_mut().scene.as_flat().expect("a 2D scene");
         scene.scene.ray_origin = origin;
@@ -395,14 +377,7 @@ fn build_steps_are_the_builders_own() {
     ] {
         harness.get_by_label(label).click();
         harness.run();
-        let scene = harness
-            .state()
-            .stage()
-            .scene
-            .flat()
-            .expect("a 2D scene")
-            .scene
-            .clone();
+        let scene = common::flat(harness.state()).scene.clone();
         let mut recorder = BuildRecorder::default();
         let built = Built::new(
             way.structure(),

@@ -391,16 +391,7 @@ fn dragging_the_rays_start_moves_it_and_not_the_camera() {
         .handle_on_screen(0)
         .expect("the start is drawn");
     let end = start + egui::vec2(40.0, -25.0);
-    harness.hover_at(start);
-    harness.run();
-    harness.drag_at(start);
-    harness.run();
-    for step in 1..=4 {
-        harness.hover_at(start + (end - start) * step as f32 / 4.0);
-        harness.run();
-    }
-    harness.drop_at(end);
-    harness.run();
+    common::drag(&mut harness, start, end);
     let after = harness.state().scene().origin;
     assert!((after - before).length() > 0.05, "{before} -> {after}");
     assert_eq!(harness.state().view.orbit, orbit, "the camera stayed");
