@@ -4,7 +4,8 @@
 //! asked for a 668 MB index buffer and panicked), the process's peak memory stays bounded
 //! (it once grew to 15 GB), and each frame renders on the software adapter.
 //!
-//! One test in its own binary, so the peak memory read from the system is this test's.
+//! The peak memory read from the system is the whole test binary's (the other app tests run
+//! beside this one), so its bound holds for them together.
 
 use accelviz_app::AccelvizApp;
 use accelviz_app::editor::MAX_GENERATED;
