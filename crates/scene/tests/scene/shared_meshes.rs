@@ -69,25 +69,43 @@ fn agree<V: Vector3>(mesh: &Mesh, ray_count: usize, options: TraceOptions) -> us
     hits
 }
 
+/// `name` loads with `triangle_count` triangles, and every tree agrees with brute force on
+/// `rays` random rays, in f32 and in f64 with the robust tests.
+fn loads_and_agrees(name: &str, triangle_count: usize, rays: usize) -> Mesh {
+    let mesh = shared_mesh(name);
+    assert_eq!(mesh.triangles.len(), triangle_count, "{name}");
+    let fast = agree::<Vec3>(&mesh, rays, TraceOptions::default());
+    let robust = agree::<DVec3>(&mesh, rays, TraceOptions::default().with_robust(true));
+    // Random rays aim inside the box: a good share hit the mesh.
+    assert!(
+        fast > rays / 10 && robust > rays / 10,
+        "{name}: {fast} and {robust} hits"
+    );
+    mesh
+}
+
+// One test a mesh, so the test runner spreads them over the cores: brute force on the larger
+// meshes is most of this binary's time.
+
 #[test]
-pub fn shared_meshes_load_and_agree_with_brute_force() {
-    for (name, triangle_count, rays) in [
-        ("suzanne.obj", 968, 4000),
-        ("rocker-arm.obj", 20_088, 2000),
-        ("stanford-bunny.obj", 69_451, 2000),
-        ("ogre.obj", 124_008, 2000),
-    ] {
-        let mesh = shared_mesh(name);
-        assert_eq!(mesh.triangles.len(), triangle_count, "{name}");
-        let fast = agree::<Vec3>(&mesh, rays, TraceOptions::default());
-        let robust = agree::<DVec3>(&mesh, rays, TraceOptions::default().with_robust(true));
-        // Random rays aim inside the box: a good share hit the mesh.
-        assert!(
-            fast > rays / 10 && robust > rays / 10,
-            "{name}: {fast} and {robust} hits"
-        );
-    }
-    let ogre = TriangleSet::<Vec3>::from_f64(&shared_mesh("ogre.obj").triangles);
+fn suzanne_loads_and_agrees_with_brute_force() {
+    loads_and_agrees("suzanne.obj", 968, 4000);
+}
+
+#[test]
+fn the_rocker_arm_loads_and_agrees_with_brute_force() {
+    loads_and_agrees("rocker-arm.obj", 20_088, 2000);
+}
+
+#[test]
+fn the_bunny_loads_and_agrees_with_brute_force() {
+    loads_and_agrees("stanford-bunny.obj", 69_451, 2000);
+}
+
+#[test]
+fn the_ogre_loads_and_agrees_with_brute_force() {
+    let ogre = loads_and_agrees("ogre.obj", 124_008, 2000);
+    let ogre = TriangleSet::<Vec3>::from_f64(&ogre.triangles);
     assert_eq!(
         ogre.degenerate_count(),
         4,
