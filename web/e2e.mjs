@@ -178,8 +178,9 @@ try {
 
   // Lesson 16, the trade lab, measures every structure and switch on its built-in mesh a
   // slice a frame, and shows its table: opened from a link with few rays and one round (its
-  // 3,000 rays in three rounds take half a minute here, for the same check).
-  await page.goto(`${url}?shared#v=1&lesson=16&ray-count=300&rounds=1`);
+  // 3,000 rays in three rounds take half a minute here, for the same check), under a query of
+  // its own (a later link that differs only after the # would not reload the page).
+  await page.goto(`${url}?lab#v=1&lesson=16&ray-count=300&rounds=1`);
   await page.waitForFunction((text) => document.title.includes(text), '16. ', { timeout: 120_000 })
     .catch(() => {});
   const tradeStart = Date.now();
