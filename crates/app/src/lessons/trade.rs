@@ -965,13 +965,13 @@ impl Lesson for TradeLesson {
             return;
         };
         ui.label(format!(
-            "{} ({} triangles), {} {} rays, {} hit; {} rounds, measured in {:.1} s.",
+            "{} ({} triangles), {} {} rays, {} hit; {}, measured in {:.1} s.",
             short_name(&result.mesh_name),
             count(result.triangles),
             count(result.rays),
             result.key.ray_kind.name(),
             crate::mesh::trade::query_name(result.query),
-            result.key.rounds,
+            accelviz_core::format::counted(result.key.rounds, "round", "rounds"),
             result.millis / 1e3,
         ));
         ui.separator();
