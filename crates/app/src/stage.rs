@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use accelviz_core::bvh::{BuildParams, KdBudget};
+use accelviz_core::params::{BuildParams, KdBudget};
 use accelviz_core::{BuildObserver, Built, NoBuildObserver, ShapeSet, Structure, TreeStats};
 use accelviz_scene::document::{Scene2d, SceneSettings};
 use glam::DVec2;

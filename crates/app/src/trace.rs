@@ -355,7 +355,7 @@ mod tests {
     /// A wide node's box tests are one frame with the order chosen, told by that order.
     #[test]
     fn a_wide_nodes_children_are_tested_in_one_frame() {
-        use accelviz_core::bvh::BuildParams;
+        use accelviz_core::params::BuildParams;
         use accelviz_core::{Built, NoBuildObserver, Structure, Width};
         let disc = |x: f64, y: f64| {
             Shape::Sphere(Sphere {

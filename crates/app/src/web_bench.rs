@@ -6,7 +6,7 @@
 //! that a hit's `t` is its distance, which three.js reports), and come from the generators
 //! `accelviz-cli bench` uses ([`RaySource`]), so the browser figures sit beside the CLI's.
 
-use accelviz_core::bvh::BuildParams;
+use accelviz_core::params::BuildParams;
 use accelviz_core::{
     LeafOrdered, NoObserver, Ray3, Structure, TraceOptions, TraversalStacks, Tree, TriangleSet,
 };

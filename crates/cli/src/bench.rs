@@ -1,7 +1,7 @@
 //! `accelviz-cli bench`: build each structure, trace the same rays, report the figures.
 
-use accelviz_core::bvh::BuildParams;
 use accelviz_core::outcome::{Outcome, OutcomeCounts, ReferenceScene};
+use accelviz_core::params::BuildParams;
 use accelviz_core::quality::{NodeEntries, SahCheck};
 use accelviz_core::simd::Isa;
 use accelviz_core::{Counters, MaxStack, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};

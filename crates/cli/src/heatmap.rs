@@ -179,7 +179,7 @@ pub fn run(args: &HeatmapArgs) -> Result<String> {
 /// benchmark's traversal, in packets of `tile × tile` pixels unless `tile` is 1.
 fn trace<V: Vector3>(
     spec: &AccelSpec,
-    params: &accelviz_core::bvh::BuildParams,
+    params: &accelviz_core::params::BuildParams,
     mesh: &accelviz_scene::Mesh,
     camera: &Camera,
     (width, height, tile): (usize, usize, usize),

@@ -18,7 +18,7 @@ mod tradeoff;
 
 use std::process::ExitCode;
 
-use accelviz_core::bvh::BuildParams;
+use accelviz_core::params::BuildParams;
 use accelviz_core::{NoObserver, Order, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
 use accelviz_scene::rays::{RayReader, RaySpec};

@@ -1,7 +1,7 @@
 //! `accelviz-cli sah`: the SAH cost of every candidate split of one node, as text, JSON or CSV.
 
-use accelviz_core::bvh::BuildParams;
 use accelviz_core::curve::{self, Candidate, CostCurve, Mark};
+use accelviz_core::params::BuildParams;
 use accelviz_core::{
     Aabb, Built, Family, NoBuildObserver, PrimitiveSet, ShapeSet, SplitRule, Structure,
     TriangleSet, Vector,

@@ -3,7 +3,7 @@
 
 use std::time::Instant;
 
-use accelviz_core::bvh::BuildParams;
+use accelviz_core::params::BuildParams;
 use accelviz_core::structure::valid_names;
 use accelviz_core::{
     Hit, LeafOrdered, NoObserver, Observer, PrimitiveSet, Ray, SahCost, Structure, TraceOptions,

@@ -4,8 +4,8 @@
 //! ray of each outcome.
 
 use accelviz_core::break_even::{Contender, Crossover, Fastest, plotted, reported};
-use accelviz_core::bvh::BuildParams;
 use accelviz_core::outcome::{Outcome, Reference};
+use accelviz_core::params::BuildParams;
 use accelviz_core::quality::{NodeEntries, SahCheck};
 use accelviz_core::trade::{Precision, Switches, TradeRow, TradeScene, TreeQuality, contenders};
 use accelviz_core::{Query, Structure, TriangleSet, Vector3};

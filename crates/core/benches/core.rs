@@ -8,8 +8,9 @@
 
 use std::hint::black_box;
 
-use accelviz_core::bvh::{BinnedSah, BuildParams, Builder, TraversalStack, traverse};
+use accelviz_core::bvh::{BinnedSah, Builder, TraversalStack, traverse};
 use accelviz_core::kd::{self, KdBuilder, KdSah, KdSahPresorted};
+use accelviz_core::params::BuildParams;
 use accelviz_core::{
     Aabb, CATALOGUE, Counters, LeafOrdered, NoObserver, Observer, Order, PrimitiveSet, Ray,
     Recorder, SahCost, SlabRay, Structure, TraceOptions, TraversalStacks, Tree, TriangleSet, Width,

@@ -7,12 +7,11 @@
 
 use crate::aabb::Aabb;
 use crate::build_observer::LeafReason;
-use crate::bvh::Bvh;
-use crate::kd::KdTree;
 use crate::math::Vector;
 
 /// What the facts need of a tree: its nodes' children and leaves, and each node's box or cell.
-/// Node 0 is the root and every child comes after its parent.
+/// Node 0 is the root and every child comes after its parent. Each family implements it beside
+/// its tree (`bvh/tree.rs`, `kd/tree.rs`).
 pub trait Hierarchy<V: Vector> {
     /// How many nodes.
     fn node_count(&self) -> usize;
@@ -22,65 +21,6 @@ pub trait Hierarchy<V: Vector> {
     fn leaf_primitives(&self, node: u32) -> &[u32];
     /// Every node's box (BVH) or cell (kD), by node.
     fn node_bounds(&self) -> Vec<Aabb<V>>;
-}
-
-impl<V: Vector> Hierarchy<V> for Bvh<V> {
-    fn node_count(&self) -> usize {
-        self.nodes.len()
-    }
-
-    fn children(&self, node: u32) -> Option<[u32; 2]> {
-        let node = &self.nodes[node as usize];
-        (!node.is_leaf()).then(|| node.children())
-    }
-
-    fn leaf_primitives(&self, node: u32) -> &[u32] {
-        let node = &self.nodes[node as usize];
-        if node.is_leaf() {
-            Bvh::leaf_primitives(self, node)
-        } else {
-            &[]
-        }
-    }
-
-    fn node_bounds(&self) -> Vec<Aabb<V>> {
-        self.nodes.iter().map(|node| node.bounds).collect()
-    }
-}
-
-impl<V: Vector> Hierarchy<V> for KdTree<V> {
-    fn node_count(&self) -> usize {
-        self.nodes.len()
-    }
-
-    fn children(&self, node: u32) -> Option<[u32; 2]> {
-        let node = &self.nodes[node as usize];
-        (!node.is_leaf()).then(|| node.children())
-    }
-
-    fn leaf_primitives(&self, node: u32) -> &[u32] {
-        let node = &self.nodes[node as usize];
-        if node.is_leaf() {
-            KdTree::leaf_primitives(self, node)
-        } else {
-            &[]
-        }
-    }
-
-    /// The cells: the root's is the tree's bounds, and each node's plane cuts its cell in two.
-    fn node_bounds(&self) -> Vec<Aabb<V>> {
-        let mut cells = vec![self.bounds; self.nodes.len()];
-        // Parents come before their children, so one forward pass cuts every cell.
-        for (index, node) in self.nodes.iter().enumerate() {
-            if !node.is_leaf() {
-                let [below, above] = node.children();
-                let [below_cell, above_cell] = KdTree::child_cells(node, &cells[index]);
-                cells[below as usize] = below_cell;
-                cells[above as usize] = above_cell;
-            }
-        }
-        cells
-    }
 }
 
 /// What can be wrong with a node path such as `LRL`.

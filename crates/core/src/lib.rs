@@ -49,6 +49,7 @@ pub mod kd;
 pub mod math;
 pub mod observer;
 pub mod outcome;
+pub mod params;
 pub mod primitive;
 pub mod quality;
 pub mod query;
@@ -67,6 +68,7 @@ pub use build_observer::{BuildObserver, BuildRecorder, BuildStep, LeafReason, No
 pub use facts::{Hierarchy, TreeFacts};
 pub use math::{Real, Vector, Vector3};
 pub use observer::{Counters, MaxStack, NoObserver, Observer, Recorder, Step, counters_of};
+pub use params::{BuildParams, KdBudget};
 pub use primitive::{
     HitTest, LeafOrdered, LeafPrimitives, PrimitiveSet, Shape, ShapeSet, Sphere, TriangleSet,
 };

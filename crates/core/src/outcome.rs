@@ -30,9 +30,10 @@
 use glam::DVec3;
 
 use crate::aabb::Aabb;
-use crate::bvh::{BinnedSah, BuildParams, Builder, Bvh, TraversalStack, traverse};
+use crate::bvh::{BinnedSah, Builder, Bvh, TraversalStack, traverse};
 use crate::math::{Real, Vector3};
 use crate::observer::Observer;
+use crate::params::BuildParams;
 use crate::primitive::{HitTest, LeafPrimitives, PrimitiveSet, TriangleSet};
 use crate::query::{Query, TraceOptions};
 use crate::ray::Ray;

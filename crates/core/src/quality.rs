@@ -228,7 +228,8 @@ fn area<V: Vector3>([a, b, c]: &[V; 3]) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::bvh::{BinnedSah, BuildParams, Builder};
+    use crate::bvh::{BinnedSah, Builder};
+    use crate::params::BuildParams;
     use crate::primitive::{PrimitiveSet, TriangleSet};
     use glam::DVec3;
 

@@ -4,10 +4,11 @@
 //! plane at `t_near` and the farther at `t_far`; it is inside the box between the largest
 //! `t_near` (`t_enter`) and the smallest `t_far` (`t_exit`), and it hits the box when
 //! `t_enter <= t_exit` within its own interval (Kay & Kajiya 1986). The lesson's record
-//! ([`slab_record`]) and traversal's hot path ([`slab_clip_scalar`]) share [`axis_interval`]
-//! and the same NaN-ignoring reductions, so they cannot disagree. For 3D f32, [`slab_clip`]
-//! runs the same arithmetic with the three axes in SIMD lanes ([`slab_clip_vec3a`]); property
-//! tests hold it to the scalar form's interval.
+//! ([`slab_record`]) and the axis-by-axis reference ([`slab_clip_scalar`]) share
+//! [`axis_interval`] and the same NaN-ignoring reductions, so they cannot disagree.
+//! Traversal's hot path, [`slab_clip`], runs the same arithmetic on the vector's [`Lanes`]
+//! where they are a SIMD register (3D f32: the three axes in one); property tests hold it to
+//! the reference's interval.
 //!
 //! # Zero direction components and origins on a plane
 //! The reciprocal of a ±0 component is ±∞, so the plane distances become ±∞ (the ray never
@@ -22,12 +23,8 @@
 //! can miss it. Multiplying `t_far` by `1 + 2γ(3)` makes the test conservative (Ize 2013,
 //! "Robust BVH Ray Traversal"; pbrt-v3 §3.9.2).
 
-use std::any::Any;
-
-use glam::{BVec3A, Vec3, Vec3A};
-
 use crate::aabb::Aabb;
-use crate::math::{Real, Vector};
+use crate::math::{Lanes, Real, Vector};
 use crate::ray::Ray;
 
 /// A ray prepared for many box tests: reciprocal direction and its signs, computed once.
@@ -43,16 +40,12 @@ pub struct SlabRay<V: Vector> {
     pub t_min: V::Scalar,
     /// `1` in fast mode, `1 + 2γ(3)` in robust mode (applied to every `t_far`).
     pub far_scale: V::Scalar,
-    /// The same ray in SIMD lanes, for the 3D f32 hot path ([`slab_clip_vec3a`]).
-    wide: WideRay,
-}
-
-/// Origin, reciprocal direction and direction signs in SIMD lanes (3D f32; zeros otherwise).
-#[derive(Clone, Copy, Debug)]
-struct WideRay {
-    origin: Vec3A,
-    inv_direction: Vec3A,
-    negative: BVec3A,
+    /// The origin in lanes, for [`slab_clip`].
+    origin_lanes: V::Lanes,
+    /// The reciprocal direction in lanes.
+    inv_direction_lanes: V::Lanes,
+    /// The lanes whose direction is negative.
+    negative_lanes: <V::Lanes as Lanes>::Mask,
 }
 
 impl<V: Vector> SlabRay<V> {
@@ -80,31 +73,14 @@ impl<V: Vector> SlabRay<V> {
             // 1/−0 = −∞, so the sign of the reciprocal carries the sign of a zero too.
             negative[axis] = inverse < V::Scalar::ZERO;
         }
-        // Only 3D f32 uses the lanes (`slab_clip_vec3a`); the type test is resolved when the
-        // code is compiled, and the lanes are then two moves and a comparison.
-        let wide = match (
-            (&ray.origin as &dyn Any).downcast_ref::<Vec3>(),
-            (&inv_direction as &dyn Any).downcast_ref::<Vec3>(),
-        ) {
-            (Some(&origin), Some(&inverse)) => {
-                let inverse = Vec3A::from(inverse);
-                WideRay {
-                    origin: Vec3A::from(origin),
-                    inv_direction: inverse,
-                    negative: inverse.cmplt(Vec3A::ZERO),
-                }
-            }
-            _ => WideRay {
-                origin: Vec3A::ZERO,
-                inv_direction: Vec3A::ZERO,
-                negative: BVec3A::FALSE,
-            },
-        };
+        let inv_direction_lanes = inv_direction.to_lanes();
         Self {
             origin: ray.origin,
             inv_direction,
             negative,
-            wide,
+            origin_lanes: ray.origin.to_lanes(),
+            inv_direction_lanes,
+            negative_lanes: inv_direction_lanes.negative(),
             t_min: ray.t_min,
             far_scale: if robust {
                 V::Scalar::ONE + V::Scalar::TWO * V::Scalar::gamma(3)
@@ -149,26 +125,32 @@ pub(crate) fn earlier<S: Real>(t_exit: S, t_far: S) -> S {
 
 /// The hot path: the part `[t_enter, t_exit]` of `[ray.t_min, t_max]` inside `bounds`.
 /// The box is hit when `t_enter <= t_exit`.
+///
+/// Where the vector's [`Lanes`] are a SIMD register (3D f32: the three axes in one),
+/// [`slab_clip_scalar`]'s arithmetic on them, so the same interval (a zero may differ in
+/// sign): NaN lanes (origin on a plane, zero direction) are read as −∞ / +∞ by the
+/// reductions, which is what the scalar form's NaN-ignoring reductions amount to. Tests check
+/// the two agree. Elsewhere, [`slab_clip_scalar`] itself.
 #[inline(always)]
 pub fn slab_clip<V: Vector>(
     bounds: &Aabb<V>,
     ray: &SlabRay<V>,
     t_max: V::Scalar,
 ) -> (V::Scalar, V::Scalar) {
-    // 3D f32 takes the four-lane form below (the type test is resolved at compile time).
-    let wide = (bounds as &dyn Any, ray as &dyn Any, &t_max as &dyn Any);
-    if let (Some(bounds), Some(ray), Some(&t_max)) = (
-        wide.0.downcast_ref::<Aabb<Vec3>>(),
-        wide.1.downcast_ref::<SlabRay<Vec3>>(),
-        wide.2.downcast_ref::<f32>(),
-    ) {
-        let (t_enter, t_exit) = slab_clip_vec3a(bounds, ray, t_max);
-        return (V::Scalar::from_f32(t_enter), V::Scalar::from_f32(t_exit));
+    if !V::Lanes::IN_REGISTER {
+        return slab_clip_scalar(bounds, ray, t_max);
     }
-    slab_clip_scalar(bounds, ray, t_max)
+    let (origin, inverse) = (ray.origin_lanes, ray.inv_direction_lanes);
+    let t_min_plane = (bounds.min.to_lanes() - origin) * inverse;
+    let t_max_plane = (bounds.max.to_lanes() - origin) * inverse;
+    let t_near = V::Lanes::select(ray.negative_lanes, t_max_plane, t_min_plane);
+    let t_far = V::Lanes::select(ray.negative_lanes, t_min_plane, t_max_plane);
+    let t_enter = later(ray.t_min, t_near.greatest());
+    let t_exit = earlier(t_max, t_far.least() * ray.far_scale);
+    (t_enter, t_exit)
 }
 
-/// [`slab_clip`] axis by axis: the reference form, used for every type but 3D f32.
+/// [`slab_clip`] axis by axis: the reference form (the lesson's record computes the same).
 #[inline(always)]
 pub fn slab_clip_scalar<V: Vector>(
     bounds: &Aabb<V>,
@@ -185,29 +167,6 @@ pub fn slab_clip_scalar<V: Vector>(
     // Scaling by a positive constant commutes with the minimum (rounding is monotonic), so
     // robust mode widens once per box rather than once per axis.
     (t_enter, earlier(t_max, t_exit_unscaled * ray.far_scale))
-}
-
-/// [`slab_clip_scalar`] for 3D f32 with the three axes in the lanes of one SIMD register. Same
-/// arithmetic, so the same interval (a zero may differ in sign); NaN lanes (origin on a plane,
-/// zero direction) are replaced by −∞ / +∞ before the reductions, which is what the scalar form's
-/// NaN-ignoring reductions amount to. Tests check the two agree.
-#[inline(always)]
-pub fn slab_clip_vec3a(bounds: &Aabb<Vec3>, ray: &SlabRay<Vec3>, t_max: f32) -> (f32, f32) {
-    let WideRay {
-        origin,
-        inv_direction,
-        negative,
-    } = ray.wide;
-    let t_min_plane = (Vec3A::from(bounds.min) - origin) * inv_direction;
-    let t_max_plane = (Vec3A::from(bounds.max) - origin) * inv_direction;
-    let t_near = Vec3A::select(negative, t_max_plane, t_min_plane);
-    let t_far = Vec3A::select(negative, t_min_plane, t_max_plane);
-    // `x.max(−∞)` keeps x and turns NaN into −∞ (and `min(+∞)` into +∞) on every glam backend.
-    let t_near = t_near.max(Vec3A::NEG_INFINITY);
-    let t_far = t_far.min(Vec3A::INFINITY);
-    let t_enter = later(ray.t_min, t_near.max_element());
-    let t_exit = earlier(t_max, t_far.min_element() * ray.far_scale);
-    (t_enter, t_exit)
 }
 
 /// Everything the slab test computes, as the lecture's table shows it.

@@ -9,8 +9,8 @@
 use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReasons, NoBuildObserver};
 use crate::bvh::{
-    self, BinnedSah, BuildParams, Builder, Bvh, MedianSplit, MiddleSplit, PacketStack, SweepSah,
-    TraversalStack, WideBvh, WideStack,
+    self, BinnedSah, Builder, Bvh, MedianSplit, MiddleSplit, PacketStack, SweepSah, TraversalStack,
+    WideBvh, WideStack,
 };
 use crate::facts::{Hierarchy, TreeFacts};
 use crate::kd::{
@@ -18,6 +18,7 @@ use crate::kd::{
 };
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
+use crate::params::BuildParams;
 use crate::primitive::{LeafOrdered, LeafPrimitives, PrimitiveSet};
 use crate::query::{Hit, TraceOptions};
 use crate::ray::Ray;
@@ -643,7 +644,7 @@ impl<V: Vector> Tree<V> {
     }
 
     /// A copy of `primitives` in this tree's leaf order, for faster traversal.
-    pub fn leaf_ordered<P: PrimitiveSet<V> + 'static>(&self, primitives: &P) -> LeafOrdered<P> {
+    pub fn leaf_ordered<P: PrimitiveSet<V>>(&self, primitives: &P) -> LeafOrdered<P> {
         match self {
             Tree::Bvh(bvh) => bvh.leaf_ordered(primitives),
             Tree::Bvh4(wide) => wide.leaf_ordered(primitives),

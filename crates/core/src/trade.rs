@@ -12,10 +12,10 @@
 use glam::{DVec3, Vec3};
 
 use crate::break_even::Contender;
-use crate::bvh::BuildParams;
 use crate::math::Vector3;
 use crate::observer::{Counters, NoObserver};
 use crate::outcome::{Outcome, OutcomeCounts, Reference, ReferenceScene};
+use crate::params::BuildParams;
 use crate::primitive::{HitTest, LeafOrdered, TriangleSet};
 use crate::quality::Footprint;
 use crate::query::{Order, Query, TraceOptions};

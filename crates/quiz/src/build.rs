@@ -5,8 +5,9 @@
 //! the SAH cost of the core's sweep builder's tree over the student's, both measured by the
 //! core's `TreeStats`.
 
-use accelviz_core::bvh::{BuildParams, Bvh, BvhNode, validate};
+use accelviz_core::bvh::{Bvh, BvhNode, validate};
 use accelviz_core::curve::bvh_curve;
+use accelviz_core::params::BuildParams;
 use accelviz_core::{Aabb, Built, NoBuildObserver, SahCost, ShapeSet, Structure, TreeStats, Width};
 use glam::DVec2;
 

@@ -2,7 +2,7 @@
 //! round coordinates (a question on paper must be solvable with a pencil), rays aimed into
 //! them, and the JSON of shapes, rays and trees.
 
-use accelviz_core::bvh::BuildParams;
+use accelviz_core::params::BuildParams;
 use accelviz_core::{
     Aabb, Built, NoBuildObserver, Order, Query, Ray, Recorder, Shape, ShapeSet, Sphere, Step,
     Structure, TraceOptions, TraversalStacks, Tree,

@@ -654,7 +654,8 @@ fn secondary_rays(
     count: usize,
     seed: u64,
 ) -> Result<Vec<RaySpec>, String> {
-    use accelviz_core::bvh::{BinnedSah, BuildParams, Builder, TraversalStack, traverse};
+    use accelviz_core::bvh::{BinnedSah, Builder, TraversalStack, traverse};
+    use accelviz_core::params::BuildParams;
     use accelviz_core::{NoObserver, PrimitiveSet, TraceOptions, TriangleSet};
 
     let bounds = mesh.bounds();

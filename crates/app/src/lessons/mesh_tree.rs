@@ -8,9 +8,9 @@
 
 use std::sync::Arc;
 
-use accelviz_core::bvh::BuildParams;
 use accelviz_core::camera::{Camera, bounding_sphere_of_box};
 use accelviz_core::format::{count, number, point_at_scale};
+use accelviz_core::params::BuildParams;
 use accelviz_core::{Aabb, CATALOGUE, Family, Order, Ray, Step, Structure, Width, slab_record};
 use egui::{Color32, RichText};
 use glam::DVec3;

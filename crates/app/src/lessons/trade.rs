@@ -360,9 +360,9 @@ impl TradeLesson {
             &rays,
             Structure::compared(),
             self.ray_kind.default_query(),
-            accelviz_core::bvh::BuildParams {
+            accelviz_core::params::BuildParams {
                 kd_budget: crate::stage::KD_BUDGET,
-                ..accelviz_core::bvh::BuildParams::default()
+                ..accelviz_core::params::BuildParams::default()
             },
             worker_threads(),
         ));

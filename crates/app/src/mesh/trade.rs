@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use accelviz_core::break_even::{Contender, Crossover, Fastest, reported};
-use accelviz_core::bvh::BuildParams;
+use accelviz_core::params::BuildParams;
 use accelviz_core::trade::{Lab, TradeRow, contenders};
 use accelviz_core::{Query, Ray, Structure};
 use accelviz_scene::rays::RayKind;

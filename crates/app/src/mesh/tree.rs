@@ -3,8 +3,8 @@
 
 use std::sync::{Arc, OnceLock};
 
-use accelviz_core::bvh::BuildParams;
 use accelviz_core::camera::bounding_sphere_of_box;
+use accelviz_core::params::BuildParams;
 use accelviz_core::{Built, LeafOrdered, NoBuildObserver, Structure, TreeStats, TriangleSet};
 use accelviz_scene::Mesh;
 use glam::DVec3;

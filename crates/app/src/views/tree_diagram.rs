@@ -234,7 +234,7 @@ pub fn traversal_emphasis(steps: &[Step<f64>], node_count: usize) -> Vec<Option<
 #[cfg(test)]
 mod tests {
     use super::*;
-    use accelviz_core::bvh::BuildParams;
+    use accelviz_core::params::BuildParams;
     use accelviz_core::{Built, NoBuildObserver, Shape, ShapeSet, Sphere, Structure, Width};
 
     /// Leaves take columns left to right; a parent sits between its children; a cut-off node

@@ -1,81 +1,11 @@
-//! What every BVH builder shares: parameters, and the top-down driver that turns a splitter's
-//! decisions into flat nodes.
+//! What every BVH builder shares: the [`Builder`] trait, and the top-down driver that turns a
+//! splitter's decisions into flat nodes.
 
 use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReason, NoBuildObserver};
 use crate::bvh::tree::{Bvh, BvhNode};
 use crate::math::Vector;
-use crate::sah::SahCost;
-
-/// Parameters shared by every builder.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct BuildParams {
-    /// Nodes with more primitives than this are always split. Middle and median splits make a
-    /// leaf at or below it; the SAH builders make one there only when no split is cheaper.
-    pub max_leaf_size: usize,
-    /// The SAH constants (also used to report a tree's cost).
-    pub cost: SahCost,
-    /// How large a kD build may grow (a BVH never has more than `2n − 1` nodes).
-    pub kd_budget: KdBudget,
-}
-
-/// At most 8 primitives a leaf (what one cache line of indices and a few triangle tests
-/// amortise), the default [`SahCost`] and [`KdBudget`].
-impl Default for BuildParams {
-    fn default() -> Self {
-        Self {
-            max_leaf_size: 8,
-            cost: SahCost::default(),
-            kd_budget: KdBudget::default(),
-        }
-    }
-}
-
-/// How large a kD build may grow. A kD-tree lists a primitive in every cell it reaches, so
-/// overlapping primitives cut by rules that ignore cost (middle, median, small leaves) can
-/// multiply nodes and references far beyond the primitive count before the usual depth limit
-/// (`8 + 1.3 log₂ n`, pbrt-v3 §4.4.2) stops them: 20,000 overlapping discs cut in the middle
-/// down to two per leaf make 1.6 million nodes. Past either budget the builder lowers its
-/// depth limit until the tree fits, so the tree stays whole and even, only shallower, and
-/// the tree says so ([`KdTree::limits`](crate::kd::KdTree::limits)).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct KdBudget {
-    /// The most nodes; `None` for [`KdBudget::DEFAULT_NODES_PER_PRIMITIVE`] per primitive.
-    pub max_nodes: Option<usize>,
-    /// The most primitive references in leaves (a primitive counts once in each leaf that
-    /// lists it); `None` for [`KdBudget::DEFAULT_REFERENCES_PER_PRIMITIVE`] per primitive.
-    pub max_references: Option<usize>,
-}
-
-impl KdBudget {
-    /// Nodes per primitive allowed by default: far above what cost-driven builds of real
-    /// meshes make (the SAH builds of the shared meshes make 2 to 4), so only runaway builds
-    /// are bounded.
-    pub const DEFAULT_NODES_PER_PRIMITIVE: usize = 32;
-    /// References per primitive allowed by default.
-    pub const DEFAULT_REFERENCES_PER_PRIMITIVE: usize = 32;
-    /// The budget's room for small inputs, whatever their size.
-    const FLOOR: usize = 1 << 16;
-
-    /// The node budget for `primitive_count` primitives.
-    pub fn nodes_for(&self, primitive_count: usize) -> usize {
-        self.max_nodes
-            .unwrap_or_else(|| {
-                primitive_count.saturating_mul(Self::DEFAULT_NODES_PER_PRIMITIVE) + Self::FLOOR
-            })
-            .max(1)
-    }
-
-    /// The reference budget for `primitive_count` primitives (never below the count: a single
-    /// leaf holding everything must fit).
-    pub fn references_for(&self, primitive_count: usize) -> usize {
-        self.max_references
-            .unwrap_or_else(|| {
-                primitive_count.saturating_mul(Self::DEFAULT_REFERENCES_PER_PRIMITIVE) + Self::FLOOR
-            })
-            .max(primitive_count)
-    }
-}
+use crate::params::BuildParams;
 
 /// A BVH construction algorithm.
 pub trait Builder {

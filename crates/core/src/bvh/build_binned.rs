@@ -9,9 +9,10 @@
 
 use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReason};
-use crate::bvh::build::{BuildParams, Builder, RangeSplitter, Split, build_top_down};
+use crate::bvh::build::{Builder, RangeSplitter, Split, build_top_down};
 use crate::bvh::tree::Bvh;
 use crate::math::{Real, Vector};
+use crate::params::BuildParams;
 use crate::sah::SahCost;
 
 /// The binned SAH builder with `bins` bins per axis.

@@ -3,9 +3,10 @@
 
 use crate::aabb::Aabb;
 use crate::build_observer::BuildObserver;
-use crate::bvh::build::{BuildParams, Builder, build_by_rule};
+use crate::bvh::build::{Builder, build_by_rule};
 use crate::bvh::tree::Bvh;
 use crate::math::Vector;
+use crate::params::BuildParams;
 
 /// Splits each node at the middle of its centroids' box, along that box's longest axis.
 ///

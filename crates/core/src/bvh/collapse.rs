@@ -211,7 +211,8 @@ fn slot_subtrees<V: Vector, const W: usize>(
 mod tests {
     use super::*;
     use crate::aabb::Aabb;
-    use crate::bvh::{BinnedSah, BuildParams, Builder, MiddleSplit, validate_wide};
+    use crate::bvh::{BinnedSah, Builder, MiddleSplit, validate_wide};
+    use crate::params::BuildParams;
     use glam::DVec3;
 
     /// Boxes from a small linear congruential generator, so the test needs no dependency.

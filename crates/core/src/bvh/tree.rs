@@ -1,6 +1,7 @@
 //! The BVH's memory layout.
 
 use crate::aabb::Aabb;
+use crate::facts::Hierarchy;
 use crate::math::Vector;
 use crate::primitive::{LeafOrdered, PrimitiveSet};
 
@@ -69,5 +70,29 @@ impl<V: Vector> Bvh<V> {
     pub fn leaf_primitives(&self, node: &BvhNode<V>) -> &[u32] {
         let first = node.first as usize;
         &self.primitive_indices[first..first + node.count as usize]
+    }
+}
+
+impl<V: Vector> Hierarchy<V> for Bvh<V> {
+    fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    fn children(&self, node: u32) -> Option<[u32; 2]> {
+        let node = &self.nodes[node as usize];
+        (!node.is_leaf()).then(|| node.children())
+    }
+
+    fn leaf_primitives(&self, node: u32) -> &[u32] {
+        let node = &self.nodes[node as usize];
+        if node.is_leaf() {
+            Bvh::leaf_primitives(self, node)
+        } else {
+            &[]
+        }
+    }
+
+    fn node_bounds(&self) -> Vec<Aabb<V>> {
+        self.nodes.iter().map(|node| node.bounds).collect()
     }
 }

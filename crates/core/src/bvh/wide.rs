@@ -163,9 +163,9 @@ impl<V: Vector, const W: usize> WideBvh<V, W> {
     }
 
     /// A copy of `primitives` stored in this tree's (padded) leaf order, for faster traversal
-    /// (the hits keep their numbers); 3D f32 triangles are also packed four to a block, so a
+    /// (the hits keep their numbers); 3D triangles are also packed four to a block, so a
     /// leaf's triangles are tested at once.
-    pub fn leaf_ordered<P: PrimitiveSet<V> + 'static>(&self, primitives: &P) -> LeafOrdered<P> {
+    pub fn leaf_ordered<P: PrimitiveSet<V>>(&self, primitives: &P) -> LeafOrdered<P> {
         LeafOrdered::with_blocks(primitives.permuted(&self.primitive_indices))
     }
 

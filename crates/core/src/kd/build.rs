@@ -3,9 +3,9 @@
 
 use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReason, NoBuildObserver};
-use crate::bvh::BuildParams;
 use crate::kd::tree::{KdBudgetExceeded, KdLimits, KdNode, KdTree};
 use crate::math::{Real, Vector};
+use crate::params::BuildParams;
 
 /// A kD-tree construction algorithm.
 pub trait KdBuilder {

@@ -4,10 +4,10 @@
 
 use crate::aabb::Aabb;
 use crate::build_observer::BuildObserver;
-use crate::bvh::BuildParams;
 use crate::kd::build::{Cut, KdBuilder, build_by_rule};
 use crate::kd::tree::KdTree;
 use crate::math::{Real, Vector};
+use crate::params::BuildParams;
 
 /// Cuts each cell across its longest axis at the median of its primitives' box ends (each
 /// primitive's lower and upper bound on that axis, clipped to the cell); if that falls on the

@@ -3,10 +3,10 @@
 
 use crate::aabb::Aabb;
 use crate::build_observer::BuildObserver;
-use crate::bvh::BuildParams;
 use crate::kd::build::{Cut, KdBuilder, build_by_rule};
 use crate::kd::tree::KdTree;
 use crate::math::{Real, Vector};
+use crate::params::BuildParams;
 
 /// Cuts each cell in half across its longest axis.
 #[derive(Clone, Copy, Debug, Default)]

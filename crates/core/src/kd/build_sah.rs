@@ -8,11 +8,11 @@
 
 use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReason};
-use crate::bvh::BuildParams;
 use crate::kd::build::{CellSplitter, Cut, KdBuilder, build_top_down};
 use crate::kd::events::{Event, cheapest_cut, event_order, push_events};
 use crate::kd::tree::KdTree;
 use crate::math::Vector;
+use crate::params::BuildParams;
 use crate::sah::SahCost;
 
 /// The SAH kD builder that sorts the events at each node.

@@ -14,11 +14,11 @@
 
 use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReason, NoBuildObserver};
-use crate::bvh::BuildParams;
 use crate::kd::build::{CellSplitter, Cut, KdBuilder, build_top_down};
 use crate::kd::events::{Event, EventKind, cheapest_cut, event_order, push_events, sort_events};
 use crate::kd::tree::KdTree;
 use crate::math::{Real, Vector};
+use crate::params::BuildParams;
 use crate::primitive::PrimitiveSet;
 use crate::sah::SahCost;
 

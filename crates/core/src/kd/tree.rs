@@ -1,6 +1,7 @@
 //! The kD-tree's memory layout.
 
 use crate::aabb::Aabb;
+use crate::facts::Hierarchy;
 use crate::math::{Real, Vector};
 use crate::primitive::{LeafOrdered, PrimitiveSet};
 
@@ -134,5 +135,40 @@ impl<V: Vector> KdTree<V> {
     /// per leaf), for faster traversal; hits keep their numbers.
     pub fn leaf_ordered<P: PrimitiveSet<V>>(&self, primitives: &P) -> LeafOrdered<P> {
         LeafOrdered::new(primitives.permuted(&self.primitive_indices))
+    }
+}
+
+impl<V: Vector> Hierarchy<V> for KdTree<V> {
+    fn node_count(&self) -> usize {
+        self.nodes.len()
+    }
+
+    fn children(&self, node: u32) -> Option<[u32; 2]> {
+        let node = &self.nodes[node as usize];
+        (!node.is_leaf()).then(|| node.children())
+    }
+
+    fn leaf_primitives(&self, node: u32) -> &[u32] {
+        let node = &self.nodes[node as usize];
+        if node.is_leaf() {
+            KdTree::leaf_primitives(self, node)
+        } else {
+            &[]
+        }
+    }
+
+    /// The cells: the root's is the tree's bounds, and each node's plane cuts its cell in two.
+    fn node_bounds(&self) -> Vec<Aabb<V>> {
+        let mut cells = vec![self.bounds; self.nodes.len()];
+        // Parents come before their children, so one forward pass cuts every cell.
+        for (index, node) in self.nodes.iter().enumerate() {
+            if !node.is_leaf() {
+                let [below, above] = node.children();
+                let [below_cell, above_cell] = KdTree::child_cells(node, &cells[index]);
+                cells[below as usize] = below_cell;
+                cells[above as usize] = above_cell;
+            }
+        }
+        cells
     }
 }

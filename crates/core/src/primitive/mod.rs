@@ -12,10 +12,8 @@ mod triangle;
 pub use shape::{Shape, ShapeSet, Sphere};
 pub use triangle::{TriangleBlock, TriangleRay, TriangleSet, TriangleTestValues};
 
-use std::any::Any;
-
 use crate::aabb::Aabb;
-use crate::math::{Vector, Vector3};
+use crate::math::{Real, Vector, Vector3};
 use crate::ray::Ray;
 
 /// Which ray/primitive test to run where there is a choice (triangles).
@@ -89,10 +87,33 @@ pub trait PrimitiveSet<V: Vector> {
     }
 
     /// The same primitives stored in another order: element `k` of the result is primitive
-    /// `order[k]` of this set.
+    /// `order[k]` of this set (without [`blocks`](Self::blocks)).
     fn permuted(&self, order: &[u32]) -> Self
     where
         Self: Sized;
+
+    /// The same set with its primitives also packed for SIMD tests, where it has such a form:
+    /// 3D triangles four to a [`TriangleBlock`] (in the set's order: a wide BVH's leaf order
+    /// when [`LeafOrdered`] asks). Other sets are returned as they are.
+    fn with_blocks(self) -> Self
+    where
+        Self: Sized,
+    {
+        self
+    }
+
+    /// The blocks [`with_blocks`](Self::with_blocks) packed, if it packed any.
+    #[inline(always)]
+    fn blocks(&self) -> Option<&[TriangleBlock<V::Scalar>]> {
+        None
+    }
+
+    /// A ray prepared for this set's tests, as the triangle blocks' kernels take it: `Some`
+    /// for 3D triangles (whose preparation it is), `None` for other sets.
+    #[inline(always)]
+    fn block_ray(_ray: &Self::RayData) -> Option<&TriangleRay<<V::Scalar as Real>::Vec3>> {
+        None
+    }
 }
 
 /// How traversal reaches the primitive in a leaf slot: a plain [`PrimitiveSet`] is stored in
@@ -142,44 +163,28 @@ stored_in_own_order!(ShapeSet, Vector);
 /// with the tree it was made for.
 #[derive(Clone, Debug)]
 pub struct LeafOrdered<P> {
+    /// The set in leaf order; packed in blocks ([`PrimitiveSet::blocks`]) only for a wide
+    /// BVH, whose leaves start at multiples of four.
     stored: P,
-    /// For 3D triangles in a wide BVH's leaf order: the same triangles in blocks of four.
-    blocks: Option<Blocks>,
-}
-
-/// Triangle blocks in their precision.
-#[derive(Clone, Debug)]
-enum Blocks {
-    F32(Vec<TriangleBlock<f32>>),
-    F64(Vec<TriangleBlock<f64>>),
 }
 
 impl<P> LeafOrdered<P> {
     /// Wraps `stored`, which must hold the primitives in the leaf order of the tree it is
     /// traversed with.
     pub(crate) fn new(stored: P) -> Self {
-        Self {
-            stored,
-            blocks: None,
-        }
+        Self { stored }
     }
 
     /// Wraps `stored`, in the leaf order of a wide BVH (each leaf starting at a multiple of
-    /// four), and when it is a set of 3D triangles packs them in blocks of four too.
-    pub(crate) fn with_blocks(stored: P) -> Self
+    /// four), packed for SIMD tests where the set has such a form (3D triangles in blocks of
+    /// four, [`PrimitiveSet::with_blocks`]).
+    pub(crate) fn with_blocks<V: Vector>(stored: P) -> Self
     where
-        P: 'static,
+        P: PrimitiveSet<V>,
     {
-        let any = &stored as &dyn Any;
-        let blocks = match (
-            any.downcast_ref::<TriangleSet<glam::Vec3>>(),
-            any.downcast_ref::<TriangleSet<glam::DVec3>>(),
-        ) {
-            (Some(triangles), _) => Some(Blocks::F32(TriangleBlock::pack(triangles.triangles()))),
-            (_, Some(triangles)) => Some(Blocks::F64(TriangleBlock::pack(triangles.triangles()))),
-            _ => None,
-        };
-        Self { stored, blocks }
+        Self {
+            stored: stored.with_blocks(),
+        }
     }
 }
 
@@ -198,15 +203,6 @@ impl<V: Vector, P: PrimitiveSet<V>> LeafPrimitives<V> for LeafOrdered<P> {
 
     #[inline(always)]
     fn triangle_blocks(&self) -> Option<&[TriangleBlock<V::Scalar>]> {
-        // Concrete types on both sides: the test is resolved when the code is compiled.
-        match self.blocks.as_ref()? {
-            Blocks::F32(blocks) => {
-                (blocks as &dyn Any).downcast_ref::<Vec<TriangleBlock<V::Scalar>>>()
-            }
-            Blocks::F64(blocks) => {
-                (blocks as &dyn Any).downcast_ref::<Vec<TriangleBlock<V::Scalar>>>()
-            }
-        }
-        .map(Vec::as_slice)
+        self.stored.blocks()
     }
 }

@@ -13,6 +13,8 @@ use crate::ray::Ray;
 pub struct TriangleSet<V: Vector3> {
     triangles: Vec<[V; 3]>,
     degenerate_count: usize,
+    /// The same triangles four to a block, when packed ([`PrimitiveSet::with_blocks`]).
+    blocks: Option<Vec<TriangleBlock<V::Scalar>>>,
 }
 
 impl<V: Vector3> TriangleSet<V> {
@@ -40,6 +42,7 @@ impl<V: Vector3> TriangleSet<V> {
         Self {
             triangles,
             degenerate_count,
+            blocks: None,
         }
     }
 
@@ -431,7 +434,25 @@ impl<V: Vector3> PrimitiveSet<V> for TriangleSet<V> {
                 .map(|&index| self.triangles[index as usize])
                 .collect(),
             degenerate_count: self.degenerate_count,
+            blocks: None,
         }
+    }
+
+    fn with_blocks(self) -> Self {
+        Self {
+            blocks: Some(TriangleBlock::pack(&self.triangles)),
+            ..self
+        }
+    }
+
+    #[inline(always)]
+    fn blocks(&self) -> Option<&[TriangleBlock<V::Scalar>]> {
+        self.blocks.as_deref()
+    }
+
+    #[inline(always)]
+    fn block_ray(ray: &TriangleRay<V>) -> Option<&TriangleRay<V>> {
+        Some(ray)
     }
 
     #[inline(always)]

@@ -4,8 +4,8 @@
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 #![allow(dead_code)]
 
-use accelviz_core::bvh::BuildParams;
 use accelviz_core::kd::{self, KdTraversalStack, KdTree};
+use accelviz_core::params::BuildParams;
 use accelviz_core::structure::Entry;
 use accelviz_core::{
     Built, CATALOGUE, Counters, Family, Hit, LeafPrimitives, NoBuildObserver, NoObserver, Order,

@@ -4,9 +4,10 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-use accelviz_core::bvh::{BinnedSah, BuildParams, Builder, SweepSah};
+use accelviz_core::bvh::{BinnedSah, Builder, SweepSah};
 use accelviz_core::curve::{self, CostCurve};
 use accelviz_core::kd::{KdBuilder, KdSah, KdSahPresorted};
+use accelviz_core::params::BuildParams;
 use accelviz_core::{
     Aabb, Built, LeafReason, NoBuildObserver, PrimitiveSet, Real, SahCost, Shape, ShapeSet, Sphere,
     Structure, Tree, TreeFacts, TriangleSet, Vector,

@@ -3,9 +3,9 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-use accelviz_core::bvh::BuildParams;
 use accelviz_core::camera::{Camera, Projection};
 use accelviz_core::heatmap::{Counter, HeatMap};
+use accelviz_core::params::BuildParams;
 use accelviz_core::{
     Counters, Order, Structure, TraceOptions, TraversalStacks, TriangleSet, brute_force,
 };

@@ -5,8 +5,8 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-use accelviz_core::bvh::{BuildParams, KdBudget};
 use accelviz_core::kd::{self, KdBudgetExceeded, KdTree};
+use accelviz_core::params::{BuildParams, KdBudget};
 use accelviz_core::{
     BuildRecorder, BuildStep, Built, LeafReason, PrimitiveSet, Shape, ShapeSet, Sphere, Structure,
     Tree, TreeStats,

@@ -6,8 +6,8 @@
 
 use crate::common;
 
-use accelviz_core::bvh::BuildParams;
 use accelviz_core::kd::{self, KdBuilder, KdMiddleSplit, KdSah, KdTree};
+use accelviz_core::params::BuildParams;
 use accelviz_core::{PrimitiveSet, Ray, TreeFacts, TriangleSet};
 use common::assert_agrees_with_brute_force;
 use glam::DVec3;

@@ -4,7 +4,8 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-use accelviz_core::bvh::{BuildParams, Builder, MedianSplit, TraversalStack, traverse, validate};
+use accelviz_core::bvh::{Builder, MedianSplit, TraversalStack, traverse, validate};
+use accelviz_core::params::BuildParams;
 use accelviz_core::{
     Counters, Order, PrimitiveSet, Ray, Recorder, Shape, ShapeSet, Sphere, Step, TraceOptions,
 };

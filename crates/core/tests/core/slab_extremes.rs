@@ -391,31 +391,31 @@ mod hot_path_matches_record {
             let max = [0, 1, 2].map(|axis| a[axis].max(b[axis]));
             check_agreement::<DVec3>(min, max, origin, direction, t_max, robust);
             check_agreement::<Vec3>(min, max, origin, direction, t_max, robust);
-            check_simd_matches_scalar(min, max, origin, direction, t_max as f32, robust);
+            check_lanes_match_scalar::<Vec3>(min, max, origin, direction, t_max, robust);
         }
     }
 
-    /// The four-lane 3D f32 form gives the scalar form's interval, hit or miss (a zero may
-    /// differ in sign, which `==` ignores).
-    fn check_simd_matches_scalar(
+    /// The lanes form (3D f32: four SIMD lanes; the other types run the axis-by-axis form
+    /// itself) gives the axis-by-axis form's interval, hit or miss (a zero may differ in sign,
+    /// which `==` ignores).
+    fn check_lanes_match_scalar<V: Vector>(
         min: [f64; 3],
         max: [f64; 3],
         origin: [f64; 3],
         direction: [f64; 3],
-        t_max: f32,
+        t_max: f64,
         robust: bool,
     ) {
-        use accelviz_core::slab::{slab_clip_scalar, slab_clip_vec3a};
-        let bounds = Aabb::new(Vec3::from_f64_slice(&min), Vec3::from_f64_slice(&max));
-        let Ok(ray) = Ray::try_new(
-            Vec3::from_f64_slice(&origin),
-            Vec3::from_f64_slice(&direction),
-        ) else {
+        use accelviz_core::slab::slab_clip_scalar;
+        let bounds = Aabb::new(V::from_f64_slice(&min), V::from_f64_slice(&max));
+        let Ok(ray) = Ray::try_new(V::from_f64_slice(&origin), V::from_f64_slice(&direction))
+        else {
             return;
         };
         let slab_ray = SlabRay::new(&ray, robust);
+        let t_max = V::Scalar::from_f64(t_max);
         let scalar = slab_clip_scalar(&bounds, &slab_ray, t_max);
-        let simd = slab_clip_vec3a(&bounds, &slab_ray, t_max);
+        let simd = slab_clip(&bounds, &slab_ray, t_max);
         assert!(
             scalar.0 == simd.0 && scalar.1 == simd.1,
             "{bounds:?} {ray:?}: {scalar:?} vs {simd:?}"

@@ -2,8 +2,8 @@
 //! its shapes (`N · C_isect`). The answer is what the core's sweep builder does with this
 //! node; the costs are its cost curve.
 
-use accelviz_core::bvh::BuildParams;
 use accelviz_core::curve::bvh_curve;
+use accelviz_core::params::BuildParams;
 use accelviz_core::{Built, NoBuildObserver, SahCost, Structure, Width};
 use serde_json::{Map, json};
 

@@ -6,8 +6,8 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-use accelviz_core::bvh::BuildParams;
 use accelviz_core::outcome::{Outcome, OutcomeCounts, ReferenceScene};
+use accelviz_core::params::BuildParams;
 use accelviz_core::{
     NoObserver, Query, Structure, TraceOptions, TraversalStacks, TriangleSet, Vector3, Width,
     brute_force,

@@ -4,8 +4,8 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-use accelviz_core::bvh::BuildParams;
 use accelviz_core::camera::bounding_sphere_of_box;
+use accelviz_core::params::BuildParams;
 use accelviz_core::{
     Counters, NoObserver, Query, Structure, TraceOptions, TraversalStacks, TriangleSet, Width,
     brute_force,

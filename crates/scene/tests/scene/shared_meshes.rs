@@ -3,7 +3,7 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-use accelviz_core::bvh::BuildParams;
+use accelviz_core::params::BuildParams;
 use accelviz_core::{
     NoObserver, Structure, TraceOptions, TraversalStacks, Tree, TriangleSet, Vector3, Width,
     brute_force,

@@ -7,8 +7,8 @@
 
 use std::cell::Cell;
 
-use accelviz_core::bvh::BuildParams;
 use accelviz_core::outcome::Outcome;
+use accelviz_core::params::BuildParams;
 use accelviz_core::trade::{Lab, Precision, Switches, TradeScene, contenders};
 use accelviz_core::{Query, Ray, Structure, Width};
 use accelviz_scene::builtin::icosphere;

@@ -6,8 +6,9 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-use accelviz_core::bvh::{BinnedSah, BuildParams, Builder, TraversalStack, traverse, validate};
+use accelviz_core::bvh::{BinnedSah, Builder, TraversalStack, traverse, validate};
 use accelviz_core::kd::{self, KdBuilder, KdMiddleSplit, KdSahPresorted, KdTraversalStack};
+use accelviz_core::params::BuildParams;
 use accelviz_core::{
     Hit, NoObserver, PrimitiveSet, Real, TraceOptions, TriangleSet, Vector3, brute_force,
 };
