@@ -248,6 +248,33 @@ pub fn describe_step(step: &Step<f64>, node_name: impl Fn(u32) -> String) -> Str
             "the ray does not reach {}: its part there is empty",
             node_name(node)
         ),
+        Step::CellSkipped {
+            node,
+            t_near,
+            t_far,
+        } => format!(
+            "pass {} (t in [{}, {}]): nothing is listed there",
+            node_name(node),
+            number(t_near),
+            number(t_far)
+        ),
+        Step::GridStepped { axis, t_next } => {
+            let axis = usize::from(axis).min(2);
+            format!(
+                "the next {} line is nearest (t = {}): step across it",
+                ["vertical", "horizontal", "depth"][axis],
+                number(t_next[axis])
+            )
+        }
+        Step::CellLookedUp { node, probes } => format!(
+            "look {} up in the hash table: {probes} {}",
+            node_name(node),
+            if probes == 1 {
+                "place read"
+            } else {
+                "places read"
+            }
+        ),
         Step::NodeCulled {
             node,
             t_enter,
@@ -306,11 +333,14 @@ pub fn step_node(step: &Step<f64>) -> Option<u32> {
         | Step::NodeEntered { node }
         | Step::CellEntered { node, .. }
         | Step::CellMissed { node }
+        | Step::CellSkipped { node, .. }
+        | Step::CellLookedUp { node, .. }
         | Step::NodeCulled { node, .. }
         | Step::ChildrenOrdered { node, .. } => Some(node),
         Step::PrimitiveTested { .. }
         | Step::ClosestHitUpdated { .. }
-        | Step::PrimitiveSkipped { .. } => None,
+        | Step::PrimitiveSkipped { .. }
+        | Step::GridStepped { .. } => None,
     }
 }
 

@@ -6,6 +6,8 @@
 //! before. [`LeafReasons`] keeps why each leaf is a leaf (what a node inspector shows);
 //! [`BuildRecorder`] keeps every step, for a lesson that steps through a build.
 
+use crate::facts::Children;
+
 /// Why a builder made a node a leaf.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum LeafReason {
@@ -36,6 +38,8 @@ pub enum LeafReason {
         /// The limit.
         limit: usize,
     },
+    /// A grid's cell: the grid is one level of equal cells, none of them cut further.
+    GridCell,
 }
 
 impl std::fmt::Display for LeafReason {
@@ -76,6 +80,7 @@ impl std::fmt::Display for LeafReason {
             LeafReason::DepthLimit { limit } => {
                 write!(f, "the depth limit {limit} stops the cutting here")
             }
+            LeafReason::GridCell => write!(f, "a cell of the grid: every cell is a leaf"),
         }
     }
 }
@@ -94,7 +99,7 @@ pub trait BuildObserver {
     /// The current node was split into `children`; `cost` is the split's SAH cost where the
     /// builder weighed it.
     #[inline(always)]
-    fn split(&mut self, _node: u32, _children: [u32; 2], _cost: Option<f64>) {}
+    fn split(&mut self, _node: u32, _children: Children, _cost: Option<f64>) {}
     /// The current node's sorted lists were divided between its children keeping their order,
     /// so the children need no sort (Wald & Havran 2006).
     #[inline(always)]
@@ -166,7 +171,7 @@ pub enum BuildStep {
         /// The node.
         node: u32,
         /// Its children.
-        children: [u32; 2],
+        children: Children,
         /// The split's SAH cost, where weighed.
         cost: Option<f64>,
     },
@@ -228,7 +233,7 @@ impl BuildObserver for BuildRecorder {
             axis,
         });
     }
-    fn split(&mut self, node: u32, children: [u32; 2], cost: Option<f64>) {
+    fn split(&mut self, node: u32, children: Children, cost: Option<f64>) {
         self.steps.push(BuildStep::Split {
             node,
             children,
@@ -266,7 +271,7 @@ impl<A: BuildObserver, B: BuildObserver> BuildObserver for (A, B) {
         self.1.swept(axis);
     }
     #[inline(always)]
-    fn split(&mut self, node: u32, children: [u32; 2], cost: Option<f64>) {
+    fn split(&mut self, node: u32, children: Children, cost: Option<f64>) {
         self.0.split(node, children, cost);
         self.1.split(node, children, cost);
     }
@@ -302,7 +307,7 @@ impl<O: BuildObserver + ?Sized> BuildObserver for &mut O {
         (**self).swept(axis);
     }
     #[inline(always)]
-    fn split(&mut self, node: u32, children: [u32; 2], cost: Option<f64>) {
+    fn split(&mut self, node: u32, children: Children, cost: Option<f64>) {
         (**self).split(node, children, cost);
     }
     #[inline(always)]

@@ -109,7 +109,8 @@ fn bounds_array<V: Vector>(bounds: &Aabb<V>) -> [[f64; 2]; 3] {
 }
 
 /// The cost curve of `node` of a built structure: [`bvh_curve`] or [`kd_curve`] with the
-/// node's primitives (and cell), with binned candidates when `bins` is given.
+/// node's primitives (and cell), with binned candidates when `bins` is given. A grid's or an
+/// octree's cell is space, as a kD cell is: its curve is the kD cuts of it.
 pub fn node_curve<V: Vector>(
     built: &Built<V>,
     node: u32,
@@ -120,7 +121,7 @@ pub fn node_curve<V: Vector>(
     let primitives = built.primitives_below(node);
     match built.tree.family() {
         Family::Bvh => bvh_curve(primitive_bounds, &primitives, cost, bins),
-        Family::Kd => kd_curve(
+        Family::Kd | Family::Grid | Family::HashedGrid | Family::Octree => kd_curve(
             primitive_bounds,
             &primitives,
             &built.facts.bounds[node as usize],

@@ -9,14 +9,72 @@ use crate::aabb::Aabb;
 use crate::build_observer::LeafReason;
 use crate::math::Vector;
 
+/// A node's children: `count` consecutive nodes from `first` (every family makes a node's
+/// children together): two in a binary tree, four or eight in a quadtree or octree, every
+/// cell under a grid's box.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Children {
+    /// The first child.
+    pub first: u32,
+    /// How many.
+    pub count: u32,
+}
+
+impl Children {
+    /// The two children of a binary node, `first` and `first + 1`.
+    pub fn pair(first: u32) -> Self {
+        Self { first, count: 2 }
+    }
+
+    /// The children of a binary node: below and above its plane (kD), left and right (BVH).
+    /// `None` for a node of more than two.
+    pub fn as_pair(self) -> Option<[u32; 2]> {
+        (self.count == 2).then_some([self.first, self.first + 1])
+    }
+
+    /// The children, in order.
+    pub fn iter(self) -> std::ops::Range<u32> {
+        self.first..self.first + self.count
+    }
+
+    /// How many.
+    pub fn len(self) -> usize {
+        self.count as usize
+    }
+
+    /// Whether there are none (a leaf has no `Children` at all; this is for completeness).
+    pub fn is_empty(self) -> bool {
+        self.count == 0
+    }
+
+    /// The `index`-th child.
+    pub fn get(self, index: usize) -> Option<u32> {
+        (index < self.len()).then(|| self.first + index as u32)
+    }
+
+    /// Which child `node` is, if it is one.
+    pub fn position(self, node: u32) -> Option<usize> {
+        self.iter().position(|child| child == node)
+    }
+}
+
+impl IntoIterator for Children {
+    type Item = u32;
+    type IntoIter = std::ops::Range<u32>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
 /// What the facts need of a tree: its nodes' children and leaves, and each node's box or cell.
 /// Node 0 is the root and every child comes after its parent. Each family implements it beside
 /// its tree (`bvh/tree.rs`, `kd/tree.rs`).
 pub trait Hierarchy<V: Vector> {
     /// How many nodes.
     fn node_count(&self) -> usize;
-    /// A node's two children, or `None` for a leaf.
-    fn children(&self, node: u32) -> Option<[u32; 2]>;
+    /// A node's children, or `None` for a leaf.
+    fn children(&self, node: u32) -> Option<Children>;
     /// The primitives a leaf lists (empty for an interior node).
     fn leaf_primitives(&self, node: u32) -> &[u32];
     /// Every node's box (BVH) or cell (kD), by node.
@@ -27,7 +85,7 @@ pub trait Hierarchy<V: Vector> {
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum NodePathError {
     /// A step is neither `L` nor `R`.
-    #[error("node path: step {position} is {step:?}; use L and R")]
+    #[error("node path: step {position} is {step:?}; use L and R (or a child's digit)")]
     BadStep {
         /// Where in the path (1-based).
         position: usize,
@@ -40,6 +98,16 @@ pub enum NodePathError {
         /// The leaf's depth.
         depth: usize,
     },
+    /// A step names a child the node does not have.
+    #[error("node path: the node after {depth} steps has {count} children, not a child {child}")]
+    NoSuchChild {
+        /// The node's depth.
+        depth: usize,
+        /// The child asked for.
+        child: usize,
+        /// How many it has.
+        count: usize,
+    },
 }
 
 /// Each node's place in the tree and its box or cell, with why each leaf is a leaf when the
@@ -47,7 +115,7 @@ pub enum NodePathError {
 #[derive(Clone, Debug, PartialEq)]
 pub struct TreeFacts<V: Vector> {
     /// Each node's children (`None` for a leaf).
-    pub children: Vec<Option<[u32; 2]>>,
+    pub children: Vec<Option<Children>>,
     /// Each node's parent (`None` for the root).
     pub parent: Vec<Option<u32>>,
     /// Each node's depth (the root's is 0).
@@ -69,14 +137,14 @@ impl<V: Vector> TreeFacts<V> {
     /// The facts of `tree`.
     pub fn of(tree: &impl Hierarchy<V>) -> Self {
         let count = tree.node_count();
-        let children: Vec<Option<[u32; 2]>> =
+        let children: Vec<Option<Children>> =
             (0..count as u32).map(|node| tree.children(node)).collect();
         let mut parent = vec![None; count];
         let mut depth = vec![0u32; count];
         // Children come after their parents: one forward pass.
         for node in 0..count {
-            if let Some(pair) = children[node] {
-                for child in pair {
+            if let Some(below) = children[node] {
+                for child in below.iter() {
                     parent[child as usize] = Some(node as u32);
                     depth[child as usize] = depth[node] + 1;
                 }
@@ -153,38 +221,60 @@ impl<V: Vector> TreeFacts<V> {
         self.leaf_reasons.get(node as usize).copied().flatten()
     }
 
-    /// The path from the root to `node`: `L` (left, below the plane) or `R` per step.
+    /// The path from the root to `node`: per step, `L` (left, below the plane) or `R` in a
+    /// binary tree, the child's number (`0`…`7`, an octant's bits x, y, z from the lowest) in
+    /// a quadtree or an octree, and in brackets (`[17]`) among more (a grid's cells).
     pub fn path_to(&self, node: u32) -> String {
         let mut steps = Vec::new();
         let mut current = node;
         while let Some(parent) = self.parent[current as usize] {
-            let right = self.children[parent as usize].is_some_and(|[_, right]| right == current);
-            steps.push(if right { 'R' } else { 'L' });
+            let siblings = self.children[parent as usize];
+            let index = siblings
+                .and_then(|children| children.position(current))
+                .unwrap_or(0);
+            steps.push(match siblings.map_or(2, Children::len) {
+                2 => ['L', 'R'][index.min(1)].to_string(),
+                3..=10 => index.to_string(),
+                _ => format!("[{index}]"),
+            });
             current = parent;
         }
-        steps.iter().rev().collect()
+        steps.iter().rev().map(String::as_str).collect()
     }
 
     /// The node at the end of a path of `L` and `R` steps from the root.
     pub fn node_at(&self, path: &str) -> Result<u32, NodePathError> {
         // Check the whole path before walking, so a typo is named as such wherever it is.
         let mut sides = Vec::with_capacity(path.len());
-        for (index, step) in path.chars().enumerate() {
+        let mut chars = path.chars().enumerate();
+        while let Some((index, step)) = chars.next() {
+            let bad = |step| NodePathError::BadStep {
+                position: index + 1,
+                step,
+            };
             sides.push(match step.to_ascii_uppercase() {
                 'L' => 0,
                 'R' => 1,
-                step => {
-                    return Err(NodePathError::BadStep {
-                        position: index + 1,
-                        step,
-                    });
+                digit if digit.is_ascii_digit() => digit as usize - '0' as usize,
+                '[' => {
+                    let number: String = chars
+                        .by_ref()
+                        .map(|(_, step)| step)
+                        .take_while(|&step| step != ']')
+                        .collect();
+                    number.parse().map_err(|_| bad('['))?
                 }
+                step => return Err(bad(step)),
             });
         }
         let mut node = 0u32;
         for (depth, side) in sides.into_iter().enumerate() {
             let children = self.children[node as usize].ok_or(NodePathError::PastLeaf { depth })?;
-            node = children[side];
+            node = children.get(side).ok_or(NodePathError::NoSuchChild {
+                depth,
+                child: side,
+                count: children.len(),
+            })?;
         }
         Ok(node)
     }
@@ -201,15 +291,14 @@ impl<V: Vector> TreeFacts<V> {
         false
     }
 
-    /// The nodes of the subtree of `node`, depth first, the left subtree first.
+    /// The nodes of the subtree of `node`, depth first, the first child's subtree first.
     pub fn subtree(&self, node: u32) -> Vec<u32> {
         let mut nodes = Vec::new();
         let mut pending = vec![node];
         while let Some(at) = pending.pop() {
             nodes.push(at);
-            if let Some([left, right]) = self.children[at as usize] {
-                pending.push(right);
-                pending.push(left);
+            if let Some(children) = self.children[at as usize] {
+                pending.extend(children.iter().rev());
             }
         }
         nodes

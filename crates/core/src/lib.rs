@@ -15,10 +15,13 @@
 //! - [`bounding`]: bounding box and sphere of an object, their reject tests and void.
 //! - [`kd`]: kD-trees (middle and median cuts), the lecture's near-side-first traversal, a
 //!   validator.
+//! - [`grid`]: uniform grids, in a dense table or a hash table, walked cell by cell
+//!   (Amanatides & Woo 1987); [`octree`]: octrees (quadtrees in 2D), walked front to back
+//!   (Revelles et al. 2000).
 //! - [`bvh`]: four builders ([`bvh::MiddleSplit`], [`bvh::MedianSplit`], [`bvh::BinnedSah`],
 //!   [`bvh::SweepSah`]) sharing one [`SahCost`], one traversal, a validator and statistics.
 //! - [`observer`]: how traversal reports each step (nothing, counts, or a full record).
-//! - [`structure`]: the catalogue of every structure (`bvh:middle` … `kd:sah-perfect`), built
+//! - [`structure`]: the catalogue of every structure (`bvh:middle` … `octree`), built
 //!   into a [`Tree`]; [`build_observer`]: how a builder reports each node and why it made each
 //!   leaf; [`facts`]: what views show about a tree (boxes, cells, paths, depths), computed once.
 //! - [`break_even`]: which structure is fastest overall for N rays (build + N × trace).
@@ -44,10 +47,12 @@ pub mod crack;
 pub mod curve;
 pub mod facts;
 pub mod format;
+pub mod grid;
 pub mod heatmap;
 pub mod kd;
 pub mod math;
 pub mod observer;
+pub mod octree;
 pub mod outcome;
 pub mod params;
 pub mod primitive;
@@ -65,7 +70,7 @@ pub mod trade;
 pub use aabb::{Aabb, Aabb2, Aabb3};
 pub use brute::brute_force;
 pub use build_observer::{BuildObserver, BuildRecorder, BuildStep, LeafReason, NoBuildObserver};
-pub use facts::{Hierarchy, TreeFacts};
+pub use facts::{Children, Hierarchy, TreeFacts};
 pub use math::{Real, Vector, Vector3};
 pub use observer::{Counters, MaxStack, NoObserver, Observer, Recorder, Step, counters_of};
 pub use params::{BuildParams, KdBudget};

@@ -30,6 +30,21 @@ pub trait Observer<S: Real> {
     /// lecture's `if empty(ray) return`.
     #[inline(always)]
     fn cell_missed(&mut self, _node: u32) {}
+    /// A grid walk passed through cell `node` over `[t_near, t_far]` and found nothing listed
+    /// there to test. Unless an observer tells the two apart, this is entering a cell: the
+    /// walk's cost is every cell it passes.
+    #[inline(always)]
+    fn cell_skipped(&mut self, node: u32, t_near: S, t_far: S) {
+        self.cell_entered(node, t_near, t_far);
+    }
+    /// A grid walk leaves its cell across the next plane along `axis`: `t_next` holds each
+    /// axis's `t` to its next plane (+∞ along an axis the ray does not move on), and `axis`'s
+    /// is the least (Amanatides & Woo's `tMax`).
+    #[inline(always)]
+    fn grid_stepped(&mut self, _axis: usize, _t_next: [S; 3]) {}
+    /// A hashed grid's lookup of cell `node` read `probes` places of its table.
+    #[inline(always)]
+    fn cell_looked_up(&mut self, _node: u32, _probes: u32) {}
     /// A node waiting on the stack was skipped: it is entered only beyond the closest hit.
     #[inline(always)]
     fn node_culled(&mut self, _node: u32, _t_enter: S, _t_closest: S) {}
@@ -158,6 +173,29 @@ pub enum Step<S: Real> {
         /// The kD node.
         node: u32,
     },
+    /// See [`Observer::cell_skipped`].
+    CellSkipped {
+        /// The cell's node.
+        node: u32,
+        /// Where the ray's part in the cell starts.
+        t_near: S,
+        /// Where it ends.
+        t_far: S,
+    },
+    /// See [`Observer::grid_stepped`].
+    GridStepped {
+        /// The axis whose plane is crossed.
+        axis: u8,
+        /// Each axis's `t` to its next plane.
+        t_next: [S; 3],
+    },
+    /// See [`Observer::cell_looked_up`].
+    CellLookedUp {
+        /// The cell's node.
+        node: u32,
+        /// Table places read.
+        probes: u32,
+    },
     /// See [`Observer::node_culled`].
     NodeCulled {
         /// The node.
@@ -228,6 +266,22 @@ impl<S: Real> Observer<S> for Recorder<S> {
     fn cell_missed(&mut self, node: u32) {
         self.steps.push(Step::CellMissed { node });
     }
+    fn cell_skipped(&mut self, node: u32, t_near: S, t_far: S) {
+        self.steps.push(Step::CellSkipped {
+            node,
+            t_near,
+            t_far,
+        });
+    }
+    fn grid_stepped(&mut self, axis: usize, t_next: [S; 3]) {
+        self.steps.push(Step::GridStepped {
+            axis: axis as u8,
+            t_next,
+        });
+    }
+    fn cell_looked_up(&mut self, node: u32, probes: u32) {
+        self.steps.push(Step::CellLookedUp { node, probes });
+    }
     fn node_culled(&mut self, node: u32, t_enter: S, t_closest: S) {
         self.steps.push(Step::NodeCulled {
             node,
@@ -274,6 +328,13 @@ impl<S: Real> Step<S> {
                 t_far,
             } => observer.cell_entered(node, t_near, t_far),
             Step::CellMissed { node } => observer.cell_missed(node),
+            Step::CellSkipped {
+                node,
+                t_near,
+                t_far,
+            } => observer.cell_skipped(node, t_near, t_far),
+            Step::GridStepped { axis, t_next } => observer.grid_stepped(axis as usize, t_next),
+            Step::CellLookedUp { node, probes } => observer.cell_looked_up(node, probes),
             Step::NodeCulled {
                 node,
                 t_enter,
@@ -326,6 +387,21 @@ impl<S: Real, A: Observer<S>, B: Observer<S>> Observer<S> for (A, B) {
     fn cell_missed(&mut self, node: u32) {
         self.0.cell_missed(node);
         self.1.cell_missed(node);
+    }
+    #[inline(always)]
+    fn cell_skipped(&mut self, node: u32, t_near: S, t_far: S) {
+        self.0.cell_skipped(node, t_near, t_far);
+        self.1.cell_skipped(node, t_near, t_far);
+    }
+    #[inline(always)]
+    fn grid_stepped(&mut self, axis: usize, t_next: [S; 3]) {
+        self.0.grid_stepped(axis, t_next);
+        self.1.grid_stepped(axis, t_next);
+    }
+    #[inline(always)]
+    fn cell_looked_up(&mut self, node: u32, probes: u32) {
+        self.0.cell_looked_up(node, probes);
+        self.1.cell_looked_up(node, probes);
     }
     #[inline(always)]
     fn node_culled(&mut self, node: u32, t_enter: S, t_closest: S) {

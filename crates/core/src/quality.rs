@@ -17,6 +17,7 @@
 
 use crate::aabb::Aabb;
 use crate::facts::{Hierarchy, TreeFacts};
+use crate::grid::CellStore;
 use crate::math::{Real, Vector, Vector3};
 use crate::primitive::clip::clipped_area;
 use crate::sah::SahCost;
@@ -72,7 +73,7 @@ pub fn epo<V: Vector3>(tree: &impl Hierarchy<V>, triangles: &[[V; 3]], cost: &Sa
                 overlap += node_cost(node) * clipped_area(corners, node_bounds);
             }
             if let Some(children) = facts.children[node as usize] {
-                pending.extend(children);
+                pending.extend(children.iter());
             }
         }
     }
@@ -115,6 +116,19 @@ impl Footprint {
             Tree::Kd(kd) => Self {
                 bytes: size_of_val(kd.nodes.as_slice())
                     + size_of_val(kd.primitive_indices.as_slice()),
+                fill_rate: None,
+            },
+            Tree::Grid(grid) => Self {
+                bytes: grid.store.bytes(),
+                fill_rate: None,
+            },
+            Tree::HashedGrid(grid) => Self {
+                bytes: grid.store.bytes(),
+                fill_rate: None,
+            },
+            Tree::Octree(tree) => Self {
+                bytes: size_of_val(tree.nodes.as_slice())
+                    + size_of_val(tree.primitive_indices.as_slice()),
                 fill_rate: None,
             },
         }

@@ -2,10 +2,13 @@
 //! closest hit (ties to the lower number), shrink the interval, stop an any-hit query at the
 //! first hit, and end a [`Query::FirstInCell`] search after the first leaf with a hit.
 
+use crate::aabb::Aabb;
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
 use crate::primitive::{LeafPrimitives, PrimitiveSet};
-use crate::query::{Hit, Query};
+use crate::query::{Hit, Query, TraceOptions};
+use crate::ray::Ray;
+use crate::slab::{SlabRay, slab_clip};
 
 /// A closest- or any-hit search under way.
 #[derive(Clone, Copy)]
@@ -87,5 +90,76 @@ impl<S: Real> HitSearch<S> {
             }
         }
         leaf_done
+    }
+}
+
+/// The primitives tested most recently for one ray (Amanatides & Woo 1987's mailbox, per
+/// ray), for structures that list a primitive in several leaves or cells: a primitive listed in several leaves along
+/// the ray usually meets the ray in consecutive leaves, so a few slots catch most repeats.
+#[derive(Default)]
+pub(crate) struct Mailbox {
+    slots: [u32; 8],
+    used: usize,
+}
+
+impl Mailbox {
+    /// Records `primitive`; false if it was already there (so its test can be skipped).
+    #[inline(always)]
+    pub(crate) fn post(&mut self, primitive: u32) -> bool {
+        let filled = self.used.min(self.slots.len());
+        if self.slots[..filled].contains(&primitive) {
+            return false;
+        }
+        self.slots[self.used % self.slots.len()] = primitive;
+        self.used += 1;
+        true
+    }
+}
+
+/// A ray entering the root cell of a structure that cuts space into cells (kD-tree, grid,
+/// octree): prepared for box and primitive tests, clipped to the root, and its search begun.
+pub(crate) struct CellSearch<V: Vector, P: LeafPrimitives<V>> {
+    /// The ray prepared for slab tests.
+    pub(crate) slab_ray: SlabRay<V>,
+    /// Where it enters the root cell.
+    pub(crate) t_enter: V::Scalar,
+    /// Where it leaves it.
+    pub(crate) t_exit: V::Scalar,
+    /// The ray prepared for primitive tests.
+    pub(crate) primitive_ray: <P::Set as PrimitiveSet<V>>::RayData,
+    /// The search, whose leaves test for the closest hit under the pseudo-code's rule
+    /// ([`Query::FirstInCell`] ends the search by cells, which the traversal does, not by
+    /// leaves as in a BVH).
+    pub(crate) search: HitSearch<V::Scalar>,
+}
+
+impl<V: Vector, P: LeafPrimitives<V>> CellSearch<V, P> {
+    /// What every such traversal does first: clip the ray to the root cell `bounds` and tell
+    /// `observer` (node 0's box test); `None` when the ray misses the cell.
+    #[inline(always)]
+    pub(crate) fn enter<O: Observer<V::Scalar>>(
+        bounds: &Aabb<V>,
+        primitives: &P,
+        ray: &Ray<V>,
+        options: &TraceOptions,
+        observer: &mut O,
+    ) -> Option<Self> {
+        let slab_ray = SlabRay::new(ray, options.robust_traversal);
+        let (t_enter, t_exit) = slab_clip(bounds, &slab_ray, ray.t_max);
+        observer.box_tested(0, t_enter, t_exit, t_enter <= t_exit);
+        if t_enter > t_exit {
+            return None;
+        }
+        let leaf_query = match options.query {
+            Query::FirstInCell => Query::Closest,
+            query => query,
+        };
+        Some(Self {
+            slab_ray,
+            t_enter,
+            t_exit,
+            primitive_ray: primitives.stored().prepare(ray, options.hit_test),
+            search: HitSearch::new(ray.t_max, leaf_query),
+        })
     }
 }

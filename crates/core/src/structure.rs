@@ -12,36 +12,55 @@ use crate::bvh::{
     self, BinnedSah, Builder, Bvh, MedianSplit, MiddleSplit, PacketStack, SweepSah, TraversalStack,
     WideBvh, WideStack,
 };
-use crate::facts::{Hierarchy, TreeFacts};
+use crate::facts::{Children, Hierarchy, TreeFacts};
+use crate::grid::{self, HashedGrid, UniformGrid};
 use crate::kd::{
     self, KdBuilder, KdMedianSplit, KdMiddleSplit, KdSah, KdSahPresorted, KdTraversalStack, KdTree,
 };
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
+use crate::octree::{self, Octree, OctreeStack};
 use crate::params::BuildParams;
 use crate::primitive::{LeafOrdered, LeafPrimitives, PrimitiveSet};
 use crate::query::{Hit, TraceOptions};
 use crate::ray::Ray;
 use crate::stats::TreeStats;
 
-/// The two kinds of tree.
+/// The kinds of structure.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Family {
     /// Bounding volume hierarchies: boxes of boxes; each primitive in one leaf.
     Bvh,
     /// kD-trees: space cut by planes; a primitive in every cell it reaches.
     Kd,
+    /// Uniform grids: space cut into equal cells, walked along the ray; a primitive in every
+    /// cell it reaches, each cell's list found by indexing a table.
+    Grid,
+    /// The same grids with their occupied cells in a hash table.
+    HashedGrid,
+    /// Octrees (quadtrees in 2D): cells cut at their middle on every axis at once, down to
+    /// few primitives; a primitive in every cell it reaches.
+    Octree,
 }
 
 impl Family {
-    /// Both families.
-    pub const ALL: [Family; 2] = [Family::Bvh, Family::Kd];
+    /// Every family.
+    pub const ALL: [Family; 5] = [
+        Family::Bvh,
+        Family::Kd,
+        Family::Grid,
+        Family::HashedGrid,
+        Family::Octree,
+    ];
 
-    /// The name structures start with (`bvh:…`, `kd:…`), and share links use.
+    /// A short name for share links (`bvh`, `kd`, `grid`, `hashed-grid`).
     pub fn name(self) -> &'static str {
         match self {
             Family::Bvh => "bvh",
             Family::Kd => "kd",
+            Family::Grid => "grid",
+            Family::HashedGrid => "hashed-grid",
+            Family::Octree => "octree",
         }
     }
 
@@ -50,16 +69,25 @@ impl Family {
         Family::ALL.into_iter().find(|family| family.name() == name)
     }
 
-    /// The name for people: "BVH", "kD-tree".
+    /// The name for people: "BVH", "kD-tree", "uniform grid", "hashed grid", "octree".
     pub fn label(self) -> &'static str {
         match self {
             Family::Bvh => "BVH",
             Family::Kd => "kD-tree",
+            Family::Grid => "uniform grid",
+            Family::HashedGrid => "hashed grid",
+            Family::Octree => "octree",
         }
+    }
+
+    /// Whether the lecture's three rules build it (BVHs, kD-trees): where a split goes is
+    /// chosen, not fixed (a grid's cells, an octree's middles).
+    pub fn has_rules(self) -> bool {
+        matches!(self, Family::Bvh | Family::Kd)
     }
 }
 
-/// How a structure places its splits: the lecture's three rules.
+/// How a structure places its splits: the lecture's three rules, or none at all.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum SplitRule {
     /// In the middle of the node: equal chances for the children, their costs ignored.
@@ -68,6 +96,8 @@ pub enum SplitRule {
     Median,
     /// Where the surface area heuristic's cost is lowest.
     Sah,
+    /// Nowhere chosen: equal cells, as many as the primitive count asks for (a grid).
+    Uniform,
 }
 
 impl SplitRule {
@@ -77,6 +107,7 @@ impl SplitRule {
             SplitRule::Middle => "middle",
             SplitRule::Median => "median",
             SplitRule::Sah => "SAH",
+            SplitRule::Uniform => "uniform",
         }
     }
 }
@@ -153,9 +184,24 @@ pub enum Structure {
     KdSahPerNode,
     /// [`KdSahPresorted::build_with_perfect_splits`]: straddlers clipped to each cell.
     KdSahPerfect,
+    /// [`grid::build_uniform`] with this many cells per primitive.
+    GridUniform {
+        /// Cells per primitive.
+        density: u16,
+    },
+    /// [`grid::build_hashed`] with this many cells per primitive.
+    GridHashed {
+        /// Cells per primitive.
+        density: u16,
+    },
+    /// [`octree::build`] with leaves of at most this many primitives.
+    Octree {
+        /// Primitives a leaf may hold.
+        leaf: u16,
+    },
 }
 
-/// A whole-number parameter of a structure (the bins of the binned SAH).
+/// A whole-number parameter of a structure (the bins of the binned SAH, a grid's density).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Parameter {
     /// Its name.
@@ -198,9 +244,27 @@ const BINS: Parameter = Parameter {
     compared: &[4, 8, 16, 32],
 };
 
+/// A grid's cells per primitive (Ize et al. 2007's `K`).
+const DENSITY: Parameter = Parameter {
+    name: "density",
+    default: grid::DEFAULT_DENSITY as u16,
+    min: 1,
+    max: 64,
+    compared: &[grid::DEFAULT_DENSITY as u16],
+};
+
+/// An octree's leaf size.
+const LEAF: Parameter = Parameter {
+    name: "leaf size",
+    default: octree::DEFAULT_LEAF_SIZE as u16,
+    min: 1,
+    max: 1024,
+    compared: &[octree::DEFAULT_LEAF_SIZE as u16],
+};
+
 /// Every structure, in the lecture's order within each family: the first entry of each rule
 /// is the one the lessons compare (the exact SAH before its approximations).
-pub const CATALOGUE: [Entry; 9] = [
+pub const CATALOGUE: [Entry; 12] = [
     Entry {
         structure: Structure::BvhMiddle {
             width: Width::Binary,
@@ -290,6 +354,37 @@ pub const CATALOGUE: [Entry; 9] = [
         label: "SAH, perfect splits",
         about: "kd:sah with straddling primitives clipped to each cell (Havran 2000)",
         parameter: None,
+    },
+    Entry {
+        structure: Structure::GridUniform {
+            density: DENSITY.default,
+        },
+        name: "grid:uniform",
+        family: Family::Grid,
+        rule: SplitRule::Uniform,
+        label: "uniform grid",
+        about: "equal cells, about K per primitive, walked along the ray (Cleary & Wyvill 1988; Amanatides & Woo 1987)",
+        parameter: Some(DENSITY),
+    },
+    Entry {
+        structure: Structure::GridHashed {
+            density: DENSITY.default,
+        },
+        name: "grid:hashed",
+        family: Family::HashedGrid,
+        rule: SplitRule::Uniform,
+        label: "hashed grid",
+        about: "the uniform grid's occupied cells in a hash table (Teschner et al. 2003)",
+        parameter: Some(DENSITY),
+    },
+    Entry {
+        structure: Structure::Octree { leaf: LEAF.default },
+        name: "octree",
+        family: Family::Octree,
+        rule: SplitRule::Middle,
+        label: "octree",
+        about: "each cell cut at its middle on every axis at once, down to a few primitives; walked front to back (Revelles et al. 2000)",
+        parameter: Some(LEAF),
     },
 ];
 
@@ -391,6 +486,8 @@ impl Structure {
     pub fn parameter(&self) -> Option<u16> {
         match *self {
             Structure::BvhSahBinned { bins, .. } => Some(bins),
+            Structure::GridUniform { density } | Structure::GridHashed { density } => Some(density),
+            Structure::Octree { leaf } => Some(leaf),
             _ => None,
         }
     }
@@ -399,6 +496,9 @@ impl Structure {
     pub fn with_parameter(self, value: u16) -> Self {
         match self {
             Structure::BvhSahBinned { width, .. } => Structure::BvhSahBinned { bins: value, width },
+            Structure::GridUniform { .. } => Structure::GridUniform { density: value },
+            Structure::GridHashed { .. } => Structure::GridHashed { density: value },
+            Structure::Octree { .. } => Structure::Octree { leaf: value },
             other => other,
         }
     }
@@ -440,7 +540,7 @@ impl Structure {
         }
     }
 
-    /// BVH or kD-tree.
+    /// Its family: BVH, kD-tree, grid.
     pub fn family(&self) -> Family {
         self.entry().family
     }
@@ -459,13 +559,15 @@ impl Structure {
         self.entry().rule
     }
 
-    /// The first structure of `family` that follows `rule`: the one the lessons compare.
+    /// The first structure of `family` that follows `rule`: the one the lessons compare (for
+    /// a family that does not follow the rule, a grid, its first structure).
     pub fn lecture(family: Family, rule: SplitRule) -> Self {
-        CATALOGUE
-            .iter()
-            .find(|entry| entry.family == family && entry.rule == rule)
+        let of_family = || CATALOGUE.iter().filter(|entry| entry.family == family);
+        of_family()
+            .find(|entry| entry.rule == rule)
+            .or_else(|| of_family().next())
             .map(|entry| entry.structure)
-            .unwrap_or_else(|| unreachable!("every family has every rule"))
+            .unwrap_or_else(|| unreachable!("every family has an entry"))
     }
 
     /// Every structure as a comparison measures it: each entry, a parameterised one at each
@@ -531,11 +633,30 @@ impl Structure {
             Structure::KdSahPerfect => Tree::Kd(
                 KdSahPresorted.build_with_perfect_splits_observed(primitives, params, observer),
             ),
+            Structure::GridUniform { density } => Tree::Grid(grid::build_uniform(
+                primitives,
+                f64::from(density),
+                params,
+                observer,
+            )),
+            Structure::GridHashed { density } => Tree::HashedGrid(grid::build_hashed(
+                primitives,
+                f64::from(density),
+                None,
+                params,
+                observer,
+            )),
+            Structure::Octree { leaf } => Tree::Octree(octree::build(
+                primitives,
+                usize::from(leaf),
+                params,
+                observer,
+            )),
         }
     }
 }
 
-/// A built structure: a BVH (binary or wide) or a kD-tree.
+/// A built structure: a BVH (binary or wide), a kD-tree or a grid.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Tree<V: Vector> {
     /// A bounding volume hierarchy.
@@ -546,6 +667,12 @@ pub enum Tree<V: Vector> {
     Bvh8(WideBvh<V, 8>),
     /// A kD-tree.
     Kd(KdTree<V>),
+    /// A uniform grid in a dense table.
+    Grid(UniformGrid<V>),
+    /// A uniform grid in a hash table.
+    HashedGrid(HashedGrid<V>),
+    /// An octree (a quadtree in 2D).
+    Octree(Octree<V>),
 }
 
 /// One traversal stack per kind of tree, kept per thread so tracing allocates nothing per ray.
@@ -555,6 +682,7 @@ pub struct TraversalStacks<S: Real> {
     wide: WideStack<S>,
     packet: PacketStack<S>,
     kd: KdTraversalStack<S>,
+    octree: OctreeStack<S>,
 }
 
 impl<V: Vector> Tree<V> {
@@ -567,11 +695,14 @@ impl<V: Vector> Tree<V> {
         }
     }
 
-    /// BVH or kD-tree.
+    /// Its family.
     pub fn family(&self) -> Family {
         match self {
             Tree::Bvh(_) | Tree::Bvh4(_) | Tree::Bvh8(_) => Family::Bvh,
             Tree::Kd(_) => Family::Kd,
+            Tree::Grid(_) => Family::Grid,
+            Tree::HashedGrid(_) => Family::HashedGrid,
+            Tree::Octree(_) => Family::Octree,
         }
     }
 
@@ -598,6 +729,11 @@ impl<V: Vector> Tree<V> {
             }
             Tree::Kd(tree) => {
                 kd::traverse(tree, primitives, ray, options, &mut stacks.kd, observer)
+            }
+            Tree::Grid(grid) => grid::traverse(grid, primitives, ray, options, observer),
+            Tree::HashedGrid(grid) => grid::traverse(grid, primitives, ray, options, observer),
+            Tree::Octree(tree) => {
+                octree::traverse(tree, primitives, ray, options, &mut stacks.octree, observer)
             }
         }
     }
@@ -650,15 +786,21 @@ impl<V: Vector> Tree<V> {
             Tree::Bvh4(wide) => wide.leaf_ordered(primitives),
             Tree::Bvh8(wide) => wide.leaf_ordered(primitives),
             Tree::Kd(tree) => tree.leaf_ordered(primitives),
+            Tree::Grid(grid) => grid.leaf_ordered(primitives),
+            Tree::HashedGrid(grid) => grid.leaf_ordered(primitives),
+            Tree::Octree(tree) => tree.leaf_ordered(primitives),
         }
     }
 
     /// The tree's statistics with these cost constants (a wide BVH's count its wide nodes
-    /// and leaves, see [`WideBvh::stats`]).
+    /// and leaves, see [`WideBvh::stats`]; a grid's cost is its walk's, see
+    /// [`Grid::stats`](grid::Grid::stats)).
     pub fn stats(&self, cost: &crate::sah::SahCost) -> TreeStats {
         match self {
             Tree::Bvh4(wide) => wide.stats(cost),
             Tree::Bvh8(wide) => wide.stats(cost),
+            Tree::Grid(grid) => grid.stats(cost),
+            Tree::HashedGrid(grid) => grid.stats(cost),
             _ => TreeStats::of(self, cost),
         }
     }
@@ -681,6 +823,9 @@ impl<V: Vector> Tree<V> {
             Tree::Bvh4(wide) => &wide.binary,
             Tree::Bvh8(wide) => &wide.binary,
             Tree::Kd(tree) => tree,
+            Tree::Grid(grid) => grid,
+            Tree::HashedGrid(grid) => grid,
+            Tree::Octree(tree) => tree,
         }
     }
 }
@@ -690,7 +835,7 @@ impl<V: Vector> Hierarchy<V> for Tree<V> {
         self.hierarchy().node_count()
     }
 
-    fn children(&self, node: u32) -> Option<[u32; 2]> {
+    fn children(&self, node: u32) -> Option<Children> {
         self.hierarchy().children(node)
     }
 
@@ -713,6 +858,12 @@ pub enum TreeValidationError {
     /// A kD-tree's problem.
     #[error(transparent)]
     Kd(#[from] kd::KdValidationError),
+    /// A grid's problem.
+    #[error(transparent)]
+    Grid(#[from] grid::GridValidationError),
+    /// An octree's problem.
+    #[error(transparent)]
+    Octree(#[from] octree::OctreeValidationError),
 }
 
 impl Structure {
@@ -731,6 +882,9 @@ impl Structure {
                 kd::validate_clipped(tree, primitives)?
             }
             Tree::Kd(tree) => kd::validate(tree, &primitives.all_bounds())?,
+            Tree::Grid(grid) => grid::validate(grid, primitives)?,
+            Tree::HashedGrid(grid) => grid::validate(grid, primitives)?,
+            Tree::Octree(tree) => octree::validate(tree, primitives)?,
         }
         Ok(())
     }
@@ -776,6 +930,23 @@ impl<V: Vector> Built<V> {
             .unwrap_or_else(Aabb::empty)
     }
 
+    /// Where an interior node cuts its cell, axis by axis: a kD node's one plane, an octree
+    /// node's middle on every axis; nothing for a leaf, a BVH node or a grid.
+    pub fn cuts(&self, node: u32) -> Vec<(usize, f64)> {
+        match &self.tree {
+            Tree::Octree(tree) => match tree.nodes.get(node as usize) {
+                Some(entry) if !entry.is_leaf() => {
+                    let middle = octree::middle(&self.facts.bounds[node as usize]);
+                    (0..V::DIM)
+                        .map(|axis| (axis, middle[axis].to_f64()))
+                        .collect()
+                }
+                _ => Vec::new(),
+            },
+            _ => self.plane(node).into_iter().collect(),
+        }
+    }
+
     /// A kD node's plane: its axis and where it cuts it (`None` for a leaf or a BVH node).
     pub fn plane(&self, node: u32) -> Option<(usize, f64)> {
         match &self.tree {
@@ -787,19 +958,38 @@ impl<V: Vector> Built<V> {
         }
     }
 
+    /// A grid's planes between its cells, per axis (the box's own sides left out): what a
+    /// view draws as the grid's lines. Empty for trees.
+    pub fn grid_planes(&self) -> Vec<(usize, Vec<f64>)> {
+        let cells = match &self.tree {
+            Tree::Grid(grid) => &grid.cells,
+            Tree::HashedGrid(grid) => &grid.cells,
+            _ => return Vec::new(),
+        };
+        (0..V::DIM)
+            .map(|axis| {
+                let planes = &cells.planes[axis];
+                let inner = &planes[1..planes.len() - 1];
+                (axis, inner.iter().map(|plane| plane.to_f64()).collect())
+            })
+            .collect()
+    }
+
     /// The primitives below `node`, each once.
     pub fn primitives_below(&self, node: u32) -> Vec<u32> {
         self.facts.primitives_below(&self.tree, node)
     }
 
     /// The statistics of the subtree of `node` (the whole tree at node 0; a wide BVH's
-    /// count its wide nodes, below the root its binary tree's).
+    /// count its wide nodes, below the root its binary tree's; a grid's are its walk's).
     pub fn stats(&self, node: u32, cost: &crate::sah::SahCost) -> TreeStats {
         if self.facts.node_count() == 0 {
             return TreeStats::default();
         }
         match &self.tree {
-            Tree::Bvh4(_) | Tree::Bvh8(_) if node == 0 => self.tree.stats(cost),
+            Tree::Bvh4(_) | Tree::Bvh8(_) | Tree::Grid(_) | Tree::HashedGrid(_) if node == 0 => {
+                self.tree.stats(cost)
+            }
             _ => TreeStats::of_subtree(&self.facts, node, cost),
         }
     }

@@ -359,20 +359,20 @@ pub(crate) fn ray_json(origin: &[f64], direction: &[f64]) -> Value {
     json!({"origin": origin, "direction": direction})
 }
 
-/// A BVH's nodes as JSON: `{"box", "children": [a, b]}` or `{"box", "shapes": [...]}`, node
-/// 0 the root.
+/// A BVH's nodes (any tree's, each with its box or cell) as JSON: `{"box", "children": [a,
+/// b]}` or `{"box", "shapes": [...]}`, node 0 the root.
 pub(crate) fn bvh_json(built: &Built<DVec2>) -> Value {
-    let Tree::Bvh(bvh) = &built.tree else {
-        return Value::Array(Vec::new());
-    };
+    use accelviz_core::Hierarchy;
+    let facts = &built.facts;
     Value::Array(
-        bvh.nodes
-            .iter()
+        (0..facts.node_count() as u32)
             .map(|node| {
-                if node.is_leaf() {
-                    json!({"box": box_json(&node.bounds), "shapes": bvh.leaf_primitives(node)})
-                } else {
-                    json!({"box": box_json(&node.bounds), "children": node.children()})
+                let bounds = box_json(&facts.bounds[node as usize]);
+                match facts.children[node as usize] {
+                    None => json!({"box": bounds, "shapes": built.tree.leaf_primitives(node)}),
+                    Some(children) => {
+                        json!({"box": bounds, "children": children.iter().collect::<Vec<_>>()})
+                    }
                 }
             })
             .collect(),
@@ -421,7 +421,13 @@ pub(crate) fn traversal_question(
     );
     fields.insert("structure".into(), json!(tree.built.structure.name()));
     let nodes = match tree.built.tree {
-        Tree::Bvh(_) | Tree::Bvh4(_) | Tree::Bvh8(_) => bvh_json(&tree.built),
+        // A grid's nodes are its box and cells, an octree's its cells: boxes, as a BVH's.
+        Tree::Bvh(_)
+        | Tree::Bvh4(_)
+        | Tree::Bvh8(_)
+        | Tree::Grid(_)
+        | Tree::HashedGrid(_)
+        | Tree::Octree(_) => bvh_json(&tree.built),
         Tree::Kd(_) => kd_json(&tree.built),
     };
     fields.insert("nodes".into(), nodes);
@@ -488,7 +494,7 @@ pub(crate) fn describe_box(bounds: &Aabb<DVec2>) -> String {
 pub(crate) fn describe_node(built: &Built<DVec2>, node: u32) -> String {
     let facts = &built.facts;
     let bounds = describe_box(&facts.bounds[node as usize]);
-    match facts.children[node as usize] {
+    match facts.children[node as usize].and_then(|children| children.as_pair()) {
         Some([left, right]) => {
             let plane = built
                 .plane(node)

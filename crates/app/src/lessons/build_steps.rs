@@ -212,9 +212,10 @@ impl BuildStepsLesson {
             },
             BuildStep::Split {
                 node,
-                children: [left, right],
+                children,
                 cost,
             } => {
+                let [left, right] = children.as_pair().unwrap_or([children.first; 2]);
                 let plane = tree
                     .built
                     .plane(node)

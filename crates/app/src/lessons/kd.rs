@@ -88,7 +88,7 @@ fn part_of(tree: &SceneTree, node: u32, ray: &Ray<DVec2>) -> (Option<u32>, Part)
         return (Some(parent), Part::Near);
     };
     let negative = SlabRay::new(ray, false).negative[axis];
-    let below = facts.children[parent as usize].is_some_and(|[below, _]| below == node);
+    let below = facts.children[parent as usize].is_some_and(|children| children.first == node);
     (
         Some(parent),
         if below != negative {
@@ -275,11 +275,20 @@ pub fn step_view(trace: &Trace, frame: usize, tree: &SceneTree, ray: &Ray<DVec2>
             cell: leaf,
             ..blank
         },
-        // kD traversal never orders wide children; entering is the nearest thing it does.
-        Step::NodeEntered { node } | Step::ChildrenOrdered { node, .. } => KdStepView {
+        // kD traversal never orders wide children nor walks a grid; entering is the nearest
+        // thing it does.
+        Step::NodeEntered { node }
+        | Step::ChildrenOrdered { node, .. }
+        | Step::CellSkipped { node, .. }
+        | Step::CellLookedUp { node, .. } => KdStepView {
             lines: vec![0],
             text: format!("enter node {node}"),
             cell: Some(node),
+            ..blank
+        },
+        Step::GridStepped { .. } => KdStepView {
+            lines: vec![0],
+            text: String::new(),
             ..blank
         },
     }

@@ -534,7 +534,7 @@ impl MeshTreeLesson {
             facts.depth[node as usize],
             match tree.build.built.structure.family() {
                 Family::Bvh => "box",
-                Family::Kd => "cell",
+                Family::Kd | Family::Grid | Family::HashedGrid | Family::Octree => "cell",
             },
             point_at_scale(&bounds.min.to_array(), tree.build.sphere.1),
             point_at_scale(&bounds.max.to_array(), tree.build.sphere.1),

@@ -266,7 +266,8 @@ fn draw_ghost(canvas: &Canvas, tree: &SceneTree, family: Family, node: u32, cand
     let node_box = tree.built.facts.bounds[node as usize];
     let axis = candidate.axis;
     let (left, right) = match family {
-        Family::Kd => {
+        // A grid's cell cut as a kD cell would be.
+        Family::Kd | Family::Grid | Family::HashedGrid | Family::Octree => {
             let mut below = node_box;
             let mut above = node_box;
             below.max[axis] = candidate.position;
@@ -457,7 +458,7 @@ impl Lesson for SplitsLesson {
             {
                 go_to = Some(parent);
             }
-            if let Some([left, right]) = children {
+            if let Some([left, right]) = children.and_then(|children| children.as_pair()) {
                 if ui.button("left child").clicked() {
                     go_to = Some(left);
                 }

@@ -722,11 +722,19 @@ fn short_name(mesh: &str) -> &str {
     name.trim_start_matches("builtin:")
 }
 
-/// The family of a row, for a plot's colours: BVHs and kD-trees.
+/// The family of a row, for a plot's colours.
 fn family_color(row: &TradeRow) -> Color32 {
-    match row.structure.family() {
+    color_of(row.structure.family())
+}
+
+/// A family's colour in the lab's plots.
+fn color_of(family: Family) -> Color32 {
+    match family {
         Family::Bvh => palette::HIT,
         Family::Kd => palette::RAY,
+        Family::Grid => palette::SPHERE,
+        Family::HashedGrid => palette::BOX,
+        Family::Octree => palette::Z_AXIS,
     }
 }
 
@@ -789,7 +797,8 @@ fn scatter_ui(
                 .style(egui_plot::LineStyle::dashed_dense()),
             );
         }
-        for (family, name) in [(Family::Bvh, "BVH"), (Family::Kd, "kD-tree")] {
+        for family in Family::ALL {
+            let name = family.label();
             let points: Vec<[f64; 2]> = rows
                 .iter()
                 .filter(|row| row.structure.family() == family)
@@ -798,10 +807,7 @@ fn scatter_ui(
             if points.is_empty() {
                 continue;
             }
-            let color = match family {
-                Family::Bvh => palette::HIT,
-                Family::Kd => palette::RAY,
-            };
+            let color = color_of(family);
             plot.points(
                 Points::new(name, PlotPoints::new(points))
                     .shape(MarkerShape::Circle)

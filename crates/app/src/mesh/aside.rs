@@ -11,8 +11,10 @@
 
 use accelviz_core::Tree;
 use accelviz_core::bvh::{Bvh, BvhNode, WideBvh};
+use accelviz_core::grid::{DenseCells, Grid, GridCells, GridLimits, HashedCells};
 use accelviz_core::kd::{KdBudgetExceeded, KdLimits, KdNode, KdTree};
-use accelviz_core::{Aabb, Built, LeafReason, SahCost, Structure, TreeFacts, TreeStats};
+use accelviz_core::octree::{Octree, OctreeLimits, OctreeNode};
+use accelviz_core::{Aabb, Built, Family, LeafReason, SahCost, Structure, TreeFacts, TreeStats};
 use glam::DVec3;
 
 use std::sync::atomic::{AtomicU32, Ordering};
@@ -250,6 +252,42 @@ pub fn pack(built: &MeshBuild) -> Vec<u8> {
                 out.u64(number as u64);
             }
         }
+        // A grid travels as its dense table; the cells are made again from its box and
+        // resolution, and a hashed grid's table again from the dense one (deterministic).
+        Tree::Grid(Grid { cells, limits, .. }) | Tree::HashedGrid(Grid { cells, limits, .. }) => {
+            let (dense, places) = match &built.built.tree {
+                Tree::Grid(grid) => (grid.store.clone(), 0),
+                Tree::HashedGrid(grid) => (
+                    grid.store.to_dense(cells.cell_count()),
+                    grid.store.buckets.len(),
+                ),
+                _ => unreachable!("a grid"),
+            };
+            out.u64(2);
+            out.aabb(&cells.bounds);
+            for count in cells.resolution {
+                out.u32(count);
+            }
+            out.f64(limits.density_asked);
+            out.f64(limits.density_used);
+            out.u64(places as u64);
+            out.u32s(&dense.cell_start);
+            out.u32s(&dense.references);
+        }
+        Tree::Octree(tree) => {
+            out.u64(3);
+            out.aabb(&tree.bounds);
+            out.u64(tree.nodes.len() as u64);
+            for node in &tree.nodes {
+                out.u32(node.first);
+                out.u32(node.count);
+            }
+            out.u32s(&tree.primitive_indices);
+            let limits = &tree.limits;
+            out.u64(limits.depth_limit as u64);
+            out.u64(limits.leaves_at_depth_limit as u64);
+            out.u64(limits.lowered_from.map_or(0, |usual| usual as u64 + 1));
+        }
     }
     let reasons = &built.built.facts.leaf_reasons;
     out.u64(reasons.len() as u64);
@@ -271,6 +309,7 @@ pub fn pack(built: &MeshBuild) -> Vec<u8> {
             }) => (3, leaf_cost, split_cost),
             Some(LeafReason::Inseparable { count }) => (4, count as f64, 0.0),
             Some(LeafReason::DepthLimit { limit }) => (5, limit as f64, 0.0),
+            Some(LeafReason::GridCell) => (6, 0.0, 0.0),
         };
         out.bytes.push(tag);
         out.f64(a);
@@ -371,6 +410,56 @@ pub fn unpack(bytes: &[u8]) -> Result<MeshBuild, String> {
                 },
             })
         }
+        2 => {
+            let bounds = input.aabb()?;
+            let resolution = [input.u32()?, input.u32()?, input.u32()?];
+            let limits = GridLimits {
+                density_asked: input.f64()?,
+                density_used: input.f64()?,
+            };
+            let places = input.usize()?;
+            let dense = DenseCells {
+                cell_start: input.u32s()?,
+                references: input.u32s()?,
+            };
+            let cells = GridCells::with_resolution(bounds, resolution);
+            if dense.cell_start.len() != cells.cell_count() + 1 {
+                return Err("the grid's table does not fit its cells".to_owned());
+            }
+            match structure.family() {
+                Family::HashedGrid => Tree::HashedGrid(Grid {
+                    store: HashedCells::from_dense(&dense, cells.resolution, places),
+                    cells,
+                    limits,
+                }),
+                _ => Tree::Grid(Grid {
+                    store: dense,
+                    cells,
+                    limits,
+                }),
+            }
+        }
+        3 => {
+            let bounds = input.aabb()?;
+            let nodes = input.items(|node: &[u8; 8]| OctreeNode {
+                first: u32_at(node, 0),
+                count: u32_at(node, 4),
+            })?;
+            let primitive_indices = input.u32s()?;
+            let depth_limit = input.usize()?;
+            let leaves_at_depth_limit = input.usize()?;
+            let lowered_from = input.usize()?.checked_sub(1);
+            Tree::Octree(Octree {
+                bounds,
+                nodes,
+                primitive_indices,
+                limits: OctreeLimits {
+                    depth_limit,
+                    leaves_at_depth_limit,
+                    lowered_from,
+                },
+            })
+        }
         other => return Err(format!("unknown tree kind {other}")),
     };
     let reasons = input.items(|reason: &[u8; 17]| {
@@ -390,6 +479,7 @@ pub fn unpack(bytes: &[u8]) -> Result<MeshBuild, String> {
             }),
             4 => Some(LeafReason::Inseparable { count: a as usize }),
             5 => Some(LeafReason::DepthLimit { limit: a as usize }),
+            6 => Some(LeafReason::GridCell),
             // 0, or a tag this version does not know: no reason given.
             _ => None,
         }
@@ -613,6 +703,11 @@ struct Reader<'a> {
 }
 
 impl<'a> Reader<'a> {
+    fn u32(&mut self) -> Result<u32, String> {
+        let bytes = self.take(4)?;
+        Ok(u32_at(bytes, 0))
+    }
+
     fn take(&mut self, count: usize) -> Result<&'a [u8], String> {
         if self.rest.len() < count {
             return Err("the packed structure ends early".to_owned());

@@ -268,7 +268,10 @@ fn scene_ui(
         // cells share corners) the nodes the step names and their parents.
         let named: Vec<u32> = match tree.built.tree.family() {
             accelviz_core::Family::Bvh => visible.clone(),
-            accelviz_core::Family::Kd => {
+            accelviz_core::Family::Kd
+            | accelviz_core::Family::Grid
+            | accelviz_core::Family::HashedGrid
+            | accelviz_core::Family::Octree => {
                 let mut named: Vec<u32> = state
                     .ask
                     .map(|ask| {

@@ -239,5 +239,6 @@ pub fn rule_color(rule: SplitRule) -> Color32 {
         SplitRule::Middle => palette::X_AXIS,
         SplitRule::Median => palette::Y_AXIS,
         SplitRule::Sah => palette::CURRENT,
+        SplitRule::Uniform => palette::BOX,
     }
 }

@@ -31,13 +31,14 @@ fn columns<V: Vector>(facts: &TreeFacts<V>, bottom: usize) -> (Vec<f32>, usize) 
                 column[node as usize] = leaves as f32;
                 leaves += 1;
             }
-            (Some([left, right]), true) => {
-                column[node as usize] = (column[left as usize] + column[right as usize]) * 0.5;
+            (Some(children), true) => {
+                // Between its first and its last child.
+                let (first, last) = (children.first, children.first + children.count - 1);
+                column[node as usize] = (column[first as usize] + column[last as usize]) * 0.5;
             }
-            (Some([left, right]), false) => {
+            (Some(children), false) => {
                 pending.push((node, true));
-                pending.push((right, false));
-                pending.push((left, false));
+                pending.extend(children.iter().rev().map(|child| (child, false)));
             }
         }
     }
@@ -266,7 +267,9 @@ mod tests {
         let facts = &built.facts;
         let (column, leaves) = columns(facts, facts.max_depth());
         assert_eq!(leaves, 4);
-        let [left, right] = facts.children[0].unwrap_or_else(|| unreachable!());
+        let [left, right] = facts.children[0]
+            .and_then(|children| children.as_pair())
+            .unwrap_or_else(|| unreachable!());
         assert_eq!(
             column[0],
             (column[left as usize] + column[right as usize]) * 0.5

@@ -89,7 +89,7 @@ pub fn draw_tree(canvas: &Canvas, tree: &SceneTree, look: &TreeLook) {
                 }
             }
         }
-        Family::Kd => {
+        Family::Kd | Family::Octree => {
             canvas.box_outline(
                 &tree.built.root_bounds(),
                 Stroke::new(1.5, faded(canvas.depth_color(0), alpha)),
@@ -102,11 +102,16 @@ pub fn draw_tree(canvas: &Canvas, tree: &SceneTree, look: &TreeLook) {
                     .iter()
                     .map(|&node| node as usize)
                     .filter(|&node| !facts.is_leaf(node as u32) && shown(node))
-                    .filter_map(|node| {
-                        let (axis, position) = tree.built.plane(node as u32)?;
+                    .flat_map(|node| {
                         let color =
                             faded(canvas.depth_color(facts.depth[node] as usize + 1), alpha);
-                        Some((facts.bounds[node], axis, position, Stroke::new(1.5, color)))
+                        let cell = facts.bounds[node];
+                        tree.built
+                            .cuts(node as u32)
+                            .into_iter()
+                            .map(move |(axis, position)| {
+                                (cell, axis, position, Stroke::new(1.5, color))
+                            })
                     })
             };
             if facts.node_count() > BATCH_ABOVE {
@@ -116,6 +121,31 @@ pub fn draw_tree(canvas: &Canvas, tree: &SceneTree, look: &TreeLook) {
                 });
             } else {
                 canvas.split_lines(splits());
+            }
+        }
+        Family::Grid | Family::HashedGrid => {
+            let bounds = tree.built.root_bounds();
+            canvas.box_outline(
+                &bounds,
+                Stroke::new(1.5, faded(canvas.depth_color(0), alpha)),
+                None,
+            );
+            // Every line between cells, across the whole grid (the cells' depth is 1).
+            if look.depths.contains(&1) {
+                let stroke = Stroke::new(1.0, faded(canvas.depth_color(1), alpha));
+                let lines = tree
+                    .built
+                    .grid_planes()
+                    .into_iter()
+                    .flat_map(|(axis, planes)| {
+                        planes
+                            .into_iter()
+                            .map(move |position| (bounds, axis, position, stroke))
+                    });
+                let key = (tree.id, alpha, look.depths.start(), look.depths.end());
+                canvas.cached_batch("grid lines", key, |batch| {
+                    canvas.batch_split_lines(batch, lines);
+                });
             }
         }
     }
@@ -142,7 +172,7 @@ pub fn node_rect(canvas: &Canvas, tree: &SceneTree, node: u32) -> Option<Rect> {
     }
     let rect = match tree.built.tree.family() {
         Family::Bvh => inset(screen, facts.depth[node as usize] as usize),
-        Family::Kd => screen,
+        Family::Kd | Family::Grid | Family::HashedGrid | Family::Octree => screen,
     };
     // A flat box still shows: at least one point wide on screen.
     Some(rect.union(Rect::from_center_size(screen.center(), Vec2::splat(1.0))))
@@ -232,7 +262,7 @@ pub fn node_under(
         Family::Bvh => (0..facts.node_count() as u32)
             .filter(|&node| depths.contains(&(facts.depth[node as usize] as usize)) && holds(node))
             .max_by_key(|&node| facts.depth[node as usize]),
-        Family::Kd => {
+        Family::Kd | Family::Grid | Family::HashedGrid | Family::Octree => {
             // Walk down from the root through the cells holding the point.
             let mut node = 0u32;
             if facts.node_count() == 0 || !holds(0) {

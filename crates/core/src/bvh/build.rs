@@ -4,6 +4,7 @@
 use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReason, NoBuildObserver};
 use crate::bvh::tree::{Bvh, BvhNode};
+use crate::facts::Children;
 use crate::math::Vector;
 use crate::params::BuildParams;
 
@@ -119,11 +120,7 @@ pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>, O: BuildObserver>(
                 count: (child_end - child_begin) as u32,
             });
         }
-        observer.split(
-            node_index as u32,
-            [left_index as u32, left_index as u32 + 1],
-            cost,
-        );
+        observer.split(node_index as u32, Children::pair(left_index as u32), cost);
         // Right first on the work list, so the left subtree is built (and laid out) first.
         work.push((left_index + 1, mid, end, right.1, depth + 1));
         work.push((left_index, begin, mid, left.1, depth + 1));

@@ -1,7 +1,7 @@
 //! The BVH's memory layout.
 
 use crate::aabb::Aabb;
-use crate::facts::Hierarchy;
+use crate::facts::{Children, Hierarchy};
 use crate::math::Vector;
 use crate::primitive::{LeafOrdered, PrimitiveSet};
 
@@ -78,9 +78,9 @@ impl<V: Vector> Hierarchy<V> for Bvh<V> {
         self.nodes.len()
     }
 
-    fn children(&self, node: u32) -> Option<[u32; 2]> {
+    fn children(&self, node: u32) -> Option<Children> {
         let node = &self.nodes[node as usize];
-        (!node.is_leaf()).then(|| node.children())
+        (!node.is_leaf()).then(|| Children::pair(node.children()[0]))
     }
 
     fn leaf_primitives(&self, node: u32) -> &[u32] {

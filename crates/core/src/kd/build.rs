@@ -3,6 +3,7 @@
 
 use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReason, NoBuildObserver};
+use crate::facts::Children;
 use crate::kd::tree::{KdBudgetExceeded, KdLimits, KdNode, KdTree};
 use crate::math::{Real, Vector};
 use crate::params::BuildParams;
@@ -356,7 +357,7 @@ fn build_within<V: Vector, S: CellSplitter<V>, O: BuildObserver>(
         let leaf = nodes[node_index];
         nodes.push(leaf);
         nodes.push(leaf);
-        observer.split(node_index as u32, [left as u32, left as u32 + 1], cost);
+        observer.split(node_index as u32, Children::pair(left as u32), cost);
         let (below_data, above_data) =
             splitter.divide(data, &cut, &below_cell, &above_cell, observer);
         // Above first on the work list, so the subtree below the plane is laid out first.

@@ -20,11 +20,10 @@
 use crate::kd::tree::KdTree;
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
-use crate::primitive::{LeafPrimitives, PrimitiveSet};
+use crate::primitive::LeafPrimitives;
 use crate::query::{Hit, Order, Query, TraceOptions};
 use crate::ray::Ray;
-use crate::search::HitSearch;
-use crate::slab::{SlabRay, slab_clip};
+use crate::search::{CellSearch, Mailbox};
 
 /// Reusable stack of far sides still to visit: one per thread, so tracing allocates nothing
 /// per ray.
@@ -39,28 +38,6 @@ impl<S: Real> KdTraversalStack<S> {
         Self {
             entries: Vec::with_capacity(64),
         }
-    }
-}
-
-/// The primitives tested most recently for one ray: a primitive listed in several leaves along
-/// the ray usually meets the ray in consecutive leaves, so a few slots catch most repeats.
-#[derive(Default)]
-struct Mailbox {
-    slots: [u32; 8],
-    used: usize,
-}
-
-impl Mailbox {
-    /// Records `primitive`; false if it was already there (so its test can be skipped).
-    #[inline(always)]
-    fn post(&mut self, primitive: u32) -> bool {
-        let filled = self.used.min(self.slots.len());
-        if self.slots[..filled].contains(&primitive) {
-            return false;
-        }
-        self.slots[self.used % self.slots.len()] = primitive;
-        self.used += 1;
-        true
     }
 }
 
@@ -81,19 +58,16 @@ where
     O: Observer<V::Scalar>,
 {
     // Clip the ray to the root cell.
-    let slab_ray = SlabRay::new(ray, options.robust_traversal);
-    let (t_enter, t_exit) = slab_clip(&tree.bounds, &slab_ray, ray.t_max);
-    observer.box_tested(0, t_enter, t_exit, t_enter <= t_exit);
-    if t_enter > t_exit || tree.nodes.is_empty() {
+    let CellSearch {
+        slab_ray,
+        t_enter,
+        t_exit,
+        primitive_ray,
+        mut search,
+    } = CellSearch::enter(&tree.bounds, primitives, ray, options, observer)?;
+    if tree.nodes.is_empty() {
         return None;
     }
-    let primitive_ray = primitives.stored().prepare(ray, options.hit_test);
-    // The pseudo-code's rule ends the search by cells, below, not by leaves as in a BVH.
-    let leaf_query = match options.query {
-        Query::FirstInCell => Query::Closest,
-        query => query,
-    };
-    let mut search = HitSearch::new(ray.t_max, leaf_query);
     let entries = &mut stack.entries;
     entries.clear();
     let mut mailbox = Mailbox::default();

@@ -1,7 +1,7 @@
 //! The kD-tree's memory layout.
 
 use crate::aabb::Aabb;
-use crate::facts::Hierarchy;
+use crate::facts::{Children, Hierarchy};
 use crate::math::{Real, Vector};
 use crate::primitive::{LeafOrdered, PrimitiveSet};
 
@@ -143,9 +143,9 @@ impl<V: Vector> Hierarchy<V> for KdTree<V> {
         self.nodes.len()
     }
 
-    fn children(&self, node: u32) -> Option<[u32; 2]> {
+    fn children(&self, node: u32) -> Option<Children> {
         let node = &self.nodes[node as usize];
-        (!node.is_leaf()).then(|| node.children())
+        (!node.is_leaf()).then(|| Children::pair(node.children()[0]))
     }
 
     fn leaf_primitives(&self, node: u32) -> &[u32] {

@@ -6,6 +6,7 @@
 
 pub(crate) mod clip;
 pub use clip::clipped_polygon;
+mod overlap;
 mod shape;
 mod triangle;
 
@@ -79,6 +80,14 @@ pub trait PrimitiveSet<V: Vector> {
     /// box of that part. By default, the primitive's box clipped to the cell.
     fn clipped_bounds(&self, index: usize, cell: &Aabb<V>) -> Option<Aabb<V>> {
         self.bounds(index).intersection(cell)
+    }
+
+    /// Whether primitive `index` reaches into the closed box `cell`: what a grid lists it by.
+    /// Conservative: touching counts, and where rounding cannot tell, so does nearly
+    /// touching. By default, whether it has a part in the cell
+    /// ([`clipped_bounds`](Self::clipped_bounds)).
+    fn overlaps(&self, index: usize, cell: &Aabb<V>) -> bool {
+        self.clipped_bounds(index, cell).is_some()
     }
 
     /// Every primitive's box, in order: what a builder takes.

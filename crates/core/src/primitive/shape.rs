@@ -277,6 +277,15 @@ impl<V: Vector> PrimitiveSet<V> for ShapeSet<V> {
         }
     }
 
+    fn overlaps(&self, index: usize, cell: &Aabb<V>) -> bool {
+        match &self.shapes[index] {
+            Shape::Sphere(sphere) => {
+                super::overlap::sphere_overlaps_box(sphere.center, sphere.radius, cell)
+            }
+            _ => self.clipped_bounds(index, cell).is_some(),
+        }
+    }
+
     fn permuted(&self, order: &[u32]) -> Self {
         Self {
             shapes: order

@@ -427,6 +427,10 @@ impl<V: Vector3> PrimitiveSet<V> for TriangleSet<V> {
         super::clip::clipped_bounds(&self.triangles[index], cell)
     }
 
+    fn overlaps(&self, index: usize, cell: &Aabb<V>) -> bool {
+        super::overlap::triangle_overlaps_box(&self.triangles[index], cell)
+    }
+
     fn permuted(&self, order: &[u32]) -> Self {
         Self {
             triangles: order

@@ -28,7 +28,7 @@ fn structures_of(family: Family) -> Vec<Structure> {
         })
         .flat_map(|structure| match family {
             Family::Bvh => Width::ALL.map(|width| structure.with_width(width)).to_vec(),
-            Family::Kd => vec![structure],
+            Family::Kd | Family::Grid | Family::HashedGrid | Family::Octree => vec![structure],
         })
         .collect()
 }
@@ -107,6 +107,17 @@ pub fn all_kd_trees<V: Vector, P: PrimitiveSet<V>>(primitives: &P) -> Vec<(Strin
         .collect()
 }
 
+/// Builds every grid of the catalogue (dense and hashed, each at its smallest density and its
+/// default) and every octree (at the smallest leaf size and the default), validating each.
+pub fn all_cell_structures<V: Vector, P: PrimitiveSet<V>>(
+    primitives: &P,
+) -> Vec<(String, Tree<V>)> {
+    let mut trees = build_checked(primitives, Family::Grid);
+    trees.extend(build_checked(primitives, Family::HashedGrid));
+    trees.extend(build_checked(primitives, Family::Octree));
+    trees
+}
+
 /// Every combination of order, query and robustness.
 pub fn all_options() -> Vec<TraceOptions> {
     let mut options = Vec::new();
@@ -148,6 +159,11 @@ pub fn assert_agrees_with_brute_force<
     let kd_leaf_ordered: Vec<_> = kd_trees
         .iter()
         .map(|(_, tree)| tree.leaf_ordered(primitives))
+        .collect();
+    let grids = all_cell_structures(primitives);
+    let grid_leaf_ordered: Vec<_> = grids
+        .iter()
+        .map(|(_, grid)| grid.leaf_ordered(primitives))
         .collect();
     let mut stacks = TraversalStacks::default();
     let mut kd_stack = KdTraversalStack::new();
@@ -234,51 +250,56 @@ pub fn assert_agrees_with_brute_force<
                     }
                 }
             }
+            // Grids and octrees, which list a primitive in every cell it reaches. A grid's walk
+            // meets cells in the ray's order whatever the order option, and its rule is the
+            // pseudo-code's; the hashed grid takes the dense grid's steps. An octree visits
+            // the cells a ray passes front to back or by their numbers.
+            let mut dense_steps = Vec::new();
+            let mut hashed_seen = 0;
+            for ((name, grid), leaf_ordered) in grids.iter().zip(&grid_leaf_ordered) {
+                let context = format!("{name}, {options:?}, ray {index} {ray:?}");
+                let (got, counters) =
+                    trace_three_ways(&context, &options, |ordered, options, counters| {
+                        if ordered {
+                            grid.trace(leaf_ordered, ray, options, &mut stacks, counters)
+                        } else {
+                            grid.trace(primitives, ray, options, &mut stacks, counters)
+                        }
+                    });
+                let in_file_order =
+                    matches!(grid, Tree::Octree(_)) && options.order == Order::FileOrder;
+                match options.query {
+                    Query::FirstInCell if in_file_order => {
+                        assert_not_nearer(got, expected, &context)
+                    }
+                    Query::Closest | Query::FirstInCell => assert_same_hit(got, expected, &context),
+                    Query::Any => assert_eq!(got.is_some(), expected.is_some(), "{context}"),
+                }
+                // The hashed grids come in the dense grids' order.
+                match grid {
+                    Tree::Grid(_) => dense_steps.push((got, counters)),
+                    Tree::Octree(_) => {}
+                    _ => {
+                        let twin = dense_steps.get(hashed_seen);
+                        assert_eq!(
+                            twin,
+                            Some(&(got, counters)),
+                            "{context}: hashed against dense"
+                        );
+                        hashed_seen += 1;
+                    }
+                }
+            }
             for ((name, tree), leaf_ordered) in kd_trees.iter().zip(&kd_leaf_ordered) {
                 let context = format!("{name}, {options:?}, ray {index} {ray:?}");
-                let mut counters = Counters::default();
-                let got = kd::traverse(
-                    tree,
-                    primitives,
-                    ray,
-                    &options,
-                    &mut kd_stack,
-                    &mut counters,
-                );
-                let mut counters_ordered = Counters::default();
-                let got_ordered = kd::traverse(
-                    tree,
-                    leaf_ordered,
-                    ray,
-                    &options,
-                    &mut kd_stack,
-                    &mut counters_ordered,
-                );
-                assert_eq!(
-                    (got, counters),
-                    (got_ordered, counters_ordered),
-                    "{context}: leaf order"
-                );
-                // The mailbox skips repeated tests and changes nothing else.
-                let mailbox = TraceOptions {
-                    mailboxing: true,
-                    ..options
-                };
-                let mut counters_mailbox = Counters::default();
-                let got_mailbox = kd::traverse(
-                    tree,
-                    primitives,
-                    ray,
-                    &mailbox,
-                    &mut kd_stack,
-                    &mut counters_mailbox,
-                );
-                assert_eq!(got_mailbox, got, "{context}: mailbox");
-                assert_eq!(
-                    counters_mailbox.primitive_tests + counters_mailbox.mailbox_skips,
-                    counters.primitive_tests,
-                    "{context}: mailbox"
-                );
+                let (got, _) =
+                    trace_three_ways(&context, &options, |ordered, options, counters| {
+                        if ordered {
+                            kd::traverse(tree, leaf_ordered, ray, options, &mut kd_stack, counters)
+                        } else {
+                            kd::traverse(tree, primitives, ray, options, &mut kd_stack, counters)
+                        }
+                    });
                 // The pseudo-code's rule near first is the closest hit, but for a ray lying in
                 // a split plane (it meets both sides all along).
                 let in_a_plane = || {
@@ -307,6 +328,39 @@ pub fn assert_agrees_with_brute_force<
             }
         }
     }
+}
+
+/// Traces a ray with `trace` (in leaf order or not, with these options, counting) three ways:
+/// over the primitives in their own order, over the leaf-ordered copy, which must take the
+/// same steps to the same hit, and with the mailbox, which must skip repeated tests and change
+/// nothing else. The first way's hit and counts.
+fn trace_three_ways<S: Real>(
+    context: &str,
+    options: &TraceOptions,
+    mut trace: impl FnMut(bool, &TraceOptions, &mut Counters) -> Option<Hit<S>>,
+) -> (Option<Hit<S>>, Counters) {
+    let mut counters = Counters::default();
+    let got = trace(false, options, &mut counters);
+    let mut counters_ordered = Counters::default();
+    let got_ordered = trace(true, options, &mut counters_ordered);
+    assert_eq!(
+        (got, counters),
+        (got_ordered, counters_ordered),
+        "{context}: leaf order"
+    );
+    let mailbox = TraceOptions {
+        mailboxing: true,
+        ..*options
+    };
+    let mut counters_mailbox = Counters::default();
+    let got_mailbox = trace(false, &mailbox, &mut counters_mailbox);
+    assert_eq!(got_mailbox, got, "{context}: mailbox");
+    assert_eq!(
+        counters_mailbox.primitive_tests + counters_mailbox.mailbox_skips,
+        counters.primitive_tests,
+        "{context}: mailbox"
+    );
+    (got, counters)
 }
 
 /// A hit exactly when brute force has one, and never nearer than its closest.

@@ -51,9 +51,10 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         else {
             continue;
         };
-        let (Some([below, above]), Some((axis, split))) =
-            (facts.children[node as usize], built.plane(node))
-        else {
+        let (Some([below, above]), Some((axis, split))) = (
+            facts.children[node as usize].and_then(|children| children.as_pair()),
+            built.plane(node),
+        ) else {
             continue;
         };
         if origin[axis] == split {

@@ -74,7 +74,9 @@ fn why_entered(
         format!(" ({})", culled.join("; "))
     };
     if parent.is_some() && parent == previous {
-        let siblings = facts.children[parent.unwrap_or(0) as usize].unwrap_or([node, node]);
+        let siblings = facts.children[parent.unwrap_or(0) as usize]
+            .and_then(|children| children.as_pair())
+            .unwrap_or([node, node]);
         let sibling = if siblings[0] == node {
             siblings[1]
         } else {
