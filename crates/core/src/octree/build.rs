@@ -61,9 +61,10 @@ fn build_within<V: Vector, P: PrimitiveSet<V>, O: BuildObserver>(
     (node_budget, reference_budget): (usize, usize),
     observer: &mut O,
 ) -> Option<Octree<V>> {
-    let bounds = (0..primitives.len()).fold(Aabb::empty(), |acc, index| {
-        acc.union(primitives.bounds(index))
-    });
+    let primitive_bounds = primitives.all_bounds();
+    let bounds = primitive_bounds
+        .iter()
+        .fold(Aabb::empty(), |acc, bounds| acc.union(*bounds));
     let children = child_count::<V>();
     let mut nodes = vec![OctreeNode { first: 0, count: 0 }];
     let mut primitive_indices = Vec::new();
@@ -89,27 +90,41 @@ fn build_within<V: Vector, P: PrimitiveSet<V>, O: BuildObserver>(
         } else {
             None
         };
-        // Cut it in the middle along every axis; each child lists what reaches into it.
+        // Cut it in the middle along every axis; each child lists what reaches into it: the
+        // children a primitive's box touches (closed: on the middle, both sides), and of
+        // those, when it touches more than one, the ones the primitive itself reaches.
         let middle = middle(&cell);
         let mut parts = Vec::new();
         if reason.is_none() {
             parts = (0..children)
-                .map(|child| {
-                    let part = child_cell(&cell, middle, child);
-                    let inside: Vec<u32> = listed
-                        .iter()
-                        .copied()
-                        .filter(|&primitive| {
-                            primitives
-                                .bounds(primitive as usize)
-                                .intersection(&part)
-                                .is_some()
-                                && primitives.overlaps(primitive as usize, &part)
-                        })
-                        .collect();
-                    (part, inside)
-                })
-                .collect();
+                .map(|child| (child_cell(&cell, middle, child), Vec::new()))
+                .collect::<Vec<_>>();
+            for &primitive in &listed {
+                let bounds = &primitive_bounds[primitive as usize];
+                // Per axis, the sides of the middle the box touches: bit 0 below, bit 1 above.
+                let sides: [u32; 3] = std::array::from_fn(|axis| {
+                    if axis >= V::DIM {
+                        return 1;
+                    }
+                    u32::from(bounds.min[axis] <= middle[axis])
+                        | u32::from(bounds.max[axis] >= middle[axis]) << 1
+                });
+                let mut touched = [0usize; 8];
+                let mut count = 0;
+                for child in 0..children {
+                    if (0..V::DIM).all(|axis| sides[axis] & (1 << ((child >> axis) & 1)) != 0) {
+                        touched[count] = child;
+                        count += 1;
+                    }
+                }
+                let one = count == 1;
+                for &child in &touched[..count] {
+                    let (part, inside) = &mut parts[child];
+                    if one || primitives.overlaps(primitive as usize, part) {
+                        inside.push(primitive);
+                    }
+                }
+            }
             if parts.iter().all(|(_, inside)| inside.len() == listed.len()) {
                 reason = Some(LeafReason::Inseparable {
                     count: listed.len(),
