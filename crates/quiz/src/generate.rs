@@ -494,16 +494,26 @@ pub(crate) fn describe_box(bounds: &Aabb<DVec2>) -> String {
 pub(crate) fn describe_node(built: &Built<DVec2>, node: u32) -> String {
     let facts = &built.facts;
     let bounds = describe_box(&facts.bounds[node as usize]);
-    match facts.children[node as usize].and_then(|children| children.as_pair()) {
-        Some([left, right]) => {
-            let plane = built
-                .plane(node)
-                .map(|(axis, at)| format!(", cut at {} = {}", AXES[axis], num(at)))
-                .unwrap_or_default();
+    match facts.children[node as usize] {
+        Some(children) => {
+            let cuts: Vec<String> = built
+                .cuts(node)
+                .into_iter()
+                .map(|(axis, at)| format!("{} = {}", AXES[axis], num(at)))
+                .collect();
+            let plane = match cuts.is_empty() {
+                true => String::new(),
+                false => format!(", cut at {}", cuts.join(" and ")),
+            };
+            let labels: Vec<String> = children
+                .iter()
+                .map(|child| crate::question::node_label(facts, child))
+                .collect();
+            let (init, last) = labels.split_at(labels.len().saturating_sub(1));
             format!(
                 "{bounds}{plane}, children {} and {}",
-                crate::question::node_label(facts, left),
-                crate::question::node_label(facts, right)
+                init.join(", "),
+                last.join("")
             )
         }
         None => {

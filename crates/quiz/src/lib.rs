@@ -32,7 +32,7 @@ pub use generate::{Level, LevelError, num};
 pub use kinds::{KINDS, KindEntry, KindError, generate, kind_names};
 pub use progress::{PROGRESS_FORMAT, Progress, ProgressError};
 pub use question::{
-    Ask, Choice, CrackFigure, Expected, Figure, Highlight, Question, Response, SceneFigure,
-    TreeFigure, node_label, option_letter,
+    Ask, Choice, CrackFigure, Expected, Figure, GridFigure, Highlight, Question, Response,
+    SceneFigure, TreeFigure, node_label, option_letter,
 };
 pub use session::{Outcome, Session, SessionError, Verdict};

@@ -100,6 +100,73 @@ pub enum Figure {
     Build(Box<crate::build::BuildExercise>),
     /// Two triangles sharing an edge and a ray aimed at it, seen along the ray.
     Crack(Box<CrackFigure>),
+    /// A uniform grid and a ray walking through its cells, in 2D or 3D.
+    Grid(Box<GridFigure>),
+}
+
+/// A uniform grid and a ray, with the cells the ray passes (the grid-walk question). A
+/// highlight's `nodes` are cell numbers (`x + n_x·(y + n_y·z)`), and a step's frame is how
+/// many of the walked cells are shown.
+#[derive(Clone, Debug)]
+pub struct GridFigure {
+    /// The grid's smallest corner (2 or 3 coordinates).
+    pub min: Vec<f64>,
+    /// Its largest corner.
+    pub max: Vec<f64>,
+    /// Cells along each axis.
+    pub cells: Vec<u32>,
+    /// The ray's origin.
+    pub origin: Vec<f64>,
+    /// The ray's direction.
+    pub direction: Vec<f64>,
+    /// The cells the ray passes, in order (padded to three coordinates).
+    pub walked: Vec<[u32; 3]>,
+    /// The ray's part of each, `[t_near, t_far]`.
+    pub parts: Vec<(f64, f64)>,
+}
+
+impl GridFigure {
+    /// One cell's size along each axis.
+    pub fn cell_size(&self) -> Vec<f64> {
+        (0..self.min.len())
+            .map(|axis| (self.max[axis] - self.min[axis]) / f64::from(self.cells[axis]))
+            .collect()
+    }
+
+    /// The number of the cell at `coordinates`.
+    pub fn cell_number(&self, coordinates: [u32; 3]) -> u32 {
+        let ny = self.cells.get(1).copied().unwrap_or(1);
+        coordinates[0] + self.cells[0] * (coordinates[1] + ny * coordinates[2])
+    }
+
+    /// The coordinates of cell number `cell`.
+    pub fn coordinates(&self, cell: u32) -> [u32; 3] {
+        let (nx, ny) = (self.cells[0], self.cells.get(1).copied().unwrap_or(1));
+        [cell % nx, (cell / nx) % ny, cell / (nx * ny)]
+    }
+
+    /// A cell's smallest and largest corners (2 or 3 coordinates).
+    pub fn cell_box(&self, coordinates: [u32; 3]) -> (Vec<f64>, Vec<f64>) {
+        let size = self.cell_size();
+        let low: Vec<f64> = (0..self.min.len())
+            .map(|axis| self.min[axis] + f64::from(coordinates[axis]) * size[axis])
+            .collect();
+        let high = low
+            .iter()
+            .zip(&size)
+            .map(|(low, size)| low + size)
+            .collect();
+        (low, high)
+    }
+
+    /// The cells as a student writes them: `(1, 2)` or `(1, 2, 0)`.
+    pub fn describe_cell(&self, coordinates: [u32; 3]) -> String {
+        let values: Vec<String> = coordinates[..self.min.len()]
+            .iter()
+            .map(|value| value.to_string())
+            .collect();
+        format!("({})", values.join(", "))
+    }
 }
 
 /// Two triangles, A and B, that share an edge, and a ray aimed at a point of it, with what a
@@ -385,6 +452,30 @@ impl Figure {
             Figure::Build(exercise) => {
                 for (index, shape) in exercise.shapes().shapes.iter().enumerate() {
                     lines.push(format!("shape {index}: {}", describe_shape(shape)));
+                }
+            }
+            Figure::Grid(grid) => {
+                let counts: Vec<String> = grid.cells.iter().map(|n| n.to_string()).collect();
+                let sizes: Vec<String> = grid.cell_size().iter().map(|s| num(*s)).collect();
+                lines.push(format!(
+                    "grid from ({}) to ({}): {} cells of {}, numbered from 0 at the smallest corner",
+                    list(&grid.min),
+                    list(&grid.max),
+                    counts.join(" × "),
+                    sizes.join(" × ")
+                ));
+                lines.push(format!(
+                    "ray from ({}) in direction ({})",
+                    list(&grid.origin),
+                    list(&grid.direction)
+                ));
+                let shown = frame.unwrap_or(grid.walked.len()).min(grid.walked.len());
+                if shown > 0 {
+                    let passed: Vec<String> = grid.walked[..shown]
+                        .iter()
+                        .map(|cell| grid.describe_cell(*cell))
+                        .collect();
+                    lines.push(format!("cells passed so far: {}", passed.join(", ")));
                 }
             }
         }

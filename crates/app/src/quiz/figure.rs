@@ -96,7 +96,209 @@ pub fn figure_ui(
             canvas.finish();
             None
         }
+        Figure::Grid(grid) => grid_ui(ui, view, view3d, state, grid),
     }
+}
+
+/// The grid walk: the grid with every cell's coordinates, the ray, the cells passed so far
+/// (the one the ray is in lit), and once answered the next cell and the line crossed into it.
+/// A click on a cell picks the option that names it. In 3D, the grid's cells as boxes in the
+/// 3D view, the cells passed lit.
+fn grid_ui(
+    ui: &mut Ui,
+    view: &mut View2d,
+    view3d: &mut crate::view3d::View3d,
+    state: &FigureState,
+    grid: &accelviz_quiz::GridFigure,
+) -> Option<usize> {
+    let lit = highlight(state);
+    let shown = state.frame.min(grid.walked.len());
+    let passed = &grid.walked[..shown];
+    let reach = grid.parts.last().map_or(1.0, |&(_, t_far)| t_far) + 0.5;
+    if grid.min.len() == 3 {
+        grid_3d_ui(ui, view3d, lit, grid, passed, reach);
+        return None;
+    }
+    let point = |values: &[f64]| DVec2::new(values[0], values[1]);
+    let (low, high) = (point(&grid.min), point(&grid.max));
+    let (o, d) = (point(&grid.origin), point(&grid.direction));
+    let bounds = Aabb::new(low, high);
+    let fit = bounds.union(Aabb::from_points([o, o + d * reach]));
+    let margin = DVec2::splat(0.05 * fit.extent().max_element().max(1.0));
+    let fit = Aabb::new(fit.min - margin, fit.max + margin);
+    let canvas = Canvas::allocate(ui, ui.available_size(), view, &fit, true);
+    let cell_rect = |cell: [u32; 3]| {
+        let (a, b) = grid.cell_box(cell);
+        Aabb::new(point(&a), point(&b))
+    };
+    // The cells passed, the last (where the ray is) lit.
+    for (index, cell) in passed.iter().enumerate() {
+        let last = index + 1 == passed.len();
+        let color = if last { palette::CURRENT } else { palette::BOX };
+        canvas.box_outline(
+            &cell_rect(*cell),
+            Stroke::NONE,
+            Some(faded(color, if last { 70 } else { 35 })),
+        );
+    }
+    // Once answered: the next cell, and the line crossed into it.
+    if let Some(lit) = lit {
+        for &cell in &lit.nodes {
+            canvas.box_outline(
+                &cell_rect(grid.coordinates(cell)),
+                Stroke::new(3.0, palette::HIT),
+                Some(faded(palette::HIT, 60)),
+            );
+        }
+    }
+    // The grid's lines, in their axis's colour, the one crossed strong.
+    for (axis, size) in grid.cell_size().into_iter().enumerate() {
+        for line in 0..=grid.cells[axis] {
+            let position = grid.min[axis] + f64::from(line) * size;
+            let crossed = lit.is_some_and(|lit| {
+                lit.axis == Some(axis)
+                    && lit.t.is_some_and(|t| {
+                        (grid.origin[axis] + t * grid.direction[axis] - position).abs()
+                            < 1e-9 * (1.0 + position.abs())
+                    })
+            });
+            let stroke = if crossed {
+                Stroke::new(3.0, palette::AXES[axis])
+            } else {
+                Stroke::new(1.2, faded(palette::AXES[axis], 150))
+            };
+            canvas.split_line(&bounds, axis, position, stroke);
+        }
+    }
+    // Each cell's coordinates, where they fit.
+    let font = crate::canvas::font(ui.ctx(), 11.0);
+    let label_color = ui.visuals().weak_text_color();
+    for y in 0..grid.cells[1] {
+        for x in 0..grid.cells[0] {
+            let rect = cell_rect([x, y, 0]);
+            if canvas.screen_rect(&rect).width() >= 34.0 {
+                canvas.painter.text(
+                    canvas.to_screen(rect.center()),
+                    egui::Align2::CENTER_CENTER,
+                    grid.describe_cell([x, y, 0]),
+                    font.clone(),
+                    label_color,
+                );
+            }
+        }
+    }
+    canvas.ray(o, d, f64::INFINITY, Stroke::new(2.5, palette::RAY));
+    canvas.label(o, "o", palette::RAY);
+    if let Some(t) = lit.and_then(|lit| lit.t) {
+        canvas.ray_mark(o, d, t, palette::HIT, "", 0.0);
+        canvas.label(
+            o + d * t,
+            &lit.map(|lit| lit.t_label.clone()).unwrap_or_default(),
+            palette::HIT,
+        );
+    }
+    // A click on a cell picks the option naming it.
+    let picked = state
+        .ask
+        .filter(|_| !state.revealed && canvas.response.clicked())
+        .and_then(|ask| {
+            let at = canvas.to_world(canvas.response.interact_pointer_pos()?);
+            ask.expected.options().iter().position(|option| {
+                option
+                    .node
+                    .is_some_and(|cell| cell_rect(grid.coordinates(cell)).contains_point(at))
+            })
+        });
+    canvas.finish();
+    picked
+}
+
+/// The 3D grid walk: every cell a faint box, the cells passed lit (the last strongest), the
+/// answer's cell once shown, and the ray.
+fn grid_3d_ui(
+    ui: &mut Ui,
+    view3d: &mut crate::view3d::View3d,
+    lit: Option<&Highlight>,
+    grid: &accelviz_quiz::GridFigure,
+    passed: &[[u32; 3]],
+    reach: f64,
+) {
+    use crate::view3d::{Content, HiddenEdges, Instance, relative, revision_of};
+    let rgba = |color: Color32, alpha: u8| [color.r(), color.g(), color.b(), alpha];
+    let (low, high) = (DVec3::from_slice(&grid.min), DVec3::from_slice(&grid.max));
+    let (o, d) = (
+        DVec3::from_slice(&grid.origin),
+        DVec3::from_slice(&grid.direction),
+    );
+    let everything = Aabb::new(
+        low.min(o).min(o + d * reach),
+        high.max(o).max(o + d * reach),
+    );
+    let sphere = (
+        everything.center(),
+        (everything.extent().length() * 0.5).max(1e-6),
+    );
+    let cell_box = |cell: [u32; 3], color: [u8; 4]| {
+        let (a, b) = grid.cell_box(cell);
+        Instance {
+            a: relative(DVec3::from_slice(&a), sphere),
+            b: relative(DVec3::from_slice(&b), sphere),
+            color,
+        }
+    };
+    let mut boxes = Vec::new();
+    for z in 0..grid.cells[2] {
+        for y in 0..grid.cells[1] {
+            for x in 0..grid.cells[0] {
+                boxes.push(cell_box([x, y, z], rgba(Color32::GRAY, 90)));
+            }
+        }
+    }
+    for (index, &cell) in passed.iter().enumerate() {
+        let color = if index + 1 == passed.len() {
+            palette::CURRENT
+        } else {
+            palette::BOX
+        };
+        boxes.push(cell_box(cell, rgba(color, 255)));
+    }
+    if let Some(lit) = lit {
+        boxes.extend(
+            lit.nodes
+                .iter()
+                .map(|&cell| cell_box(grid.coordinates(cell), rgba(palette::HIT, 255))),
+        );
+    }
+    boxes.push(Instance {
+        a: relative(low, sphere),
+        b: relative(high, sphere),
+        color: rgba(palette::BOX, 255),
+    });
+    let segments = [Instance {
+        a: relative(o, sphere),
+        b: relative(o + d * reach, sphere),
+        color: rgba(palette::RAY, 255),
+    }];
+    let key = revision_of((
+        [&grid.min, &grid.max, &grid.origin, &grid.direction]
+            .map(|v| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>()),
+        passed.to_vec(),
+        lit.map(|lit| lit.nodes.clone()),
+    ));
+    view3d.ui(
+        ui,
+        ui.available_size().max(Vec2::splat(80.0)),
+        &Content {
+            sphere,
+            mesh: (0, &[]),
+            highlights: (0, &[]),
+            boxes: (key, &boxes),
+            segments: (key, &segments),
+            quads: (0, &[]),
+            hidden_edges: HiddenEdges::Dimmed,
+            wireframe: false,
+        },
+    );
 }
 
 /// The two triangles seen along the ray, the ray a point where they meet; once answered, the

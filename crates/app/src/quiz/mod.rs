@@ -319,6 +319,7 @@ impl QuizMode {
             .and_then(|mistake| session.questions().get(mistake.question))
             .and_then(|question| match &question.figure {
                 accelviz_quiz::Figure::Scene(scene) => scene.tree.as_ref().map(|t| t.steps.len()),
+                accelviz_quiz::Figure::Grid(grid) => Some(grid.walked.len()),
                 _ => None,
             })
             .unwrap_or(0)

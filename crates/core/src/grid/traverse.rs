@@ -143,7 +143,7 @@ where
         }
         let t_leave = t_next[axis];
         let t_cell_exit = if t_leave < t_exit { t_leave } else { t_exit };
-        if walk.visit(index, t_cell_enter, t_cell_exit, observer) {
+        if walk.visit(index, cell, t_cell_enter, t_cell_exit, observer) {
             return walk.search.closest;
         }
         // The closest hit lies in this cell's part of the ray (in robust mode, by more than
@@ -178,14 +178,16 @@ where
             let mut corner = crossed & crossed.wrapping_neg();
             while corner != crossed {
                 let mut touched = index as isize;
+                let mut coordinates = cell;
                 let mut inside = true;
                 for axis in 0..V::DIM {
                     if corner & (1 << axis) != 0 {
-                        inside &= cell[axis].wrapping_add(step[axis] as u32) != end[axis];
+                        coordinates[axis] = cell[axis].wrapping_add(step[axis] as u32);
+                        inside &= coordinates[axis] != end[axis];
                         touched += stride[axis] * step[axis] as isize;
                     }
                 }
-                if inside && walk.visit(touched as usize, t_leave, t_leave, observer) {
+                if inside && walk.visit(touched as usize, coordinates, t_leave, t_leave, observer) {
                     return walk.search.closest;
                 }
                 corner = corner.wrapping_sub(crossed) & crossed;
@@ -222,28 +224,31 @@ struct Walk<'a, V: Vector, C: CellStore, P: LeafPrimitives<V>> {
 }
 
 impl<V: Vector, C: CellStore, P: LeafPrimitives<V>> Walk<'_, V, C, P> {
-    /// Looks up and tests cell `cell` (and its twins across the planes the ray lies in) over
-    /// `[t_near, t_far]`; true when an any-hit query has its answer.
+    /// Looks up and tests cell `cell` at `coordinates` (and its twins across the planes the
+    /// ray lies in) over `[t_near, t_far]`; true when an any-hit query has its answer.
     #[inline(always)]
     fn visit<O: Observer<V::Scalar>>(
         &mut self,
         cell: usize,
+        coordinates: [u32; 3],
         t_near: V::Scalar,
         t_far: V::Scalar,
         observer: &mut O,
     ) -> bool {
         if self.twins == 0 {
-            return self.test_cell(cell as u32, t_near, t_far, observer);
+            return self.test_cell(cell as u32, coordinates, t_near, t_far, observer);
         }
         // The cell, then each combination of its twins below the planes.
         let [nx, ny, _] = self.grid.cells.resolution;
         let stride = [1, nx as usize, (nx * ny) as usize];
         let mut below = 0u32;
         loop {
-            let twin = (0..3)
-                .filter(|&axis| below & (1 << axis) != 0)
-                .fold(cell, |twin, axis| twin - stride[axis]);
-            if self.test_cell(twin as u32, t_near, t_far, observer) {
+            let mut twin = (cell, coordinates);
+            for axis in (0..3).filter(|&axis| below & (1 << axis) != 0) {
+                twin.0 -= stride[axis];
+                twin.1[axis] -= 1;
+            }
+            if self.test_cell(twin.0 as u32, twin.1, t_near, t_far, observer) {
                 return true;
             }
             below = below.wrapping_sub(self.twins) & self.twins;
@@ -257,12 +262,13 @@ impl<V: Vector, C: CellStore, P: LeafPrimitives<V>> Walk<'_, V, C, P> {
     fn test_cell<O: Observer<V::Scalar>>(
         &mut self,
         cell: u32,
+        coordinates: [u32; 3],
         t_near: V::Scalar,
         t_far: V::Scalar,
         observer: &mut O,
     ) -> bool {
         let node = Grid::<V, C>::node_of_cell(cell);
-        let lookup = self.grid.store.lookup(cell);
+        let lookup = self.grid.store.lookup_at(cell, coordinates);
         if C::HASHED {
             observer.cell_looked_up(node, lookup.probes);
         }

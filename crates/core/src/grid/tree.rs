@@ -20,6 +20,13 @@ pub trait CellStore: Clone + std::fmt::Debug + PartialEq + Send + Sync + 'static
     /// with how many table places the lookup read.
     fn lookup(&self, cell: u32) -> CellLookup<'_>;
 
+    /// [`lookup`](Self::lookup) of the cell at `coordinates` (number `cell`), for a walk that
+    /// knows both (a hash table hashes the coordinates, and need not work them out again).
+    #[inline(always)]
+    fn lookup_at(&self, cell: u32, _coordinates: [u32; 3]) -> CellLookup<'_> {
+        self.lookup(cell)
+    }
+
     /// Every cell's primitives, cell after cell (a primitive once in each cell it reaches).
     fn references(&self) -> &[u32];
 
@@ -165,7 +172,7 @@ impl HashedCells {
                 table.collisions += 1;
             }
             while table.buckets[place].cell != Bucket::EMPTY {
-                place = (place + 1) % places;
+                place = table.next_place(place);
             }
             table.buckets[place] = Bucket {
                 cell,
@@ -184,14 +191,34 @@ impl HashedCells {
     }
 
     /// The place cell `cell` hashes to.
-    #[inline(always)]
     pub fn home(&self, cell: u32) -> usize {
         let [nx, ny, _] = self.resolution;
-        let coordinates = [cell % nx, (cell / nx) % ny, cell / (nx * ny)];
+        self.home_of([cell % nx, (cell / nx) % ny, cell / (nx * ny)])
+    }
+
+    /// The place the cell at `coordinates` hashes to.
+    #[inline(always)]
+    pub fn home_of(&self, coordinates: [u32; 3]) -> usize {
         let hash = (0..3).fold(0u32, |hash, axis| {
             hash ^ coordinates[axis].wrapping_mul(HASH_PRIMES[axis])
-        });
-        hash as usize % self.buckets.len()
+        }) as usize;
+        let places = self.buckets.len();
+        // A power of two (the default size) takes a mask, where `%` is a division.
+        if places.is_power_of_two() {
+            hash & (places - 1)
+        } else {
+            hash % places
+        }
+    }
+
+    /// The place after `place`, wrapping round.
+    #[inline(always)]
+    fn next_place(&self, place: usize) -> usize {
+        if place + 1 == self.buckets.len() {
+            0
+        } else {
+            place + 1
+        }
     }
 
     /// The same lists in a dense table for a grid of `cell_count` cells (what
@@ -234,7 +261,7 @@ impl HashedCells {
             match self.buckets[place].cell {
                 stored if stored == cell => return Some(place),
                 Bucket::EMPTY => return None,
-                _ => place = (place + 1) % self.buckets.len(),
+                _ => place = self.next_place(place),
             }
         }
     }
@@ -243,10 +270,14 @@ impl HashedCells {
 impl CellStore for HashedCells {
     const HASHED: bool = true;
 
-    #[inline(always)]
     fn lookup(&self, cell: u32) -> CellLookup<'_> {
-        let places = self.buckets.len();
-        let mut place = self.home(cell);
+        let [nx, ny, _] = self.resolution;
+        self.lookup_at(cell, [cell % nx, (cell / nx) % ny, cell / (nx * ny)])
+    }
+
+    #[inline(always)]
+    fn lookup_at(&self, cell: u32, coordinates: [u32; 3]) -> CellLookup<'_> {
+        let mut place = self.home_of(coordinates);
         let mut probes = 1;
         loop {
             let bucket = &self.buckets[place];
@@ -264,7 +295,7 @@ impl CellStore for HashedCells {
                     probes,
                 };
             }
-            place = (place + 1) % places;
+            place = self.next_place(place);
             probes += 1;
         }
     }

@@ -154,10 +154,10 @@ where
                 *place = node.first + child as u32;
                 reached |= 1 << child;
             }
+            observer.children_ordered(node_index, children as u32, &order[..passed.len()]);
             for child in (0..children).filter(|&child| reached & (1 << child) == 0) {
                 observer.cell_missed(node.first + child as u32);
             }
-            observer.children_ordered(node_index, children as u32, &order[..passed.len()]);
         }
         // Visit the first, keep the others for when its subtree is done (the last deepest).
         for &(child, t_from, t_to) in passed[1..].iter().rev() {

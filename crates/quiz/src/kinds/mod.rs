@@ -2,11 +2,13 @@
 
 mod build_yourself;
 mod first_hit;
+mod grid_walk;
 mod kd_traversal;
 mod leaf_or_split;
 mod leak;
 mod lecture;
 mod near_vs_file;
+mod octree_order;
 mod sah_split;
 mod slab;
 mod visit_order;
@@ -84,6 +86,18 @@ pub const KINDS: &[KindEntry] = &[
         title: "Does the ray slip through?",
         about: "A ray through the edge two triangles share: does this test, in this precision, hit either?",
         generate: leak::generate,
+    },
+    KindEntry {
+        name: "octree-order",
+        title: "Quadtree traversal, front to back",
+        about: "Which child does the ray visit first, and which next?",
+        generate: octree_order::generate,
+    },
+    KindEntry {
+        name: "grid-walk",
+        title: "Walking a grid",
+        about: "Which cells does the ray pass through, in order? Which line does it reach first?",
+        generate: grid_walk::generate,
     },
     KindEntry {
         name: "build",

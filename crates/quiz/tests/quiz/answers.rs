@@ -760,6 +760,132 @@ fn check_leak(question: &Value) {
     }
 }
 
+/// The grid walk written here from the JSON alone: the ray clipped to the grid's box, its
+/// first cell where it starts or enters, then every line it crosses inside the box, in the
+/// order it crosses them, each moving the cell by one along its axis.
+fn check_grid_walk(
+    question: &Value,
+    figure: &accelviz_quiz::GridFigure,
+    asks: &[accelviz_quiz::Ask],
+) {
+    let (min, max) = (
+        numbers(&question["grid"]["min"]),
+        numbers(&question["grid"]["max"]),
+    );
+    let cells: Vec<i64> = indices(&question["grid"]["cells"])
+        .into_iter()
+        .map(|n| n as i64)
+        .collect();
+    let origin = numbers(&question["ray"]["origin"]);
+    let direction = numbers(&question["ray"]["direction"]);
+    let dimensions = min.len();
+    assert!(
+        cells.len() == dimensions && origin.len() == dimensions && direction.len() == dimensions
+    );
+    let size: Vec<f64> = (0..dimensions)
+        .map(|axis| (max[axis] - min[axis]) / cells[axis] as f64)
+        .collect();
+    let corners = [min.clone(), max.clone()].concat();
+    let (near, far) = slab(&corners, &origin, &direction);
+    let t_enter = near.iter().fold(0.0f64, |a, &b| a.max(b));
+    let t_exit = far.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+    assert!(t_enter < t_exit, "the ray meets the grid");
+    let start: Vec<f64> = (0..dimensions)
+        .map(|axis| origin[axis] + t_enter * direction[axis])
+        .collect();
+    let mut cell: Vec<i64> = (0..dimensions)
+        .map(|axis| {
+            (((start[axis] - min[axis]) / size[axis]).floor() as i64).clamp(0, cells[axis] - 1)
+        })
+        .collect();
+    let mut crossings: Vec<(f64, usize)> = Vec::new();
+    for axis in 0..dimensions {
+        if direction[axis] == 0.0 {
+            continue;
+        }
+        for line in 1..cells[axis] {
+            let position = min[axis] + line as f64 * size[axis];
+            let t = (position - origin[axis]) / direction[axis];
+            if t > t_enter && t < t_exit {
+                crossings.push((t, axis));
+            }
+        }
+    }
+    crossings.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let mut expected = vec![cell.clone()];
+    for (_, axis) in crossings {
+        cell[axis] += if direction[axis] > 0.0 { 1 } else { -1 };
+        expected.push(cell.clone());
+    }
+    let answer: Vec<Vec<i64>> = question["answer"]["cells"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|cell| indices(cell).into_iter().map(|n| n as i64).collect())
+        .collect();
+    assert_eq!(answer, expected, "{question}");
+    // Each step's answer is the next cell (a cell's number), or leaving the grid.
+    for (index, ask) in asks.iter().enumerate() {
+        let Expected::Choice { options, correct } = &ask.expected else {
+            panic!("a choice");
+        };
+        match expected.get(index + 1) {
+            Some(next) => {
+                let coordinates = [0, 1, 2].map(|axis| next.get(axis).copied().unwrap_or(0) as u32);
+                assert_eq!(
+                    options[*correct].node,
+                    Some(figure.cell_number(coordinates))
+                );
+            }
+            None => assert!(options[*correct].node.is_none() && *correct == options.len() - 1),
+        }
+    }
+}
+
+/// The quadtree's order written here from the JSON alone: at each cell whose order the answer
+/// lists, the ray's part of its box, the child holding the entry point (by its sides of the
+/// box's middle), then each middle line crossed inside the part, in order, flipping that
+/// side.
+fn check_octree_order(question: &Value) {
+    let ray = ray_of(question);
+    let nodes = question["nodes"].as_array().unwrap();
+    for entry in question["answer"]["orders"].as_array().unwrap() {
+        let node = entry["node"].as_u64().unwrap() as usize;
+        let corners = numbers(&nodes[node]["box"]);
+        let children = indices(&nodes[node]["children"]);
+        assert_eq!(children.len(), 4, "{question}");
+        let (near, far) = slab(&corners, &ray.origin, &ray.direction);
+        let t_near = near.iter().fold(0.0f64, |a, &b| a.max(b));
+        let t_far = far.iter().fold(f64::INFINITY, |a, &b| a.min(b));
+        let middle = [
+            0.5 * (corners[0] + corners[2]),
+            0.5 * (corners[1] + corners[3]),
+        ];
+        let at = |t: f64| [0, 1].map(|axis| ray.origin[axis] + t * ray.direction[axis]);
+        let entry_point = at(t_near);
+        let mut child = (0..2)
+            .filter(|&axis| entry_point[axis] > middle[axis])
+            .fold(0usize, |child, axis| child | 1 << axis);
+        let mut crossings: Vec<(f64, usize)> = (0..2)
+            .filter(|&axis| ray.direction[axis] != 0.0)
+            .map(|axis| {
+                (
+                    (middle[axis] - ray.origin[axis]) / ray.direction[axis],
+                    axis,
+                )
+            })
+            .filter(|&(t, _)| t > t_near && t < t_far)
+            .collect();
+        crossings.sort_by(|a, b| a.0.total_cmp(&b.0));
+        let mut expected = vec![children[child]];
+        for (_, axis) in crossings {
+            child ^= 1 << axis;
+            expected.push(children[child]);
+        }
+        assert_eq!(indices(&entry["order"]), expected, "{question}");
+    }
+}
+
 fn check_common(kind: &str, seed: u64, level: Level) -> Value {
     let question = generate(kind, seed, level).expect("a question");
     let text = question.to_json();
@@ -808,6 +934,19 @@ fn every_kind_is_right_for_hundreds_of_seeds() {
         for level in Level::ALL {
             for seed in 0..SEEDS_PER_LEVEL {
                 let question = check_common(entry.name, seed, level);
+                if entry.name == "grid-walk" {
+                    let made = generate(entry.name, seed, level).unwrap();
+                    let Figure::Grid(figure) = &made.figure else {
+                        panic!("a grid figure")
+                    };
+                    check_grid_walk(&question, figure, &made.asks);
+                    assert_eq!(
+                        numbers(&question["grid"]["min"]).len(),
+                        if level == Level::Hard { 3 } else { 2 },
+                        "3D at hard"
+                    );
+                    continue;
+                }
                 match entry.name {
                     "slab" => check_slab(&question),
                     "first-hit" => check_first_hit(&question),
@@ -819,6 +958,7 @@ fn every_kind_is_right_for_hundreds_of_seeds() {
                     "leaf-or-split" => check_leaf_or_split(&question),
                     "build" => check_build(&question),
                     "leak" => check_leak(&question),
+                    "octree-order" => check_octree_order(&question),
                     other => panic!("no independent check for kind {other}"),
                 }
             }
