@@ -166,9 +166,15 @@ pub fn build_params(settings: &SceneSettings) -> BuildParams {
     }
 }
 
-/// The structure a lesson builds with its settings: the binned SAH takes the scene's bins.
+/// The structure a lesson builds with its settings: the binned SAH takes the scene's bins
+/// (a grid keeps its density, an octree its leaf size).
 pub fn with_settings(structure: Structure, settings: &SceneSettings) -> Structure {
-    structure.with_parameter(settings.bins.clamp(2, u16::MAX as usize) as u16)
+    match structure {
+        Structure::BvhSahBinned { .. } => {
+            structure.with_parameter(settings.bins.clamp(2, u16::MAX as usize) as u16)
+        }
+        other => other,
+    }
 }
 
 /// A structure built over the scene's shapes as they were then: what a lesson draws, traces
