@@ -572,6 +572,27 @@ pub fn box_room() -> Mesh {
     mesh.into_mesh("builtin:box-room".into())
 }
 
+/// 20,000 small triangles, each within 0.02 of a point drawn evenly from the unit cube
+/// (seeded): every part of the box holds about as much as every other, the scene a uniform
+/// grid suits best (Cleary & Wyvill 1988's analysis assumes it), against the teapot in a
+/// stadium, where it suits worst.
+pub fn soup() -> Mesh {
+    let mut rng = crate::rng::SplitMix64::new(0x50_0b);
+    let triangles = (0..20_000)
+        .map(|_| {
+            let center = [rng.next_f64(), rng.next_f64(), rng.next_f64()];
+            std::array::from_fn(|_| {
+                let offset = rng.unit_vector();
+                std::array::from_fn(|axis| center[axis] + 0.02 * offset[axis])
+            })
+        })
+        .collect();
+    Mesh {
+        name: "builtin:soup".to_owned(),
+        triangles,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -628,26 +649,5 @@ mod tests {
                 .iter()
                 .any(|name| name.starts_with("lumpy-sphere:N"))
         );
-    }
-}
-
-/// 20,000 small triangles, each within 0.02 of a point drawn evenly from the unit cube
-/// (seeded): every part of the box holds about as much as every other, the scene a uniform
-/// grid suits best (Cleary & Wyvill 1988's analysis assumes it), against the teapot in a
-/// stadium, where it suits worst.
-pub fn soup() -> Mesh {
-    let mut rng = crate::rng::SplitMix64::new(0x50_0b);
-    let triangles = (0..20_000)
-        .map(|_| {
-            let center = [rng.next_f64(), rng.next_f64(), rng.next_f64()];
-            std::array::from_fn(|_| {
-                let offset = rng.unit_vector();
-                std::array::from_fn(|axis| center[axis] + 0.02 * offset[axis])
-            })
-        })
-        .collect();
-    Mesh {
-        name: "builtin:soup".to_owned(),
-        triangles,
     }
 }
