@@ -1265,7 +1265,8 @@ fn quiz_json_has_the_fixed_fields_of_each_kind() {
 #[test]
 fn quiz_text_is_for_print_and_mixes_kinds() {
     // One of each kind.
-    let output = cli(&["quiz", "--seed", "7", "--count", "10"]);
+    let kinds = accelviz_quiz::kind_names().len().to_string();
+    let output = cli(&["quiz", "--seed", "7", "--count", &kinds]);
     assert!(output.status.success(), "{}", stderr(&output));
     let text = stdout(&output);
     assert_eq!(
@@ -1280,7 +1281,7 @@ fn quiz_text_is_for_print_and_mixes_kinds() {
     }
     // The same arguments, the same quiz.
     assert_eq!(
-        stdout(&cli(&["quiz", "--seed", "7", "--count", "10"])),
+        stdout(&cli(&["quiz", "--seed", "7", "--count", &kinds])),
         text
     );
 }
