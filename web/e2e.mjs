@@ -143,7 +143,7 @@ try {
   check(colourCount(first) > 50, `the canvas shows the app (${colourCount(first)} colours in the screenshot)`);
 
   // Every lesson of the list, in turn: each opens and draws (the 3D ones are 11 to 14).
-  const lessonNumbers = [1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17];
+  const lessonNumbers = Array.from({ length: 20 }, (_, index) => index + 1);
   for (let index = 0; index < lessonNumbers.length; index++) {
     await page.mouse.click(60, 65 + 23 * index);
     const wanted = `${lessonNumbers[index]}. `;
@@ -335,7 +335,7 @@ try {
   await page.mouse.click(60, quizY);
   await page.waitForFunction(() => document.title.includes('quiz seed'), null, { timeout: 20_000 })
     .catch(() => {});
-  check((await quizTitle()).includes('quiz seed 1, question 1 of 10, step 1'), `the quiz opens at its start: "${await quizTitle()}"`);
+  check(/quiz seed 1, question 1 of \d+, step 1/.test(await quizTitle()), `the quiz opens at its start: "${await quizTitle()}"`);
   await page.screenshot({ path: path.join(shotDir, 'web-quiz.png') });
   for (let answer = 0; answer < 3; answer++) {
     // A moment for the step's controls (a number's field takes the keys once focused).

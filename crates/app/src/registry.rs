@@ -6,8 +6,8 @@ use std::path::Path;
 use crate::lesson::Lesson;
 use crate::lesson_file::LessonText;
 use crate::lessons::{
-    bounding_volumes, build_steps, bvh, cost_split, cracks, heat, kd, mesh_tree, near_first, recap,
-    slab, slab3d, splits, trade, trivial,
+    bounding_volumes, build_steps, bvh, cost_split, cracks, grid, hashing, heat, kd, mesh_tree,
+    near_first, quadtree, recap, slab, slab3d, splits, trade, trivial,
 };
 
 /// One lesson: where its file lives, the file as embedded, and what shows it.
@@ -31,7 +31,7 @@ macro_rules! lesson {
 }
 
 /// The lessons, in the lecture's order.
-pub const LESSONS: [LessonEntry; 17] = [
+pub const LESSONS: [LessonEntry; 20] = [
     lesson!("01-trivial.ron", |text| Box::new(
         trivial::TrivialLoop::new(text)
     )),
@@ -80,6 +80,15 @@ pub const LESSONS: [LessonEntry; 17] = [
     lesson!("17-cracks.ron", |text| Box::new(cracks::CracksLesson::new(
         text
     ))),
+    lesson!("18-uniform-grid.ron", |text| Box::new(
+        grid::GridLesson::new(text)
+    )),
+    lesson!("19-hashing.ron", |text| Box::new(hashing::HashLesson::new(
+        text
+    ))),
+    lesson!("20-quadtree.ron", |text| Box::new(
+        quadtree::QuadtreeLesson::new(text)
+    )),
 ];
 
 /// A lesson whose built-in file is broken too (a build of the app that its tests would have

@@ -3,7 +3,7 @@
 
 use std::sync::Arc;
 
-use accelviz_core::params::{BuildParams, KdBudget};
+use accelviz_core::params::{BuildParams, GridParams, KdBudget};
 use accelviz_core::{BuildObserver, Built, NoBuildObserver, ShapeSet, Structure, TreeStats};
 use accelviz_scene::document::{Scene2d, SceneSettings};
 use glam::DVec2;
@@ -163,6 +163,7 @@ pub fn build_params(settings: &SceneSettings) -> BuildParams {
         max_leaf_size: settings.max_leaf_size,
         cost: settings.cost(),
         kd_budget: KD_BUDGET,
+        grid: GridParams::default(),
     }
 }
 
@@ -219,12 +220,27 @@ impl SceneTree {
         settings: SceneSettings,
         observer: &mut impl BuildObserver,
     ) -> Self {
+        Self::build_with(structure, shapes, settings, GridParams::default(), observer)
+    }
+
+    /// Builds `structure` over `shapes` with a grid's cells and table as `grid` chooses (the
+    /// grid lessons' sliders), telling `observer` about each node.
+    pub fn build_with(
+        structure: Structure,
+        shapes: Arc<ShapeSet<DVec2>>,
+        settings: SceneSettings,
+        grid: GridParams,
+        observer: &mut impl BuildObserver,
+    ) -> Self {
         let structure = with_settings(structure, &settings);
         let started = Instant::now();
         let built = Built::new(
             structure,
             shapes.as_ref(),
-            &build_params(&settings),
+            &BuildParams {
+                grid,
+                ..build_params(&settings)
+            },
             observer,
         );
         let build_millis = started.elapsed().as_secs_f64() * 1e3;

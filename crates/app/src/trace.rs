@@ -318,10 +318,19 @@ pub fn describe_step(step: &Step<f64>, node_name: impl Fn(u32) -> String) -> Str
                     )
                 }
             };
-            format!(
-                "the {tested} child boxes of {} tested at once: {next}",
-                node_name(node)
-            )
+            if tested == 0 {
+                // An octree: the ray's crossings of the middle planes order the children.
+                format!(
+                    "{} is cut at its middle: the ray passes {} of its children, front to back: {next}",
+                    node_name(node),
+                    count
+                )
+            } else {
+                format!(
+                    "the {tested} child boxes of {} tested at once: {next}",
+                    node_name(node)
+                )
+            }
         }
     }
 }
@@ -379,6 +388,58 @@ mod tests {
         assert!(
             last.ends_with("Done: the closest hit is primitive 0 at t = 4.000; 3 primitive tests."),
             "{last}"
+        );
+    }
+
+    /// A quadtree tests no boxes: the order of a cell's children (from its middle lines) is a
+    /// frame of its own, after the frame that entered the cell, and says so.
+    #[test]
+    fn a_quadtrees_order_is_a_frame_of_its_own() {
+        use accelviz_core::params::BuildParams;
+        use accelviz_core::{Built, NoBuildObserver, Structure};
+        let disc = |x: f64, y: f64| {
+            Shape::Sphere(Sphere {
+                center: DVec2::new(x, y),
+                radius: 1.0,
+            })
+        };
+        let shapes = ShapeSet {
+            shapes: vec![
+                disc(0.0, 0.0),
+                disc(20.0, 0.0),
+                disc(0.0, 20.0),
+                disc(20.0, 20.0),
+            ],
+        };
+        let built = Built::new(
+            Structure::Octree { leaf: 1 },
+            &shapes,
+            &BuildParams::default(),
+            &mut NoBuildObserver,
+        );
+        let ray = Ray::try_new(DVec2::new(-5.0, 1.0), DVec2::X).unwrap_or_else(|_| unreachable!());
+        let trace = Trace::of(&built.tree, &shapes, &ray, &options_in(Order::NearFirst));
+        let ordered = (1..=trace.frames())
+            .find(|&frame| {
+                matches!(
+                    trace.frame(frame).last(),
+                    Some(Step::ChildrenOrdered { .. })
+                )
+            })
+            .expect("the root's children ordered");
+        assert_eq!(trace.frame(ordered).len(), 1, "{:?}", trace.frame(ordered));
+        assert!(matches!(
+            trace.frame(ordered - 1),
+            [Step::CellEntered { node: 0, .. }]
+        ));
+        let said = trace.caption(ordered, "start", |step| {
+            describe_step(step, |node| node.to_string())
+        });
+        assert!(
+            said.starts_with(
+                "0 is cut at its middle: the ray passes 2 of its children, front to back: visit "
+            ),
+            "{said}"
         );
     }
 

@@ -73,7 +73,7 @@ pub use build_observer::{BuildObserver, BuildRecorder, BuildStep, LeafReason, No
 pub use facts::{Children, Hierarchy, TreeFacts};
 pub use math::{Real, Vector, Vector3};
 pub use observer::{Counters, MaxStack, NoObserver, Observer, Recorder, Step, counters_of};
-pub use params::{BuildParams, KdBudget};
+pub use params::{BuildParams, GridParams, KdBudget};
 pub use primitive::{
     HitTest, LeafOrdered, LeafPrimitives, PrimitiveSet, Shape, ShapeSet, Sphere, TriangleSet,
 };

@@ -63,7 +63,8 @@ pub trait Observer<S: Real> {
     fn stack_depth(&mut self, _waiting: usize) {}
     /// A wide traversal tested the boxes of `node`'s `tested` children together (the
     /// `tested` box tests just told, one SIMD test) and will visit the ones hit in `order`:
-    /// nearest entry first, or in slot order.
+    /// nearest entry first, or in slot order. An octree tests no boxes (`tested` is 0): its
+    /// order, the children the ray passes front to back, comes from the middle planes.
     #[inline(always)]
     fn children_ordered(&mut self, _node: u32, _tested: u32, _order: &[u32]) {}
 }

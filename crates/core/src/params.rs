@@ -1,5 +1,6 @@
-//! What every builder takes: how large a leaf may be, the SAH constants, and how far a
-//! structure that lists a primitive in every cell it reaches (kD-trees) may grow.
+//! What every builder takes: how large a leaf may be, the SAH constants, how far a
+//! structure that lists a primitive in every cell it reaches (kD-trees) may grow, and a
+//! grid's cells when they are chosen rather than ruled.
 
 use crate::sah::SahCost;
 
@@ -13,6 +14,8 @@ pub struct BuildParams {
     pub cost: SahCost,
     /// How large a kD build may grow (a BVH never has more than `2n − 1` nodes).
     pub kd_budget: KdBudget,
+    /// A grid's cells and hash table, where a lesson chooses them.
+    pub grid: GridParams,
 }
 
 /// At most 8 primitives a leaf (what one cache line of indices and a few triangle tests
@@ -23,6 +26,7 @@ impl Default for BuildParams {
             max_leaf_size: 8,
             cost: SahCost::default(),
             kd_budget: KdBudget::default(),
+            grid: GridParams::default(),
         }
     }
 }
@@ -71,4 +75,18 @@ impl KdBudget {
             })
             .max(primitive_count)
     }
+}
+
+/// A grid's cells and table as chosen by hand, for a lesson that lets the user size them
+/// (the catalogue's grids leave both to their rules).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct GridParams {
+    /// Cells along the box's longest side, the other sides cut into cells as near square
+    /// (cube) as whole numbers allow; `None`: the density rule
+    /// ([`GridCells::for_primitives`](crate::grid::GridCells::for_primitives)). Chosen cells
+    /// are built whatever the budget.
+    pub cells_along_longest: Option<u32>,
+    /// Places in a hashed grid's table (at least one more than the occupied cells); `None`:
+    /// [`HashedCells::default_places`](crate::grid::HashedCells::default_places).
+    pub hash_places: Option<usize>,
 }

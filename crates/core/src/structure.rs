@@ -642,7 +642,6 @@ impl Structure {
             Structure::GridHashed { density } => Tree::HashedGrid(grid::build_hashed(
                 primitives,
                 f64::from(density),
-                None,
                 params,
                 observer,
             )),
@@ -958,13 +957,36 @@ impl<V: Vector> Built<V> {
         }
     }
 
+    /// A grid's cells (dense or hashed); `None` for trees.
+    pub fn grid_cells(&self) -> Option<&crate::grid::GridCells<V>> {
+        match &self.tree {
+            Tree::Grid(grid) => Some(&grid.cells),
+            Tree::HashedGrid(grid) => Some(&grid.cells),
+            _ => None,
+        }
+    }
+
+    /// A hashed grid's table; `None` for any other structure.
+    pub fn hashed_cells(&self) -> Option<&crate::grid::HashedCells> {
+        match &self.tree {
+            Tree::HashedGrid(grid) => Some(&grid.store),
+            _ => None,
+        }
+    }
+
+    /// A grid cell's coordinates from its node (`node − 1` is the cell's number); `None` for
+    /// the grid's box, a node past the cells, or a tree.
+    pub fn grid_coordinates(&self, node: u32) -> Option<[u32; 3]> {
+        let cells = self.grid_cells()?;
+        let cell = node.checked_sub(1)?;
+        ((cell as usize) < cells.cell_count()).then(|| cells.coordinates(cell))
+    }
+
     /// A grid's planes between its cells, per axis (the box's own sides left out): what a
     /// view draws as the grid's lines. Empty for trees.
     pub fn grid_planes(&self) -> Vec<(usize, Vec<f64>)> {
-        let cells = match &self.tree {
-            Tree::Grid(grid) => &grid.cells,
-            Tree::HashedGrid(grid) => &grid.cells,
-            _ => return Vec::new(),
+        let Some(cells) = self.grid_cells() else {
+            return Vec::new();
         };
         (0..V::DIM)
             .map(|axis| {

@@ -233,6 +233,32 @@ pub fn measured_rays(shapes: &ShapeSet<DVec2>) -> Vec<Ray<DVec2>> {
         .collect()
 }
 
+/// Seeded rays from random points inside the shapes' box in random directions: a walk from
+/// wherever a ray may start (a camera inside the scene, a bounce), what a grid's cost at a
+/// cell size depends on (rays from outside a scene walled in stop at the wall's cell).
+pub fn interior_rays(shapes: &ShapeSet<DVec2>) -> Vec<Ray<DVec2>> {
+    let bounds = shapes
+        .shapes
+        .iter()
+        .fold(accelviz_core::Aabb::empty(), |bounds, shape| {
+            bounds.union(shape.bounds())
+        });
+    if bounds.is_empty() {
+        return Vec::new();
+    }
+    let mut rng = SplitMix64::new(31);
+    (0..MEASURED_RAYS)
+        .filter_map(|_| {
+            let origin = DVec2::new(
+                rng.range(bounds.min.x, bounds.max.x),
+                rng.range(bounds.min.y, bounds.max.y),
+            );
+            let angle = rng.range(0.0, std::f64::consts::TAU);
+            Ray::try_new(origin, DVec2::new(angle.cos(), angle.sin())).ok()
+        })
+        .collect()
+}
+
 /// The colour of a rule's marks (pane titles, curve markers, ghost splits).
 pub fn rule_color(rule: SplitRule) -> Color32 {
     match rule {

@@ -3,6 +3,7 @@
 //! never import from each other.
 
 pub mod compare;
+pub mod grid_walk;
 pub mod number_lines;
 pub mod scene_view;
 pub mod tree_diagram;

@@ -42,6 +42,10 @@ fn every_lesson_changed_opens_the_same_from_its_link() {
             let _ = lesson.restore("mesh", "builtin:icosphere");
             let _ = lesson.restore("counter", "boxes");
             let _ = lesson.restore("packets", "8x8");
+            let _ = lesson.restore("cells", "13");
+            let _ = lesson.restore("places", "97");
+            let _ = lesson.restore("mailbox", "false");
+            let _ = lesson.restore("mode", "traverse");
         }
         harness.run_steps(3);
         if let Some(lesson) = harness.state_mut().lesson_mut() {

@@ -22,7 +22,8 @@ pub const DEFAULT_DENSITY: f64 = 2.0;
 
 /// Builds a uniform grid over `primitives` with about `density` cells per primitive (see
 /// [`GridCells::for_primitives`]), telling `observer` about its box and its cells (and a restart
-/// for each lowering of the density).
+/// for each lowering of the density); or, where `params.grid` chooses the cells along the
+/// longest side, with those ([`GridCells::along_longest`]), whatever the budget.
 ///
 /// Each primitive is listed in every cell its box touches that it really reaches (an exact
 /// overlap test, [`PrimitiveSet::overlaps`]: Akenine-Möller 2001 for triangles), each cell's
@@ -39,6 +40,12 @@ pub fn build_uniform<V: Vector, P: PrimitiveSet<V>, O: BuildObserver>(
     let bounds = (0..count).fold(Aabb::empty(), |acc, index| {
         acc.union(primitives.bounds(index))
     });
+    if let Some(along_longest) = params.grid.cells_along_longest {
+        observer.node_started(0, 0, count);
+        let grid = build_with_cells(primitives, GridCells::along_longest(bounds, along_longest));
+        report_cells(&grid.cells, observer);
+        return grid;
+    }
     let node_budget = params.kd_budget.nodes_for(count);
     let reference_budget = params.kd_budget.references_for(count);
     let mut density_used = density;
@@ -68,11 +75,10 @@ pub fn build_uniform<V: Vector, P: PrimitiveSet<V>, O: BuildObserver>(
 }
 
 /// The uniform grid of [`build_uniform`], its occupied cells moved into a hash table of
-/// `places` places (the default for `None`: [`HashedCells::default_places`]).
+/// `params.grid.hash_places` places (the default for `None`: [`HashedCells::default_places`]).
 pub fn build_hashed<V: Vector, P: PrimitiveSet<V>, O: BuildObserver>(
     primitives: &P,
     density: f64,
-    places: Option<usize>,
     params: &BuildParams,
     observer: &mut O,
 ) -> HashedGrid<V> {
@@ -83,7 +89,10 @@ pub fn build_hashed<V: Vector, P: PrimitiveSet<V>, O: BuildObserver>(
         .windows(2)
         .filter(|run| run[0] < run[1])
         .count();
-    let places = places.unwrap_or_else(|| HashedCells::default_places(occupied));
+    let places = params
+        .grid
+        .hash_places
+        .unwrap_or_else(|| HashedCells::default_places(occupied));
     HashedGrid {
         store: HashedCells::from_dense(&dense.store, dense.cells.resolution, places),
         cells: dense.cells,

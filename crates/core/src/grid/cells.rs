@@ -37,23 +37,52 @@ impl<V: Vector> GridCells<V> {
     /// (area in 2D) and `D` the dimension. An axis without extent gets one cell and is left
     /// out of `V` and `D`; at most [`MAX_CELLS`] in all.
     pub fn for_primitives(bounds: Aabb<V>, primitive_count: usize, density: f64) -> Self {
+        Self::near_square(bounds, |extent: &[f64], spread: &[usize]| {
+            if primitive_count == 0 {
+                return 0.0;
+            }
+            let measure: f64 = spread.iter().map(|&axis| extent[axis]).product();
+            let cells_wanted = density.max(0.0) * primitive_count as f64;
+            (cells_wanted / measure).powf(1.0 / spread.len() as f64)
+        })
+    }
+
+    /// `count` cells along the box's longest side (at least 1), the other sides cut into
+    /// cells as near square (cube) as whole numbers allow: what a lesson's cell-size slider
+    /// asks for. At most [`MAX_CELLS`] in all.
+    pub fn along_longest(bounds: Aabb<V>, count: u32) -> Self {
+        Self::near_square(bounds, |extent: &[f64], spread: &[usize]| {
+            let longest = spread.iter().map(|&axis| extent[axis]).fold(0.0, f64::max);
+            f64::from(count.max(1)) / longest
+        })
+    }
+
+    /// Cells of one size along every axis the box spreads along: `per_length(extent,
+    /// spread)` cells per unit length, each axis's count rounded (at least 1); one cell along
+    /// a flat axis (tiny next to the largest one, or empty); scaled down alike past
+    /// [`MAX_CELLS`].
+    fn near_square(bounds: Aabb<V>, per_length: impl Fn(&[f64], &[usize]) -> f64) -> Self {
         let extent = bounds.extent().to_f64_array();
         let largest = (0..V::DIM).map(|axis| extent[axis]).fold(0.0f64, f64::max);
-        // An axis is flat when it is tiny next to the largest one (or empty).
         let spread: Vec<usize> = (0..V::DIM)
             .filter(|&axis| extent[axis] > largest * 1e-9 && extent[axis] > 0.0)
             .collect();
         let mut resolution = [1u32; 3];
-        if !spread.is_empty() && primitive_count > 0 {
-            let measure: f64 = spread.iter().map(|&axis| extent[axis]).product();
-            let cells_wanted = density.max(0.0) * primitive_count as f64;
-            let per_length = (cells_wanted / measure).powf(1.0 / spread.len() as f64);
+        if !spread.is_empty() {
+            let per_length = per_length(&extent, &spread);
             for &axis in &spread {
-                resolution[axis] = (extent[axis] * per_length).round().clamp(1.0, 1e9) as u32;
+                let count = extent[axis] * per_length;
+                resolution[axis] = if count.is_finite() {
+                    count.round().clamp(1.0, MAX_CELLS as f64) as u32
+                } else {
+                    1
+                };
             }
-            // Too many cells: scale every axis down alike.
-            let total =
-                |resolution: &[u32; 3]| resolution.iter().map(|&n| n as u64).product::<u64>();
+            let total = |resolution: &[u32; 3]| {
+                resolution
+                    .iter()
+                    .fold(1u64, |total, &n| total.saturating_mul(u64::from(n)))
+            };
             while total(&resolution) > MAX_CELLS {
                 for &axis in &spread {
                     resolution[axis] = (resolution[axis] - resolution[axis] / 8).max(1);
@@ -207,6 +236,26 @@ mod tests {
             "{:?}",
             huge.resolution
         );
+    }
+
+    #[test]
+    fn cells_along_the_longest_side_make_squares_and_at_least_one() {
+        // 100 × 30: 10 cells along x, 3 along y (cells 10 × 10).
+        let wide = Aabb::new(DVec2::ZERO, DVec2::new(100.0, 30.0));
+        assert_eq!(GridCells::along_longest(wide, 10).resolution, [10, 3, 1]);
+        // Along the longer side whichever it is; the short side keeps one cell.
+        let tall = Aabb::new(DVec2::ZERO, DVec2::new(2.0, 100.0));
+        assert_eq!(GridCells::along_longest(tall, 7).resolution, [1, 7, 1]);
+        // 0 asks for one cell; a point has one.
+        assert_eq!(GridCells::along_longest(wide, 0).resolution, [1, 1, 1]);
+        assert_eq!(
+            GridCells::along_longest(Aabb::from_point(Vec3::ONE), 9).resolution,
+            [1, 1, 1]
+        );
+        // 3D: 4 × 2 × 1 at 8 along x.
+        let bounds = Aabb::new(Vec3::ZERO, Vec3::new(4.0, 2.0, 1.0));
+        assert_eq!(GridCells::along_longest(bounds, 8).resolution, [8, 4, 2]);
+        assert!(GridCells::along_longest(bounds, u32::MAX).cell_count() as u64 <= MAX_CELLS);
     }
 
     #[test]

@@ -254,6 +254,21 @@ impl HashedCells {
         self.occupied() as f64 / self.buckets.len().max(1) as f64
     }
 
+    /// The places a lookup reads, on average over every cell of a grid of `cell_count`
+    /// cells: (for the cells stored, for the cells not stored). Linear probing's cost
+    /// (Knuth 1998, §6.4): about `(1 + 1/(1 − α)) / 2` and `(1 + 1/(1 − α)²) / 2` at load α.
+    pub fn probes_per_lookup(&self, cell_count: usize) -> (f64, f64) {
+        let mut sums = [(0u64, 0u64); 2];
+        for cell in 0..cell_count as u32 {
+            let lookup = self.lookup(cell);
+            let found = usize::from(self.place_of(cell).is_none());
+            sums[found].0 += u64::from(lookup.probes);
+            sums[found].1 += 1;
+        }
+        let mean = |(probes, lookups): (u64, u64)| probes as f64 / lookups.max(1) as f64;
+        (mean(sums[0]), mean(sums[1]))
+    }
+
     /// The place where cell `cell` is stored, if it holds anything.
     pub fn place_of(&self, cell: u32) -> Option<usize> {
         let mut place = self.home(cell);
@@ -383,6 +398,12 @@ impl<V: Vector, C: CellStore> Grid<V, C> {
     /// The primitives listed in cell `cell`.
     pub fn cell_primitives(&self, cell: u32) -> &[u32] {
         self.store.lookup(cell).primitives
+    }
+
+    /// The bytes the same lists take in a dense table ([`DenseCells`]: a start for every
+    /// cell and one more, then the references): what a hashed grid is weighed against.
+    pub fn dense_bytes(&self) -> usize {
+        std::mem::size_of::<u32>() * (self.cells.cell_count() + 1 + self.store.references().len())
     }
 
     /// A copy of `primitives` stored in the grid's reference order (a primitive once for every

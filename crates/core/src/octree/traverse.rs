@@ -154,7 +154,8 @@ where
                 *place = node.first + child as u32;
                 reached |= 1 << child;
             }
-            observer.children_ordered(node_index, children as u32, &order[..passed.len()]);
+            // No box was tested: the order comes from the middle planes.
+            observer.children_ordered(node_index, 0, &order[..passed.len()]);
             for child in (0..children).filter(|&child| reached & (1 << child) == 0) {
                 observer.cell_missed(node.first + child as u32);
             }

@@ -223,3 +223,102 @@ fn every_cells_path_leads_back_to_it_in_a_grid_and_an_octree() {
         }
     }
 }
+
+/// A lesson's chosen cells and table: `BuildParams::grid` overrides the density rule and the
+/// table's default size, and the grids built are whole (they validate, and the hashed one
+/// walks like the dense one).
+#[test]
+fn chosen_cells_and_table_size_are_built_as_asked() {
+    use accelviz_core::{BuildParams, GridParams, NoBuildObserver, Structure};
+    let shapes: ShapeSet<DVec2> =
+        accelviz_scene::scene2d::generate(accelviz_scene::scene2d::Layout::Uniform, 60, 3);
+    let params = BuildParams {
+        grid: GridParams {
+            cells_along_longest: Some(12),
+            hash_places: Some(97),
+        },
+        ..BuildParams::default()
+    };
+    let bounds = shapes
+        .shapes
+        .iter()
+        .fold(Aabb::empty(), |bounds, shape| bounds.union(shape.bounds()));
+    let expected = GridCells::along_longest(bounds, 12).resolution;
+    for density in [1, 8] {
+        let dense = Structure::GridUniform { density }.build_observed(
+            &shapes,
+            &params,
+            &mut NoBuildObserver,
+        );
+        let hashed = Structure::GridHashed { density }.build_observed(
+            &shapes,
+            &params,
+            &mut NoBuildObserver,
+        );
+        let (Tree::Grid(dense), Tree::HashedGrid(hashed)) = (dense, hashed) else {
+            panic!("grids built");
+        };
+        assert_eq!(
+            dense.cells.resolution, expected,
+            "density {density} is not asked"
+        );
+        assert_eq!(hashed.cells.resolution, expected);
+        assert_eq!(hashed.store.buckets.len(), 97);
+        grid::validate(&dense, &shapes).unwrap();
+        grid::validate(&hashed, &shapes).unwrap();
+        // The dense table's bytes, as the hashed grid weighs itself against them.
+        use accelviz_core::grid::CellStore;
+        assert_eq!(hashed.dense_bytes(), dense.store.bytes());
+        assert_eq!(dense.dense_bytes(), dense.store.bytes());
+    }
+}
+
+/// A fuller table reads more places a lookup: at its fullest (one place free) more than at
+/// the default load of at most a half; a stored cell is found in at least one read, and the
+/// means are those of looking every cell up.
+#[test]
+fn a_fuller_hash_table_reads_more_places_a_lookup() {
+    use accelviz_core::grid::CellStore;
+    use accelviz_core::{BuildParams, GridParams, NoBuildObserver, Structure};
+    let shapes: ShapeSet<DVec2> =
+        accelviz_scene::scene2d::generate(accelviz_scene::scene2d::Layout::Uniform, 200, 5);
+    let table = |places: Option<usize>| {
+        let params = BuildParams {
+            grid: GridParams {
+                cells_along_longest: None,
+                hash_places: places,
+            },
+            ..BuildParams::default()
+        };
+        let structure = Structure::GridHashed { density: 2 };
+        match structure.build_observed(&shapes, &params, &mut NoBuildObserver) {
+            Tree::HashedGrid(grid) => grid,
+            _ => panic!("a hashed grid"),
+        }
+    };
+    let roomy = table(None);
+    let occupied = roomy.store.occupied();
+    assert!(roomy.store.load() <= 0.5);
+    let full = table(Some(occupied + 1));
+    assert_eq!(full.store.buckets.len(), occupied + 1);
+    let cell_count = roomy.cells.cell_count();
+    let (roomy_found, roomy_absent) = roomy.store.probes_per_lookup(cell_count);
+    let (full_found, full_absent) = full.store.probes_per_lookup(cell_count);
+    assert!(roomy_found >= 1.0 && roomy_absent >= 1.0);
+    assert!(full_found > roomy_found, "{full_found} vs {roomy_found}");
+    assert!(
+        full_absent > roomy_absent,
+        "{full_absent} vs {roomy_absent}"
+    );
+    assert!(full.store.collisions > roomy.store.collisions);
+    // The mean for stored cells is the mean of their lookups.
+    let stored: Vec<u32> = (0..cell_count as u32)
+        .filter(|&cell| full.store.place_of(cell).is_some())
+        .collect();
+    let mean = stored
+        .iter()
+        .map(|&cell| f64::from(full.store.lookup(cell).probes))
+        .sum::<f64>()
+        / stored.len() as f64;
+    assert!((mean - full_found).abs() < 1e-12);
+}
