@@ -258,13 +258,9 @@ impl SceneTree {
     /// The kD build's limits, when a limit changed the tree: what the lesson must say.
     pub fn limits_note(&self) -> Option<String> {
         let limits = self.built.tree.kd_limits()?;
-        limits.reached().then(|| {
-            format!(
-                "{} {}: {limits}",
-                self.built.structure.label(),
-                self.built.structure.family().label()
-            )
-        })
+        limits
+            .reached()
+            .then(|| format!("{}: {limits}", self.built.structure.title()))
     }
 }
 

@@ -554,6 +554,17 @@ impl Structure {
         }
     }
 
+    /// Its label with its family where the label does not already name it: "SAH kD-tree",
+    /// "binned SAH, 8 wide BVH", but "uniform grid".
+    pub fn title(&self) -> String {
+        let (label, family) = (self.label(), self.family().label());
+        if label.contains(family) {
+            label
+        } else {
+            format!("{label} {family}")
+        }
+    }
+
     /// Which of the lecture's rules it follows.
     pub fn rule(&self) -> SplitRule {
         self.entry().rule

@@ -128,6 +128,7 @@ impl Lesson for CostSplitLesson {
             &self.comparison,
             &mut self.stage.scene,
             height,
+            3,
             |pane| rule_color(RULES[pane]),
             |_, tree, canvas| {
                 let facts = &tree.built.facts;

@@ -635,11 +635,10 @@ impl Lesson for HeatLesson {
             return;
         };
         ui.label(format!(
-            "{}: {} triangles; {} {}: {} nodes, SAH cost {}",
+            "{}: {} triangles; {}: {} nodes, SAH cost {}",
             tree.mesh.name.trim_start_matches("builtin:"),
             count(tree.mesh.triangles.len()),
-            tree.build.built.structure.label(),
-            tree.build.built.structure.family().label(),
+            tree.build.built.structure.title(),
             count(tree.build.stats.node_count),
             number(tree.build.stats.sah_cost)
         ));
@@ -710,10 +709,24 @@ impl Lesson for HeatLesson {
                 "This structure traces a packet ray by ray (only a wide BVH traces one together), so the maps are those of one ray at a time."
             });
         }
-        if structure.family() == Family::Kd && self.counter == Counter::Boxes {
-            ui.label(
-                "A kD-tree tests one box per ray, the root's: below it the cells are found by comparing t with each split plane, not by box tests. So this map is 1 at every pixel.",
-            );
+        if self.counter == Counter::Boxes {
+            let how = match structure.family() {
+                Family::Bvh => None,
+                Family::Kd => {
+                    Some("a kD-tree finds its cells by comparing t with each split plane")
+                }
+                Family::Octree => Some(
+                    "an octree orders a cell's children by where the ray crosses its middle planes",
+                ),
+                Family::Grid | Family::HashedGrid => {
+                    Some("a grid steps from cell to cell by the t of the next plane on each axis")
+                }
+            };
+            if let Some(how) = how {
+                ui.label(format!(
+                    "This structure tests one box per ray, the root's: below it {how}, not by box tests. So this map is 1 at every pixel the box covers."
+                ));
+            }
         }
     }
 

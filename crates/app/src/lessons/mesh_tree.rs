@@ -132,6 +132,8 @@ pub struct MeshTreeLesson {
     pub show_leaves: bool,
     /// Whether kD split planes are drawn (kD-trees only).
     pub show_planes: bool,
+    /// The family the show switches were last set for: a new family gets its own look.
+    looks_for: Family,
     /// How box edges behind the surface are drawn.
     pub hidden_edges: HiddenEdges,
     /// Whether the mesh's triangle edges are drawn.
@@ -167,10 +169,10 @@ impl MeshTreeLesson {
             depth_range: (0, usize::MAX),
             opened: None,
             pending_pixel: None,
-            // A kD-tree is shown by its planes; its cells' outlines on request.
-            show_inner: structure.family() == Family::Bvh,
-            show_leaves: structure.family() == Family::Bvh,
-            show_planes: true,
+            show_inner: Self::looks(structure.family()).0,
+            show_leaves: Self::looks(structure.family()).1,
+            show_planes: Self::looks(structure.family()).2,
+            looks_for: structure.family(),
             hidden_edges: HiddenEdges::Dimmed,
             wireframe: false,
             hovered: None,
@@ -241,12 +243,26 @@ impl MeshTreeLesson {
         self.depth_range.0..=self.depth_range.1
     }
 
-    /// Whether `node`'s box is drawn.
+    /// How a family is first shown: (inner boxes, leaf boxes, split planes). A BVH by its
+    /// boxes; a kD-tree and an octree by their planes (their cells' outlines on request); a
+    /// grid by its cells that hold something (all its cells at once would hide the mesh).
+    fn looks(family: Family) -> (bool, bool, bool) {
+        match family {
+            Family::Bvh => (true, true, false),
+            Family::Kd | Family::Octree => (false, false, true),
+            Family::Grid | Family::HashedGrid => (false, true, false),
+        }
+    }
+
+    /// Whether `node`'s box is drawn. A grid's empty cells are not (unless a ray passes them).
     fn shows(&self, tree: &MeshTree, node: u32) -> bool {
         let facts = &tree.build.built.facts;
         let leaf = facts.is_leaf(node);
+        let empty_cell =
+            leaf && facts.leaf_sizes[node as usize] == 0 && tree.build.built.grid_cells().is_some();
         self.depths()
             .contains(&(facts.depth[node as usize] as usize))
+            && !empty_cell
             && if leaf {
                 self.show_leaves
             } else {
@@ -291,7 +307,13 @@ impl MeshTreeLesson {
             let met = emphasis
                 .as_ref()
                 .is_none_or(|emphasis| emphasis[node as usize].is_some());
-            let drawn = (self.shows(tree, node) && met) || lit || Some(node) == current;
+            // A grid's cells a ray passed are drawn, empty or not: the walk is the point.
+            let passed = emphasis.is_some()
+                && met
+                && facts.is_leaf(node)
+                && tree.build.built.grid_cells().is_some()
+                && self.show_leaves;
+            let drawn = (self.shows(tree, node) && met) || passed || lit || Some(node) == current;
             if !drawn {
                 continue;
             }
@@ -312,10 +334,14 @@ impl MeshTreeLesson {
                 color: [color.r(), color.g(), color.b(), color.a()],
             });
         }
-        // The selected kD node's plane outlined in its axis's colour, so it stands out of
-        // the planes around it.
-        if let Some(plane) = self.selected.and_then(|node| self.plane_of(tree, node)) {
-            instances.push(plane.instance);
+        // The selected node's planes outlined in their axis's colour, so they stand out of
+        // the planes around them.
+        if let Some(node) = self.selected {
+            instances.extend(
+                self.planes_of(tree, node)
+                    .into_iter()
+                    .map(|plane| plane.instance),
+            );
         }
         instances
     }
@@ -333,44 +359,49 @@ impl MeshTreeLesson {
             if !(lit || in_range) {
                 continue;
             }
-            let Some(plane) = self.plane_of(tree, node) else {
-                continue;
-            };
             let alpha = if lit {
                 150
             } else {
                 (90 - 8 * depth.min(8)) as u8
             };
-            let [r, g, b, _] = plane.instance.color;
-            planes.push((
-                (plane.center - eye).length(),
-                Instance {
-                    color: [r, g, b, alpha],
-                    ..plane.instance
-                },
-            ));
+            for plane in self.planes_of(tree, node) {
+                let [r, g, b, _] = plane.instance.color;
+                planes.push((
+                    (plane.center - eye).length(),
+                    Instance {
+                        color: [r, g, b, alpha],
+                        ..plane.instance
+                    },
+                ));
+            }
         }
         planes.sort_by(|a, b| b.0.total_cmp(&a.0));
         planes.into_iter().map(|(_, plane)| plane).collect()
     }
 
-    /// `node`'s split plane clipped to its cell, in its axis's colour (kD inner nodes only).
-    fn plane_of(&self, tree: &MeshTree, node: u32) -> Option<PlaneQuad> {
-        let (axis, position) = tree.build.built.plane(node)?;
+    /// `node`'s split planes clipped to its cell, each in its axis's colour: a kD node's one,
+    /// an octree node's three (none for a leaf or a BVH node).
+    fn planes_of(&self, tree: &MeshTree, node: u32) -> Vec<PlaneQuad> {
         let cell = tree.build.built.facts.bounds[node as usize];
-        let (mut low, mut high) = (cell.min, cell.max);
-        low[axis] = position;
-        high[axis] = position;
-        let color = palette::AXES[axis];
-        let color = [color.r(), color.g(), color.b(), 255];
-        Some(PlaneQuad {
-            center: (low + high) / 2.0,
-            instance: Instance {
-                a: relative(low, tree.build.sphere),
-                b: relative(high, tree.build.sphere),
-                color,
-            },
-        })
+        tree.build
+            .built
+            .cuts(node)
+            .into_iter()
+            .map(|(axis, position)| {
+                let (mut low, mut high) = (cell.min, cell.max);
+                low[axis] = position;
+                high[axis] = position;
+                let color = palette::AXES[axis];
+                PlaneQuad {
+                    center: (low + high) / 2.0,
+                    instance: Instance {
+                        a: relative(low, tree.build.sphere),
+                        b: relative(high, tree.build.sphere),
+                        color: [color.r(), color.g(), color.b(), 255],
+                    },
+                }
+            })
+            .collect()
     }
 
     /// The selected node's triangles, drawn over the mesh (when no ray is traced).
@@ -418,7 +449,7 @@ impl MeshTreeLesson {
             ui.separator();
             ui.checkbox(&mut self.show_inner, "inner nodes");
             ui.checkbox(&mut self.show_leaves, "leaves");
-            if self.structure.family() == Family::Kd {
+            if matches!(self.structure.family(), Family::Kd | Family::Octree) {
                 ui.checkbox(&mut self.show_planes, "split planes")
                     .on_hover_text(
                         "Each inner node's plane, clipped to its cell, coloured by axis",
@@ -762,6 +793,11 @@ impl Lesson for MeshTreeLesson {
     }
 
     fn update(&mut self) {
+        let family = self.structure.family();
+        if family != self.looks_for {
+            (self.show_inner, self.show_leaves, self.show_planes) = Self::looks(family);
+            self.looks_for = family;
+        }
         self.stage
             .scene
             .request_tree(&mut self.tree, self.structure);

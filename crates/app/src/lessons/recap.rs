@@ -1,12 +1,14 @@
 //! Lesson 10, "Recap": "BVH is inefficient in empty space"; kD-trees are "very commonly used".
 //! A SAH BVH and a SAH kD-tree over the same scene, measured on the same rays: when do the
 //! kD-tree's empty cells beat the BVH, and when do its straddling primitives, tested in every
-//! cell they reach, cost more than they save? Presets show each case; any scene can be
-//! measured, and the verdict is written from the numbers.
+//! cell they reach, cost more than they save? Beside them the structures the lecture names
+//! but does not choose (the uniform grid, the hashed grid, the quadtree), measured on the same
+//! rays. Presets show each case; any scene can be measured, and the verdict is written from
+//! the numbers.
 
 use accelviz_core::format::{count, number};
 use accelviz_core::{Family, SplitRule, Structure};
-use accelviz_scene::document::Scene2d;
+use accelviz_scene::document::{Scene2d, SceneSettings};
 use egui::{Color32, RichText};
 
 use crate::background::Derived;
@@ -14,11 +16,39 @@ use crate::canvas::palette;
 use crate::editor::Editing;
 use crate::lesson::Lesson;
 use crate::lesson_file::LessonText;
-use crate::stage::Stage;
-use crate::views::compare::{Comparison, comparison_ui, request_comparison};
+use crate::stage::{Stage, request_over_shapes};
+use crate::views::compare::{Comparison, comparison_ui};
 
-/// The two structures, in pane order.
-pub const FAMILIES: [Family; 2] = [Family::Bvh, Family::Kd];
+/// The five families, in pane order: the lecture's two first.
+pub const FAMILIES: [Family; 5] = [
+    Family::Bvh,
+    Family::Kd,
+    Family::Grid,
+    Family::HashedGrid,
+    Family::Octree,
+];
+
+/// A family's name in this 2D lesson (an octree in 2D is a quadtree).
+pub fn family_name(family: Family) -> &'static str {
+    match family {
+        Family::Octree => "quadtree",
+        family => family.label(),
+    }
+}
+
+/// Short column headings for the table, in pane order.
+const HEADINGS: [&str; 5] = ["SAH BVH", "SAH kD", "grid", "hashed", "quadtree"];
+
+/// The structure of each family the recap measures: the SAH BVH and kD-tree, the grids at
+/// their default density, the quadtree with the scene's leaf size (the trees' own).
+pub fn structures(settings: &SceneSettings) -> [Structure; 5] {
+    FAMILIES.map(|family| match family {
+        Family::Octree => Structure::Octree {
+            leaf: settings.max_leaf_size.clamp(1, usize::from(u16::MAX)) as u16,
+        },
+        family => Structure::lecture(family, SplitRule::Sah),
+    })
+}
 
 /// What one structure costs per ray on the scene, and what it holds.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,9 +67,9 @@ pub struct Measured {
     pub node_count: usize,
 }
 
-/// The two structures' figures, BVH first.
-pub fn measure(comparison: &Comparison) -> [Measured; 2] {
-    [0, 1].map(|pane| {
+/// The five structures' figures, in pane order.
+pub fn measure(comparison: &Comparison) -> [Measured; 5] {
+    [0, 1, 2, 3, 4].map(|pane| {
         let tree = &comparison.trees[pane];
         let cost = tree.settings.cost();
         let nodes = comparison.per_ray(pane, |c| c.nodes_visited);
@@ -56,9 +86,54 @@ pub fn measure(comparison: &Comparison) -> [Measured; 2] {
     })
 }
 
-/// The verdict, from the numbers: who wins, by how much, and where the difference comes
-/// from (the node visits and the primitive tests, each with what causes it).
-pub fn verdict([bvh, kd]: [Measured; 2]) -> String {
+/// The verdict, from the numbers: the lecture's question first (BVH or kD-tree: who wins, by
+/// how much, and where the difference comes from), then where the other three stand.
+pub fn verdict(figures: [Measured; 5]) -> String {
+    let [bvh, kd, grid, hashed, quadtree] = figures;
+    let mut ranked: Vec<(usize, f64)> = figures
+        .iter()
+        .enumerate()
+        .map(|(pane, figure)| (pane, figure.cost_per_ray))
+        .collect();
+    ranked.sort_by(|a, b| a.1.total_cmp(&b.1));
+    let name = |pane: usize| family_name(FAMILIES[pane]);
+    let order: Vec<String> = ranked
+        .iter()
+        .map(|&(pane, cost)| format!("{} {}", name(pane), number(cost)))
+        .collect();
+    let grid_why = if grid.nodes_per_ray > 2.0 * kd.nodes_per_ray.max(bvh.nodes_per_ray) {
+        format!(
+            "The uniform grid steps through {:.1} cells per ray: its cells are one size everywhere, so a ray crosses many empty ones where the scene is sparse",
+            grid.nodes_per_ray
+        )
+    } else if grid.tests_per_ray > 1.5 * kd.tests_per_ray.min(bvh.tests_per_ray) {
+        format!(
+            "The uniform grid tests {:.1} primitives per ray: cells sized for the average hold many where the scene is dense",
+            grid.tests_per_ray
+        )
+    } else {
+        format!(
+            "The uniform grid keeps up here ({:.1} cells and {:.1} tests per ray): the scene fills its cells evenly, the case its density rule assumes",
+            grid.nodes_per_ray, grid.tests_per_ray
+        )
+    };
+    let quadtree_why = if quadtree.cost_per_ray > kd.cost_per_ray * 1.05 {
+        "the quadtree trails the SAH kD-tree: it cuts at the middle of both axes whatever the cell holds"
+    } else {
+        "the quadtree keeps up with the SAH kD-tree: the middle of each cell happens to be a good place to cut"
+    };
+    format!(
+        "{} Of all five, cheapest first: {}. {grid_why}; the hashed grid walks the same cells and tests the same primitives ({} per ray), and adds a lookup for each cell; {quadtree_why}.",
+        lecture_verdict(bvh, kd),
+        order.join(", "),
+        number(hashed.cost_per_ray)
+    )
+}
+
+/// The lecture's question, from the numbers: BVH or kD-tree, who wins, by how much, and where
+/// the difference comes from (the node visits and the primitive tests, each with what causes
+/// it).
+pub fn lecture_verdict(bvh: Measured, kd: Measured) -> String {
     let ratio = bvh.cost_per_ray / kd.cost_per_ray.max(1e-12);
     let outcome = if ratio > 1.05 {
         format!(
@@ -145,8 +220,8 @@ impl RecapLesson {
         }
     }
 
-    /// The figures of both structures on the current scene, once measured.
-    pub fn measured(&self) -> Option<[Measured; 2]> {
+    /// The figures of the five structures on the current scene, once measured.
+    pub fn measured(&self) -> Option<[Measured; 5]> {
         Some(measure(self.comparison.get()?))
     }
 
@@ -181,8 +256,9 @@ impl Lesson for RecapLesson {
 
     fn update(&mut self) {
         let scene = &self.stage.scene;
-        let structures = FAMILIES.map(|family| Structure::lecture(family, SplitRule::Sah));
-        request_comparison(&mut self.comparison, scene, (), structures);
+        request_over_shapes(&mut self.comparison, scene, (), |shapes, settings| {
+            Comparison::build(&structures(&settings), shapes, settings)
+        });
     }
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
@@ -215,21 +291,21 @@ impl Lesson for RecapLesson {
             .show(ui, |ui| {
                 egui::Grid::new("recap table").striped(true).show(ui, |ui| {
                     ui.label("");
-                    ui.strong("SAH BVH");
-                    ui.strong("SAH kD-tree");
+                    for (heading, tree) in HEADINGS.iter().zip(&comparison.trees) {
+                        ui.strong(*heading)
+                            .on_hover_text(tree.built.structure.name());
+                    }
                     ui.end_row();
                     let rows: [(&str, FigureOf); 5] = [
-                        ("nodes visited per ray", |m| {
+                        ("nodes or cells a ray", |m| {
                             format!("{:.1}", m.nodes_per_ray)
                         }),
-                        ("primitive tests per ray", |m| {
-                            format!("{:.1}", m.tests_per_ray)
-                        }),
-                        ("cost per ray", |m| number(m.cost_per_ray)),
-                        ("references per primitive", |m| {
+                        ("tests a ray", |m| format!("{:.1}", m.tests_per_ray)),
+                        ("cost a ray", |m| number(m.cost_per_ray)),
+                        ("references a primitive", |m| {
                             format!("{:.2}", m.references_per_primitive)
                         }),
-                        ("area in empty leaves", |m| {
+                        ("area left empty", |m| {
                             format!("{:.0} %", m.empty_share * 100.0)
                         }),
                     ];
@@ -250,7 +326,7 @@ impl Lesson for RecapLesson {
         let settings = self.stage.scene.scene.settings;
         ui.label(
             RichText::new(format!(
-                "Measured on {} seeded rays through the scene. Cost per ray = C_trav · nodes + C_isect · tests, with C_trav = {} and C_isect = {}.",
+                "Measured on {} seeded rays from around the scene to points in it. Cost per ray = C_trav · nodes (or cells) + C_isect · tests, with C_trav = {} and C_isect = {}. A ray from outside a walled scene meets the wall in the first cell a grid looks at.",
                 comparison.ray_count,
                 number(settings.traversal_cost),
                 number(settings.intersection_cost)
@@ -272,6 +348,7 @@ impl Lesson for RecapLesson {
             &self.comparison,
             &mut self.stage.scene,
             height,
+            3,
             |_| Color32::WHITE,
             |_, _, _| {},
         );

@@ -535,6 +535,7 @@ impl Lesson for SplitsLesson {
             &self.comparison,
             &mut self.stage.scene,
             pane_height,
+            3,
             |pane| rule_color(RULES[pane]),
             |pane, tree, canvas| {
                 // The selected node, and the ghost of the selected candidate, in the SAH pane.

@@ -120,10 +120,20 @@ impl MeshTree {
         }
     }
 
-    /// A node's name: its path from the root (`root`, `LRL`).
+    /// A node's name: its path from the root (`the root`, `node LRL`), a grid cell's
+    /// coordinates (`cell (3, 1, 4)`), an octree node's octant at each level (`octant 5·0·3`,
+    /// the bits of each number saying above the middle along x, y, z).
     pub fn node_name(&self, node: u32) -> String {
-        match self.build.built.facts.path_to(node) {
+        let built = &self.build.built;
+        if let Some([x, y, z]) = built.grid_coordinates(node) {
+            return format!("cell ({x}, {y}, {z})");
+        }
+        match built.facts.path_to(node) {
             path if path.is_empty() => "the root".to_owned(),
+            path if path.chars().all(|step| step.is_ascii_digit()) => {
+                let levels: Vec<String> = path.chars().map(String::from).collect();
+                format!("octant {}", levels.join("·"))
+            }
             path => format!("node {path}"),
         }
     }

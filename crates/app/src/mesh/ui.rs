@@ -26,7 +26,7 @@ pub fn mesh_and_structure_ui(
                     // The name the lesson texts, links and CLI use, then what it is.
                     .selectable_label(
                         chosen,
-                        format!("{}: {} {}", entry.name, entry.label, entry.family.label()),
+                        format!("{}: {}", entry.name, entry.structure.title()),
                     )
                     .on_hover_text(entry.about)
                     .clicked()

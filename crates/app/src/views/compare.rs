@@ -102,59 +102,62 @@ impl Comparison {
         lines
     }
 
-    /// The panes side by side, sharing one view, each titled with its structure's name in
-    /// `title_color(pane)` and drawn by `overlay` after its tree; the user's edits on any pane
-    /// go to `scene`. While a newer comparison is `working`, the first pane says so.
+    /// The panes side by side, `columns` a row, sharing one view, each titled with its
+    /// structure's name in `title_color(pane)` and drawn by `overlay` after its tree; the
+    /// user's edits on any pane go to `scene`. While a newer comparison is `working`, the
+    /// first pane says so.
+    #[allow(clippy::too_many_arguments)] // The pieces of one call, each used once.
     fn panes_ui(
         &self,
         ui: &mut egui::Ui,
         scene: &mut EditableScene,
         working: Option<std::time::Duration>,
         height: f32,
+        columns: usize,
         title_color: impl Fn(usize) -> Color32,
         overlay: impl Fn(usize, &SceneTree, &Canvas),
     ) {
-        let panes = self.trees.len().max(1);
+        let columns = columns.clamp(1, self.trees.len().max(1));
+        let rows = self.trees.len().div_ceil(columns).max(1);
         let gap = 6.0;
-        let width = (ui.available_width() - gap * (panes - 1) as f32) / panes as f32;
+        let width = (ui.available_width() - gap * (columns - 1) as f32) / columns as f32;
+        let height = (height - gap * (rows - 1) as f32) / rows as f32;
         let bounds = scene.bounds();
         let mut view: View2d = scene.view;
-        let canvases = ui
-            .horizontal(|ui| {
+        let mut canvases = Vec::with_capacity(self.trees.len());
+        for row in 0..rows {
+            if row > 0 {
+                ui.add_space(gap - ui.spacing().item_spacing.y);
+            }
+            let panes = row * columns..((row + 1) * columns).min(self.trees.len());
+            ui.horizontal(|ui| {
                 ui.spacing_mut().item_spacing.x = gap;
-                (0..self.trees.len())
-                    .map(|pane| {
-                        let canvas = Canvas::allocate(
-                            ui,
-                            Vec2::new(width, height),
-                            &mut view,
-                            &bounds,
-                            false,
-                        );
-                        let tree = &self.trees[pane];
-                        draw_shapes(ui, &canvas, &tree.shapes, |_| None);
-                        draw_tree(
-                            &canvas,
-                            tree,
-                            &TreeLook {
-                                structure_alpha: 200,
-                                ..TreeLook::default()
-                            },
-                        );
-                        overlay(pane, tree, &canvas);
-                        let mut lines = vec![(tree.built.structure.name(), title_color(pane))];
-                        lines.extend(
-                            self.summary(pane)
-                                .into_iter()
-                                .map(|line| (line, Color32::WHITE)),
-                        );
-                        canvas.caption(&lines);
-                        canvas.finish();
-                        canvas
-                    })
-                    .collect::<Vec<_>>()
-            })
-            .inner;
+                for pane in panes {
+                    let canvas =
+                        Canvas::allocate(ui, Vec2::new(width, height), &mut view, &bounds, false);
+                    let tree = &self.trees[pane];
+                    draw_shapes(ui, &canvas, &tree.shapes, |_| None);
+                    draw_tree(
+                        &canvas,
+                        tree,
+                        &TreeLook {
+                            structure_alpha: 200,
+                            ..TreeLook::default()
+                        },
+                    );
+                    overlay(pane, tree, &canvas);
+                    let mut lines = vec![(tree.built.structure.name(), title_color(pane))];
+                    lines.extend(
+                        self.summary(pane)
+                            .into_iter()
+                            .map(|line| (line, Color32::WHITE)),
+                    );
+                    canvas.caption(&lines);
+                    canvas.finish();
+                    canvases.push(canvas);
+                }
+            });
+        }
         scene.view = view;
         if let Some(canvas) = canvases.first() {
             building_note(ui, canvas, working, "the trees");
@@ -168,13 +171,14 @@ impl Comparison {
     }
 }
 
-/// The panes of the comparison `derived` holds, `height` points high (as
+/// The panes of the comparison `derived` holds, `height` points high in rows of `columns` (as
 /// `Comparison::panes_ui` draws them), or a line saying it is building until the first build is done.
 pub fn comparison_ui<K: Clone + PartialEq + Send + 'static>(
     ui: &mut egui::Ui,
     derived: &Derived<K, Comparison>,
     scene: &mut EditableScene,
     height: f32,
+    columns: usize,
     title_color: impl Fn(usize) -> Color32,
     overlay: impl Fn(usize, &SceneTree, &Canvas),
 ) {
@@ -184,6 +188,7 @@ pub fn comparison_ui<K: Clone + PartialEq + Send + 'static>(
             scene,
             derived.working_for(),
             height,
+            columns,
             title_color,
             overlay,
         ),

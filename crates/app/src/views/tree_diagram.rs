@@ -208,13 +208,16 @@ pub fn depth_range_ui(ui: &mut egui::Ui, range: &mut (usize, usize), max_depth: 
 }
 
 /// A tree node's colour after the steps shown: green if it was entered, red if its box was
-/// missed, the ray does not reach its cell, or it was skipped.
+/// missed, the ray does not reach its cell, or it was skipped; grey for a grid cell passed
+/// empty.
 pub fn traversal_emphasis(steps: &[Step<f64>], node_count: usize) -> Vec<Option<Color32>> {
     let missed = faded(palette::MISS, 200);
     let mut emphasis = vec![None; node_count];
     for step in steps {
         let (node, color) = match *step {
             Step::NodeEntered { node } | Step::CellEntered { node, .. } => (node, palette::HIT),
+            // A grid's empty cell, passed without a test.
+            Step::CellSkipped { node, .. } => (node, faded(Color32::GRAY, 220)),
             Step::BoxTested {
                 node, hit: false, ..
             }

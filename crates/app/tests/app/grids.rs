@@ -409,3 +409,82 @@ fn the_quadtree_lesson_matches_its_snapshots() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// Lessons 12 and 14 offer the grid and the octree: a grid shown by the cells that hold
+/// something (a voxel teapot), then the cells its walk passes; an octree by its three middle
+/// planes a node; heat maps of both; node names that say what they are.
+#[test]
+fn grids_and_octrees_in_3d_match_their_snapshots() {
+    use accelviz_app::lessons::heat::HeatLesson;
+    use accelviz_app::lessons::mesh_tree::MeshTreeLesson;
+    let mut failures = Vec::new();
+    for (name, structure) in [("grid_3d", "grid:uniform"), ("octree_3d", "octree")] {
+        let mut harness = lesson_harness_3d(MeshTreeLesson::new(lesson_text("12-mesh-bvh.ron")));
+        harness
+            .state_mut()
+            .restore("structure", structure)
+            .expect("a structure");
+        harness.run();
+        settle(harness.state_mut());
+        harness.run();
+        let lesson = harness.state();
+        let grid = structure.starts_with("grid");
+        assert_eq!(
+            (lesson.show_inner, lesson.show_leaves, lesson.show_planes),
+            (false, grid, !grid),
+            "{structure}: a grid by its cells, an octree by its planes"
+        );
+        if let Err(error) = harness.try_snapshot(&format!("{name}_cells")) {
+            failures.push(error.to_string());
+        }
+        // A ray across the top of the teapot to its lid, stepped to its end.
+        harness.state_mut().pick(
+            glam::DVec3::new(-3.0, 1.5, 0.05),
+            glam::DVec3::new(1.0, 0.0, 0.0),
+        );
+        harness.run();
+        settle(harness.state_mut());
+        let frames = harness.state().stage().timeline.len;
+        harness.state_mut().stage_mut().timeline.shown = frames;
+        harness.run();
+        let caption = harness.state().caption().expect("a caption");
+        let named = if grid { "cell (" } else { "octant " };
+        assert!(
+            (1..=frames).any(|frame| {
+                harness.state_mut().stage_mut().timeline.shown = frame;
+                harness
+                    .state()
+                    .caption()
+                    .is_some_and(|caption| caption.contains(named))
+            }),
+            "{structure}: {caption}"
+        );
+        harness.state_mut().stage_mut().timeline.shown = frames;
+        harness.run();
+        if let Err(error) = harness.try_snapshot(&format!("{name}_ray")) {
+            failures.push(error.to_string());
+        }
+    }
+    for (name, structure) in [
+        ("heat_3d_grid", "grid:uniform"),
+        ("heat_3d_octree", "octree"),
+    ] {
+        let mut harness = lesson_harness_3d(HeatLesson::new(lesson_text("14-heat-maps.ron")));
+        harness
+            .state_mut()
+            .restore("structure", structure)
+            .expect("a structure");
+        for _ in 0..400 {
+            harness.run();
+            if harness.state().building().is_none() {
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+        harness.run();
+        if let Err(error) = harness.try_snapshot(name) {
+            failures.push(error.to_string());
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}

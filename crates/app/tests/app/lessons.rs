@@ -160,16 +160,26 @@ fn the_recap_presets_show_when_each_structure_wins() {
     for (index, name) in names.iter().enumerate() {
         lesson.show_preset(index);
         lesson.update();
-        let [bvh, kd] = lesson.measured().expect("measured at once in tests");
+        let figures = lesson.measured().expect("measured at once in tests");
+        let (bvh, kd) = (figures[0], figures[1]);
         let kd_wins = kd.cost_per_ray < bvh.cost_per_ray;
         let expected = matches!(name.as_str(), "dust in a room" | "teapot in a stadium");
         assert_eq!(kd_wins, expected, "{name}: BVH {bvh:?}, kD {kd:?}");
-        let verdict = accelviz_app::lessons::recap::verdict([bvh, kd]);
+        let verdict = accelviz_app::lessons::recap::verdict(figures);
         let winner = if expected {
             "the kD-tree wins"
         } else {
             "the BVH wins"
         };
+        // The other three ranked with them, by the numbers measured.
+        for family in accelviz_app::lessons::recap::FAMILIES {
+            let family = accelviz_app::lessons::recap::family_name(family);
+            assert!(verdict.contains(family), "{name}: {verdict}");
+        }
+        assert_eq!(
+            figures[2].cost_per_ray, figures[3].cost_per_ray,
+            "{name}: the hashed grid walks the dense grid's cells"
+        );
         assert!(verdict.contains(winner), "{name}: {verdict}");
     }
 }
