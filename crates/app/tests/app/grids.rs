@@ -434,7 +434,7 @@ fn grids_and_octrees_in_3d_match_their_snapshots() {
             (false, grid, !grid),
             "{structure}: a grid by its cells, an octree by its planes"
         );
-        if let Err(error) = harness.try_snapshot(&format!("{name}_cells")) {
+        if let Err(error) = harness.try_snapshot(format!("{name}_cells")) {
             failures.push(error.to_string());
         }
         // A ray across the top of the teapot to its lid, stepped to its end.
@@ -461,7 +461,7 @@ fn grids_and_octrees_in_3d_match_their_snapshots() {
         );
         harness.state_mut().stage_mut().timeline.shown = frames;
         harness.run();
-        if let Err(error) = harness.try_snapshot(&format!("{name}_ray")) {
+        if let Err(error) = harness.try_snapshot(format!("{name}_ray")) {
             failures.push(error.to_string());
         }
     }
