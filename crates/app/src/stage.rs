@@ -135,6 +135,55 @@ impl Stage {
     pub fn settings(&self) -> &SceneSettings {
         &self.scene.scene.settings
     }
+
+    /// Shows the lesson file's preset `index` (its scene, under its name) from the first step;
+    /// false when there is none.
+    pub fn show_preset(&mut self, index: usize) -> bool {
+        let Some(preset) = self.text.file.presets.get(index) else {
+            return false;
+        };
+        let Ok(scene) = Scene2d::from_document(preset.scene.clone(), &preset.name) else {
+            return false;
+        };
+        self.scene.replace(scene);
+        self.timeline.rewind();
+        true
+    }
+
+    /// Shows the preset called `name` (a lecture script's `show NAME`).
+    pub fn show_named_preset(&mut self, name: &str) -> bool {
+        let presets = &self.text.file.presets;
+        presets
+            .iter()
+            .position(|preset| preset.name == name)
+            .is_some_and(|index| self.show_preset(index))
+    }
+
+    /// The presets' names.
+    pub fn preset_names(&self) -> Vec<String> {
+        let presets = &self.text.file.presets;
+        presets.iter().map(|preset| preset.name.clone()).collect()
+    }
+
+    /// A button for each preset (its description on hover), after `label`; a click shows it.
+    pub fn presets_ui(&mut self, ui: &mut egui::Ui, label: &str) {
+        let presets: Vec<(String, String)> = (self.text.file.presets.iter())
+            .map(|preset| (preset.name.clone(), preset.about.clone()))
+            .collect();
+        if presets.is_empty() {
+            return;
+        }
+        ui.horizontal_wrapped(|ui| {
+            if !label.is_empty() {
+                ui.label(label);
+            }
+            for (index, (name, about)) in presets.iter().enumerate() {
+                if ui.button(name).on_hover_text(about).clicked() {
+                    self.show_preset(index);
+                }
+            }
+        });
+    }
 }
 
 impl<S> Stage<S> {

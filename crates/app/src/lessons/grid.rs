@@ -8,15 +8,13 @@
 use std::sync::Arc;
 
 use accelviz_core::format::{count, number};
-use accelviz_core::{
-    Counters, NoBuildObserver, Order, ShapeSet, Step, TraceOptions, TraversalStacks,
-};
-use accelviz_scene::document::{Scene2d, SceneSettings};
-use egui::{Color32, RichText};
-use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, VLine};
+use accelviz_core::{Counters, NoBuildObserver, ShapeSet, TraceOptions, TraversalStacks};
+use accelviz_scene::document::SceneSettings;
+use egui::RichText;
+use egui_plot::{Legend, Line, LineStyle, PlotPoints, VLine};
 use glam::DVec2;
 
-use crate::background::{Cached, Derived};
+use crate::background::Derived;
 use crate::canvas::palette;
 use crate::editor::Editing;
 use crate::lesson::{self, Lesson, Parts};
@@ -25,13 +23,10 @@ use crate::stage::{SceneTree, Stage};
 use crate::trace::Trace;
 use crate::views::compare::interior_rays;
 use crate::views::grid_walk::{
-    CellChoice, MOST_ALONG, WalkRow, cells_slider_ui, draw_walk, draw_walk_marks, grid_structure,
-    measured_sizes, request_grid, rule_along, walk_caption, walk_rows, walk_table_ui,
+    CellChoice, GridWalk, MOST_ALONG, WalkRow, cell_size_plot, cells_slider_ui, grid_structure,
+    measured_sizes, rule_along, shown_size_line,
 };
-use crate::views::scene_view::{
-    building_note, draw_ray, draw_tested_shapes, narrow_x_axis, t_hint_ui,
-};
-use crate::views::tree_view::{TreeLook, draw_tree};
+use crate::views::scene_view::t_hint_ui;
 
 /// The inspector's parts a lecture slide can name.
 const CELLS_PART: lesson::Part =
@@ -147,10 +142,8 @@ pub struct GridLesson {
     stage: Stage,
     choice: CellChoice,
     mailboxing: bool,
-    tree: Derived<(u64, CellChoice), SceneTree>,
+    walk: GridWalk,
     curve: Derived<(u64, bool), CostCurve>,
-    trace: Cached<(u64, u64, bool), Trace>,
-    rows: Cached<(u64, u64, bool), Vec<WalkRow>>,
 }
 
 impl GridLesson {
@@ -160,26 +153,24 @@ impl GridLesson {
             stage: Stage::new(text, Editing::ALL),
             choice: CellChoice::default(),
             mailboxing: true,
-            tree: Derived::default(),
+            walk: GridWalk::default(),
             curve: Derived::default(),
-            trace: Cached::default(),
-            rows: Cached::default(),
         }
     }
 
     /// The grid shown.
     pub fn tree(&self) -> Option<&Arc<SceneTree>> {
-        self.tree.get()
+        self.walk.tree()
     }
 
     /// The recorded walk.
     pub fn trace(&self) -> Option<&Trace> {
-        self.trace.get()
+        self.walk.trace()
     }
 
     /// The cells the walk passes.
     pub fn rows(&self) -> &[WalkRow] {
-        self.rows.get().map_or(&[], |rows| rows.as_slice())
+        self.walk.rows()
     }
 
     /// The cost curve, once measured.
@@ -193,34 +184,12 @@ impl GridLesson {
         self.stage.timeline.rewind();
     }
 
-    /// Shows the lesson file's preset `index`.
-    fn show_preset(&mut self, index: usize) {
-        if let Some(preset) = self.stage.text.file.presets.get(index)
-            && let Ok(scene) = Scene2d::from_document(preset.scene.clone(), &preset.name)
-        {
-            self.stage.scene.replace(scene);
-            self.stage.timeline.rewind();
-        }
-    }
-
     fn cells_ui(&mut self, ui: &mut egui::Ui) {
-        let presets: Vec<(String, String)> = (self.stage.text.file.presets.iter())
-            .map(|preset| (preset.name.clone(), preset.about.clone()))
-            .collect();
-        if !presets.is_empty() {
-            ui.horizontal_wrapped(|ui| {
-                ui.label("Scenes:");
-                for (index, (name, about)) in presets.iter().enumerate() {
-                    if ui.button(name).on_hover_text(about).clicked() {
-                        self.show_preset(index);
-                    }
-                }
-            });
-        }
+        self.stage.presets_ui(ui, "Scenes:");
         cells_slider_ui(
             ui,
             &mut self.choice,
-            self.tree.get(),
+            self.walk.tree(),
             &mut self.stage.timeline,
         );
         if ui
@@ -233,23 +202,9 @@ impl GridLesson {
         {
             self.stage.timeline.rewind();
         }
-        if let Some(tree) = self.tree.get() {
+        if let Some(tree) = self.walk.tree() {
             grid_numbers_ui(ui, tree);
         }
-    }
-
-    fn walk_ui(&self, ui: &mut egui::Ui, fit_height: bool) {
-        ui.heading("The walk, cell by cell");
-        let Some(trace) = self.trace.get() else {
-            return;
-        };
-        walk_table_ui(
-            ui,
-            trace,
-            self.rows(),
-            self.stage.timeline.shown,
-            fit_height,
-        );
     }
 
     fn cost_ui(&self, ui: &mut egui::Ui) {
@@ -259,8 +214,8 @@ impl GridLesson {
             return;
         };
         let current = self
-            .tree
-            .get()
+            .walk
+            .tree()
             .and_then(|tree| tree.built.grid_cells())
             .map(|cells| cells.resolution[0].max(cells.resolution[1]));
         cost_plot_ui(ui, curve, current);
@@ -336,17 +291,9 @@ pub fn cost_plot_ui(ui: &mut egui::Ui, curve: &CostCurve, current: Option<u32>) 
         .map_or(highest, |cheapest| (4.0 * cheapest.cost_per_ray).max(12.0))
         .min(highest * 1.05);
     // A new id for new bounds: a plot keeps the bounds it showed first.
-    Plot::new(("grid cost curve", y_top.to_bits()))
-        .height(height)
-        .default_x_bounds(0.0, f64::from(MOST_ALONG) + 1.0)
+    cell_size_plot(("grid cost curve", y_top.to_bits()), height, "per ray")
         .default_y_bounds(0.0, y_top)
         .legend(Legend::default().position(egui_plot::Corner::RightTop))
-        .custom_x_axes(vec![narrow_x_axis("cells along the longer side")])
-        .y_axis_label("per ray")
-        .allow_scroll(false)
-        .allow_drag(false)
-        .allow_zoom(false)
-        .allow_double_click_reset(false)
         .show(ui, |plot| {
             plot.line(
                 Line::new("measured cost", measured)
@@ -374,13 +321,7 @@ pub fn cost_plot_ui(ui: &mut egui::Ui, curve: &CostCurve, current: Option<u32>) 
                     .color(palette::RAY)
                     .style(LineStyle::dashed_dense()),
             );
-            if let Some(current) = current {
-                plot.vline(
-                    VLine::new("shown", f64::from(current))
-                        .color(Color32::WHITE)
-                        .width(1.5),
-                );
-            }
+            shown_size_line(plot, current);
         });
     if let Some(one) = curve.points.first().filter(|one| one.cost_per_ray > y_top) {
         ui.label(
@@ -412,7 +353,7 @@ pub fn cost_plot_ui(ui: &mut egui::Ui, curve: &CostCurve, current: Option<u32>) 
 }
 
 impl Lesson for GridLesson {
-    crate::staged!(tree, curve);
+    crate::staged!(walk, curve);
 
     fn share(&self) -> Vec<(String, String)> {
         vec![
@@ -435,19 +376,18 @@ impl Lesson for GridLesson {
     }
 
     fn show_named(&mut self, name: &str) -> bool {
-        let index = (self.stage.text.file.presets.iter()).position(|preset| preset.name == name);
-        index.map(|index| self.show_preset(index)).is_some()
+        self.stage.show_named_preset(name)
     }
 
     fn named(&self) -> Vec<String> {
-        let presets = &self.stage.text.file.presets;
-        presets.iter().map(|preset| preset.name.clone()).collect()
+        self.stage.preset_names()
     }
 
     fn update(&mut self) {
-        let scene = &self.stage.scene;
-        request_grid(&mut self.tree, scene, false, self.choice);
         let mailboxing = self.mailboxing;
+        self.walk
+            .update(&mut self.stage, false, self.choice, mailboxing);
+        let scene = &self.stage.scene;
         // Built at every size: as much work as that many builds of the scene.
         self.curve.request(
             &(scene.shapes_revision, mailboxing),
@@ -458,34 +398,10 @@ impl Lesson for GridLesson {
                 move || CostCurve::measure(shapes, settings, mailboxing)
             },
         );
-        let Some(tree) = self.tree.get().cloned() else {
-            return;
-        };
-        let key = (self.tree.generation(), scene.revision, mailboxing);
-        let trace = self.trace.get_or_make(key, || match scene.ray() {
-            Ok(ray) => Trace::of_tree(
-                &tree,
-                &ray,
-                &TraceOptions {
-                    order: Order::NearFirst,
-                    mailboxing,
-                    ..TraceOptions::default()
-                },
-            ),
-            Err(_) => Trace::default(),
-        });
-        self.stage.timeline.set_len(trace.frames());
-        let trace = trace.clone();
-        self.rows.get_or_make(key, || walk_rows(&trace, &tree));
     }
 
     fn caption(&self) -> Option<String> {
-        Some(walk_caption(
-            self.trace.get()?,
-            self.rows(),
-            self.tree.get()?,
-            self.stage.timeline.shown,
-        ))
+        self.walk.caption(self.stage.timeline.shown)
     }
 
     fn parts(&self) -> &'static [lesson::Part] {
@@ -498,7 +414,9 @@ impl Lesson for GridLesson {
         }
         if parts.show(&WALK_PART) {
             ui.separator();
-            self.walk_ui(ui, parts.fit_screen());
+            let frame = self.stage.timeline.shown;
+            self.walk
+                .table_ui(ui, "The walk, cell by cell", frame, parts.fit_screen());
             t_hint_ui(ui);
         }
         if parts.show(&COST_PART) {
@@ -509,51 +427,16 @@ impl Lesson for GridLesson {
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
         let canvas = self.stage.scene.canvas_ui(ui, None);
-        let Some(tree) = self.tree.get().cloned() else {
-            return;
-        };
-        let frame = self.stage.timeline.shown;
-        let trace = self.trace.get().cloned().unwrap_or_default();
-        let shown = trace.shown(frame);
-        let current = match trace.frame(frame).first() {
-            Some(Step::PrimitiveTested { primitive, .. }) => Some(*primitive),
-            _ => None,
-        };
-        draw_walk(&canvas, &tree, &trace, self.rows(), frame);
-        draw_tested_shapes(ui, &canvas, &tree.shapes, shown, current);
-        draw_tree(
-            &canvas,
-            &tree,
-            &TreeLook {
-                mark_current: false,
-                ..TreeLook::default()
-            },
-        );
-        let Ok(ray) = self.stage.scene.ray() else {
-            canvas.caption(&[(
-                "No ray: drag its head away from its origin".to_owned(),
-                palette::MISS,
-            )]);
-            self.stage.scene.draw_handles(&canvas);
-            return;
-        };
-        draw_ray(
-            &canvas,
-            &ray,
-            crate::trace::closest_so_far(shown).map(|(_, t)| t),
-        );
-        draw_walk_marks(&canvas, &ray, &trace, self.rows(), frame);
-        self.stage.scene.draw_handles(&canvas);
-        canvas.caption(&[
+        let legend = [
             (
                 "cells passed: blue listed something, grey empty".to_owned(),
                 palette::CURRENT,
             ),
             ("next x line".to_owned(), palette::X_AXIS),
             ("next y line".to_owned(), palette::Y_AXIS),
-        ]);
-        building_note(ui, &canvas, self.tree.working_for(), "the grid");
-        self.stage.scene.draw_footer(&canvas);
+        ];
+        self.walk
+            .draw(ui, &canvas, &self.stage, "the grid", &legend, |_, _| {});
         canvas.finish();
     }
 }

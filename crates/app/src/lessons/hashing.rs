@@ -12,13 +12,13 @@ use std::sync::Arc;
 use accelviz_core::format::{count, number};
 use accelviz_core::grid::{Bucket, HashedCells};
 use accelviz_core::quality::Footprint;
-use accelviz_core::{NoBuildObserver, Order, ShapeSet, Step, TraceOptions};
-use accelviz_scene::document::{Scene2d, SceneSettings};
+use accelviz_core::{NoBuildObserver, ShapeSet, Step};
+use accelviz_scene::document::SceneSettings;
 use egui::{Align2, Color32, Rect, RichText, Sense, Stroke, StrokeKind, Vec2};
-use egui_plot::{Legend, Line, LineStyle, Plot, PlotPoints, VLine};
+use egui_plot::{Legend, Line, LineStyle, PlotPoints, VLine};
 use glam::DVec2;
 
-use crate::background::{Cached, Derived};
+use crate::background::Derived;
 use crate::canvas::{Canvas, faded, palette};
 use crate::editor::Editing;
 use crate::lesson::{self, Lesson, Parts};
@@ -26,11 +26,10 @@ use crate::lesson_file::LessonText;
 use crate::stage::{SceneTree, Stage};
 use crate::trace::Trace;
 use crate::views::grid_walk::{
-    CellChoice, MOST_ALONG, WalkRow, cell_name, cells_slider_ui, draw_walk, draw_walk_marks,
-    grid_structure, measured_sizes, request_grid, walk_caption, walk_rows, walk_table_ui,
+    CellChoice, GridWalk, MOST_ALONG, WalkRow, cell_name, cell_size_plot, cells_slider_ui,
+    grid_structure, measured_sizes, shown_size_line,
 };
-use crate::views::scene_view::{building_note, draw_ray, draw_tested_shapes, narrow_x_axis};
-use crate::views::tree_view::{TreeLook, draw_tree, node_outline, node_under};
+use crate::views::tree_view::{node_outline, node_under};
 
 /// Cells along the longer side the lesson opens with: fine enough that most cells are
 /// empty, which is when a hash table pays.
@@ -163,10 +162,8 @@ pub struct HashLesson {
     stage: Stage,
     choice: CellChoice,
     mailboxing: bool,
-    tree: Derived<(u64, CellChoice), SceneTree>,
+    walk: GridWalk,
     memory: Derived<(u64, ()), MemoryCurve>,
-    trace: Cached<(u64, u64, bool), Trace>,
-    rows: Cached<(u64, u64, bool), Vec<WalkRow>>,
     /// The cell under the pointer (on the canvas or in the table).
     hovered_cell: Option<u32>,
 }
@@ -181,27 +178,25 @@ impl HashLesson {
                 places: None,
             },
             mailboxing: true,
-            tree: Derived::default(),
+            walk: GridWalk::default(),
             memory: Derived::default(),
-            trace: Cached::default(),
-            rows: Cached::default(),
             hovered_cell: None,
         }
     }
 
     /// The hashed grid shown.
     pub fn tree(&self) -> Option<&Arc<SceneTree>> {
-        self.tree.get()
+        self.walk.tree()
     }
 
     /// The recorded walk.
     pub fn trace(&self) -> Option<&Trace> {
-        self.trace.get()
+        self.walk.trace()
     }
 
     /// The cells the walk passes.
     pub fn rows(&self) -> &[WalkRow] {
-        self.rows.get().map_or(&[], |rows| rows.as_slice())
+        self.walk.rows()
     }
 
     /// Memory at every cell size, once weighed.
@@ -217,43 +212,22 @@ impl HashLesson {
 
     /// The lookup the current frame makes.
     pub fn lookup(&self) -> Option<Lookup> {
-        let trace = self.trace.get()?;
+        let trace = self.walk.trace()?;
         current_lookup(
-            self.tree.get()?,
+            self.walk.tree()?,
             trace.frame(self.stage.timeline.shown).first(),
         )
     }
 
-    fn show_preset(&mut self, index: usize) {
-        if let Some(preset) = self.stage.text.file.presets.get(index)
-            && let Ok(scene) = Scene2d::from_document(preset.scene.clone(), &preset.name)
-        {
-            self.stage.scene.replace(scene);
-            self.stage.timeline.rewind();
-        }
-    }
-
     fn table_ui(&mut self, ui: &mut egui::Ui) {
-        let presets: Vec<(String, String)> = (self.stage.text.file.presets.iter())
-            .map(|preset| (preset.name.clone(), preset.about.clone()))
-            .collect();
-        if !presets.is_empty() {
-            ui.horizontal_wrapped(|ui| {
-                ui.label("Scenes:");
-                for (index, (name, about)) in presets.iter().enumerate() {
-                    if ui.button(name).on_hover_text(about).clicked() {
-                        self.show_preset(index);
-                    }
-                }
-            });
-        }
+        self.stage.presets_ui(ui, "Scenes:");
         cells_slider_ui(
             ui,
             &mut self.choice,
-            self.tree.get(),
+            self.walk.tree(),
             &mut self.stage.timeline,
         );
-        let Some(tree) = self.tree.get().cloned() else {
+        let Some(tree) = self.walk.tree().cloned() else {
             return;
         };
         let Some(table) = tree.built.hashed_cells() else {
@@ -293,7 +267,7 @@ impl HashLesson {
     }
 
     fn numbers_ui(&self, ui: &mut egui::Ui) {
-        let Some(tree) = self.tree.get() else {
+        let Some(tree) = self.walk.tree() else {
             return;
         };
         let (Some(table), Some(cells), accelviz_core::Tree::HashedGrid(grid)) = (
@@ -358,17 +332,9 @@ impl HashLesson {
     }
 
     fn walk_ui(&self, ui: &mut egui::Ui, fit_height: bool) {
-        ui.heading("The walk, with its lookups");
-        let Some(trace) = self.trace.get() else {
-            return;
-        };
-        walk_table_ui(
-            ui,
-            trace,
-            self.rows(),
-            self.stage.timeline.shown,
-            fit_height,
-        );
+        let frame = self.stage.timeline.shown;
+        self.walk
+            .table_ui(ui, "The walk, with its lookups", frame, fit_height);
         let reads: u32 = self.rows().iter().filter_map(|row| row.probes).sum();
         ui.label(format!(
             "This ray: {} looked up, {} read in all.",
@@ -390,21 +356,14 @@ impl HashLesson {
             .map(|point| [f64::from(point.along), point.hashed_bytes as f64 / 1024.0])
             .collect();
         let current = self
-            .tree
-            .get()
+            .walk
+            .tree()
             .and_then(|tree| tree.built.grid_cells())
             .map(|cells| cells.resolution[0].max(cells.resolution[1]));
         let height = (ui.available_height() - 40.0).clamp(130.0, 220.0);
-        Plot::new("hash memory")
-            .height(height)
+        cell_size_plot("hash memory", height, "KiB")
             .legend(Legend::default().position(egui_plot::Corner::LeftTop))
-            .custom_x_axes(vec![narrow_x_axis("cells along the longer side")])
-            .y_axis_label("KiB")
             .include_y(0.0)
-            .allow_scroll(false)
-            .allow_drag(false)
-            .allow_zoom(false)
-            .allow_double_click_reset(false)
             .show(ui, |plot| {
                 plot.line(
                     Line::new("dense grid", dense)
@@ -423,13 +382,7 @@ impl HashLesson {
                             .style(LineStyle::dashed_dense()),
                     );
                 }
-                if let Some(current) = current {
-                    plot.vline(
-                        VLine::new("shown", f64::from(current))
-                            .color(Color32::WHITE)
-                            .width(1.5),
-                    );
-                }
+                shown_size_line(plot, current);
             });
         let pays_from = curve
             .hashing_pays_from()
@@ -595,7 +548,7 @@ fn draw_places(canvas: &Canvas, tree: &SceneTree, table: &HashedCells) {
 }
 
 impl Lesson for HashLesson {
-    crate::staged!(tree, memory);
+    crate::staged!(walk, memory);
 
     fn share(&self) -> Vec<(String, String)> {
         let places = self
@@ -628,18 +581,17 @@ impl Lesson for HashLesson {
     }
 
     fn show_named(&mut self, name: &str) -> bool {
-        let index = (self.stage.text.file.presets.iter()).position(|preset| preset.name == name);
-        index.map(|index| self.show_preset(index)).is_some()
+        self.stage.show_named_preset(name)
     }
 
     fn named(&self) -> Vec<String> {
-        let presets = &self.stage.text.file.presets;
-        presets.iter().map(|preset| preset.name.clone()).collect()
+        self.stage.preset_names()
     }
 
     fn update(&mut self) {
+        self.walk
+            .update(&mut self.stage, true, self.choice, self.mailboxing);
         let scene = &self.stage.scene;
-        request_grid(&mut self.tree, scene, true, self.choice);
         // Built at every size: as much work as that many builds of the scene.
         self.memory.request(
             &(scene.shapes_revision, ()),
@@ -650,40 +602,14 @@ impl Lesson for HashLesson {
                 move || MemoryCurve::measure(shapes, settings)
             },
         );
-        let Some(tree) = self.tree.get().cloned() else {
-            return;
-        };
-        let mailboxing = self.mailboxing;
-        let key = (self.tree.generation(), scene.revision, mailboxing);
-        let trace = self.trace.get_or_make(key, || match scene.ray() {
-            Ok(ray) => Trace::of_tree(
-                &tree,
-                &ray,
-                &TraceOptions {
-                    order: Order::NearFirst,
-                    mailboxing,
-                    ..TraceOptions::default()
-                },
-            ),
-            Err(_) => Trace::default(),
-        });
-        self.stage.timeline.set_len(trace.frames());
-        let trace = trace.clone();
-        self.rows.get_or_make(key, || walk_rows(&trace, &tree));
-        let cells = tree
-            .built
-            .grid_cells()
+        let cells = (self.walk.tree())
+            .and_then(|tree| tree.built.grid_cells())
             .map_or(0, |cells| cells.cell_count()) as u32;
         self.hovered_cell = self.hovered_cell.filter(|&cell| cell < cells);
     }
 
     fn caption(&self) -> Option<String> {
-        Some(walk_caption(
-            self.trace.get()?,
-            self.rows(),
-            self.tree.get()?,
-            self.stage.timeline.shown,
-        ))
+        self.walk.caption(self.stage.timeline.shown)
     }
 
     fn parts(&self) -> &'static [lesson::Part] {
@@ -710,78 +636,46 @@ impl Lesson for HashLesson {
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
         let canvas = self.stage.scene.canvas_ui(ui, None);
-        let Some(tree) = self.tree.get().cloned() else {
-            return;
-        };
-        if canvas.response.hovered() {
+        if canvas.response.hovered()
+            && let Some(tree) = self.walk.tree()
+        {
             self.hovered_cell = canvas
                 .response
                 .hover_pos()
-                .and_then(|pos| node_under(&canvas, &tree, pos, &(0..=usize::MAX)))
+                .and_then(|pos| node_under(&canvas, tree, pos, &(0..=usize::MAX)))
                 .and_then(|node| node.checked_sub(1));
         }
-        let frame = self.stage.timeline.shown;
-        let trace = self.trace.get().cloned().unwrap_or_default();
-        let shown = trace.shown(frame);
-        let current = match trace.frame(frame).first() {
-            Some(Step::PrimitiveTested { primitive, .. }) => Some(*primitive),
-            _ => None,
-        };
-        draw_walk(&canvas, &tree, &trace, self.rows(), frame);
-        draw_tested_shapes(ui, &canvas, &tree.shapes, shown, current);
-        draw_tree(
-            &canvas,
-            &tree,
-            &TreeLook {
-                mark_current: false,
-                ..TreeLook::default()
-            },
-        );
-        if let Some(table) = tree.built.hashed_cells() {
-            draw_places(&canvas, &tree, table);
-        }
-        if let Some(lookup) = self.lookup() {
-            node_outline(
-                &canvas,
-                &tree,
-                lookup.cell + 1,
-                Stroke::new(4.0, palette::CURRENT),
-                None,
-            );
-        }
-        if let Some(cell) = self.hovered_cell {
-            node_outline(
-                &canvas,
-                &tree,
-                cell + 1,
-                Stroke::new(3.0, Color32::WHITE),
-                None,
-            );
-        }
-        let Ok(ray) = self.stage.scene.ray() else {
-            canvas.caption(&[(
-                "No ray: drag its head away from its origin".to_owned(),
-                palette::MISS,
-            )]);
-            self.stage.scene.draw_handles(&canvas);
-            return;
-        };
-        draw_ray(
-            &canvas,
-            &ray,
-            crate::trace::closest_so_far(shown).map(|(_, t)| t),
-        );
-        draw_walk_marks(&canvas, &ray, &trace, self.rows(), frame);
-        self.stage.scene.draw_handles(&canvas);
-        canvas.caption(&[
+        let legend = [
             ("#5: the cell's place in the table".to_owned(), AT_HOME),
             (
                 "#3->5: its place 3 was taken, it moved on to 5".to_owned(),
                 MOVED_ON,
             ),
-        ]);
-        building_note(ui, &canvas, self.tree.working_for(), "the table");
-        self.stage.scene.draw_footer(&canvas);
+        ];
+        let (lookup, hovered) = (self.lookup(), self.hovered_cell);
+        self.walk.draw(
+            ui,
+            &canvas,
+            &self.stage,
+            "the table",
+            &legend,
+            |canvas, tree| {
+                if let Some(table) = tree.built.hashed_cells() {
+                    draw_places(canvas, tree, table);
+                }
+                for (cell, stroke) in [
+                    (
+                        lookup.map(|lookup| lookup.cell),
+                        Stroke::new(4.0, palette::CURRENT),
+                    ),
+                    (hovered, Stroke::new(3.0, Color32::WHITE)),
+                ] {
+                    if let Some(cell) = cell {
+                        node_outline(canvas, tree, cell + 1, stroke, None);
+                    }
+                }
+            },
+        );
         canvas.finish();
     }
 }

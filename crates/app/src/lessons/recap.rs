@@ -8,7 +8,7 @@
 
 use accelviz_core::format::{count, number};
 use accelviz_core::{Family, SplitRule, Structure};
-use accelviz_scene::document::{Scene2d, SceneSettings};
+use accelviz_scene::document::SceneSettings;
 use egui::{Color32, RichText};
 
 use crate::background::Derived;
@@ -227,11 +227,7 @@ impl RecapLesson {
 
     /// Opens preset `index` of the lesson file's presets (its scene and name).
     pub fn show_preset(&mut self, index: usize) {
-        if let Some(preset) = self.stage.text.file.presets.get(index)
-            && let Ok(scene) = Scene2d::from_document(preset.scene.clone(), &preset.name)
-        {
-            self.stage.scene.replace(scene);
-        }
+        self.stage.show_preset(index);
     }
 }
 
@@ -239,19 +235,11 @@ impl Lesson for RecapLesson {
     crate::staged!(comparison);
 
     fn show_named(&mut self, name: &str) -> bool {
-        let index = self
-            .stage
-            .text
-            .file
-            .presets
-            .iter()
-            .position(|preset| preset.name == name);
-        index.map(|index| self.show_preset(index)).is_some()
+        self.stage.show_named_preset(name)
     }
 
     fn named(&self) -> Vec<String> {
-        let presets = &self.stage.text.file.presets;
-        presets.iter().map(|preset| preset.name.clone()).collect()
+        self.stage.preset_names()
     }
 
     fn update(&mut self) {
@@ -263,21 +251,7 @@ impl Lesson for RecapLesson {
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         ui.label(RichText::new("Scenes that make the point").strong());
-        let presets: Vec<(String, String)> = self
-            .stage
-            .text
-            .file
-            .presets
-            .iter()
-            .map(|preset| (preset.name.clone(), preset.about.clone()))
-            .collect();
-        ui.horizontal_wrapped(|ui| {
-            for (index, (name, about)) in presets.iter().enumerate() {
-                if ui.button(name).on_hover_text(about).clicked() {
-                    self.show_preset(index);
-                }
-            }
-        });
+        self.stage.presets_ui(ui, "");
         let Some(comparison) = self.comparison.get().cloned() else {
             ui.label("Building…");
             return;

@@ -8,15 +8,155 @@ use std::sync::Arc;
 
 use accelviz_core::format::{count, number};
 use accelviz_core::grid::{DEFAULT_DENSITY, GridCells};
-use accelviz_core::{Aabb, GridParams, NoBuildObserver, ShapeSet, Step, Structure};
+use accelviz_core::{
+    Aabb, GridParams, NoBuildObserver, Order, ShapeSet, Step, Structure, TraceOptions,
+};
 use egui::{Color32, RichText, Stroke};
+use egui_plot::{Plot, PlotUi, VLine};
 use glam::DVec2;
 
-use crate::background::Derived;
+use crate::background::{Cached, Derived};
 use crate::canvas::{Canvas, faded, palette};
-use crate::stage::{SceneTree, request_over_shapes};
+use crate::stage::{SceneTree, Stage, request_over_shapes};
 use crate::trace::Trace;
-use crate::views::tree_view::node_outline;
+use crate::views::scene_view::{building_note, draw_ray, draw_tested_shapes, narrow_x_axis};
+use crate::views::tree_view::{TreeLook, draw_tree, node_outline};
+
+/// A lesson's grid and its ray's walk: built (on a worker when large), traced, and read into
+/// rows, kept up to date with the scene and the choices.
+#[derive(Default)]
+pub struct GridWalk {
+    tree: Derived<(u64, CellChoice), SceneTree>,
+    trace: Cached<(u64, u64, bool), Trace>,
+    rows: Cached<(u64, u64, bool), Vec<WalkRow>>,
+}
+
+impl GridWalk {
+    /// Brings the grid (dense or `hashed`, cut as `choice` says) and the walk of the stage's
+    /// ray (with or without `mailboxing`) up to date, and the timeline's length with them.
+    pub fn update(
+        &mut self,
+        stage: &mut Stage,
+        hashed: bool,
+        choice: CellChoice,
+        mailboxing: bool,
+    ) {
+        let scene = &stage.scene;
+        request_grid(&mut self.tree, scene, hashed, choice);
+        let Some(tree) = self.tree.get().cloned() else {
+            return;
+        };
+        let key = (self.tree.generation(), scene.revision, mailboxing);
+        let trace = self.trace.get_or_make(key, || match scene.ray() {
+            Ok(ray) => Trace::of_tree(
+                &tree,
+                &ray,
+                &TraceOptions {
+                    order: Order::NearFirst,
+                    mailboxing,
+                    ..TraceOptions::default()
+                },
+            ),
+            Err(_) => Trace::default(),
+        });
+        stage.timeline.set_len(trace.frames());
+        let trace = trace.clone();
+        self.rows.get_or_make(key, || walk_rows(&trace, &tree));
+    }
+
+    /// The grid, once built.
+    pub fn tree(&self) -> Option<&Arc<SceneTree>> {
+        self.tree.get()
+    }
+
+    /// How long a newer grid has been building, if one is.
+    pub fn working_for(&self) -> Option<std::time::Duration> {
+        self.tree.working_for()
+    }
+
+    /// The walk, as recorded.
+    pub fn trace(&self) -> Option<&Trace> {
+        self.trace.get()
+    }
+
+    /// The cells the walk passes.
+    pub fn rows(&self) -> &[WalkRow] {
+        self.rows.get().map_or(&[], |rows| rows.as_slice())
+    }
+
+    /// The caption of frame `frame`.
+    pub fn caption(&self, frame: usize) -> Option<String> {
+        Some(walk_caption(
+            self.trace.get()?,
+            self.rows(),
+            self.tree.get()?,
+            frame,
+        ))
+    }
+
+    /// The walk's table at frame `frame`, under `heading`.
+    pub fn table_ui(&self, ui: &mut egui::Ui, heading: &str, frame: usize, fit_height: bool) {
+        ui.heading(heading);
+        if let Some(trace) = self.trace.get() {
+            walk_table_ui(ui, trace, self.rows(), frame, fit_height);
+        }
+    }
+
+    /// Draws the stage's frame on `canvas`: the cells passed, the shapes as tested, the grid,
+    /// then the lesson's own layer (`over`), the ray with the current cell's next lines, the
+    /// handles, the `legend` and a note while `what` is building.
+    pub fn draw(
+        &self,
+        ui: &egui::Ui,
+        canvas: &Canvas,
+        stage: &Stage,
+        what: &str,
+        legend: &[(String, Color32)],
+        over: impl FnOnce(&Canvas, &SceneTree),
+    ) {
+        let scene = &stage.scene;
+        let Some(tree) = self.tree.get() else {
+            return;
+        };
+        let frame = stage.timeline.shown;
+        let empty = Trace::default();
+        let trace = self.trace.get().unwrap_or(&empty);
+        let shown = trace.shown(frame);
+        let current = match trace.frame(frame).first() {
+            Some(Step::PrimitiveTested { primitive, .. }) => Some(*primitive),
+            _ => None,
+        };
+        draw_walk(canvas, tree, trace, self.rows(), frame);
+        draw_tested_shapes(ui, canvas, &tree.shapes, shown, current);
+        draw_tree(
+            canvas,
+            tree,
+            &TreeLook {
+                mark_current: false,
+                ..TreeLook::default()
+            },
+        );
+        over(canvas, tree);
+        match scene.ray() {
+            Ok(ray) => {
+                draw_ray(
+                    canvas,
+                    &ray,
+                    crate::trace::closest_so_far(shown).map(|(_, t)| t),
+                );
+                draw_walk_marks(canvas, &ray, trace, self.rows(), frame);
+                canvas.caption(legend);
+            }
+            Err(_) => canvas.caption(&[(
+                "No ray: drag its head away from its origin".to_owned(),
+                palette::MISS,
+            )]),
+        }
+        scene.draw_handles(canvas);
+        building_note(ui, canvas, self.tree.working_for(), what);
+        scene.draw_footer(canvas);
+    }
+}
 
 /// The most cells along the longer side the slider and the cost curve go to.
 pub const MOST_ALONG: u32 = 64;
@@ -81,7 +221,7 @@ pub fn grid_structure(hashed: bool) -> Structure {
 }
 
 /// Asks `derived` for the lesson's grid over the scene, with its cells as `choice` says.
-pub fn request_grid(
+fn request_grid(
     derived: &mut Derived<(u64, CellChoice), SceneTree>,
     scene: &crate::editor::EditableScene,
     hashed: bool,
@@ -142,7 +282,7 @@ pub struct WalkRow {
 }
 
 /// The cells of `trace` in the order the walk passes them.
-pub fn walk_rows(trace: &Trace, tree: &SceneTree) -> Vec<WalkRow> {
+fn walk_rows(trace: &Trace, tree: &SceneTree) -> Vec<WalkRow> {
     let mut rows: Vec<WalkRow> = Vec::new();
     let mut probes = None;
     for (index, step) in trace.steps.iter().enumerate() {
@@ -194,7 +334,7 @@ pub fn cell_name(cell: [u32; 3]) -> String {
 }
 
 /// What step `step` (the `index`th of the trace) does, in words; `rows` are the walk's.
-pub fn describe(step: &Step<f64>, index: usize, rows: &[WalkRow], tree: &SceneTree) -> String {
+fn describe(step: &Step<f64>, index: usize, rows: &[WalkRow], tree: &SceneTree) -> String {
     let row_at = |index: usize| rows.iter().rev().find(|row| row.entered_at <= index);
     let name = |node: u32| {
         tree.built
@@ -314,7 +454,7 @@ fn count_of(n: usize, one: &str, many: &str) -> String {
 }
 
 /// Why the walk ended, for its last frame.
-pub fn why_it_stopped(trace: &Trace, rows: &[WalkRow]) -> String {
+fn why_it_stopped(trace: &Trace, rows: &[WalkRow]) -> String {
     let last = rows.last();
     match (trace.hit, last) {
         (_, None) => String::new(),
@@ -330,7 +470,7 @@ pub fn why_it_stopped(trace: &Trace, rows: &[WalkRow]) -> String {
 
 /// The caption of frame `frame` of a grid walk: the step in words, and with the last, what
 /// the walk did and why it stopped.
-pub fn walk_caption(trace: &Trace, rows: &[WalkRow], tree: &SceneTree, frame: usize) -> String {
+fn walk_caption(trace: &Trace, rows: &[WalkRow], tree: &SceneTree, frame: usize) -> String {
     let steps = trace.frame(frame);
     let Some(step) = steps.first() else {
         return if trace.frames() == 0 {
@@ -419,7 +559,7 @@ pub fn cells_slider_ui(
 
 /// The walk's table: a row per cell passed so far, with the `t` to the next line on each
 /// axis (the nearer lit, and the line crossed once the walk crosses it).
-pub fn walk_table_ui(
+fn walk_table_ui(
     ui: &mut egui::Ui,
     trace: &Trace,
     rows: &[WalkRow],
@@ -530,7 +670,7 @@ pub fn walk_table_ui(
 /// Draws the walk so far on `canvas`: the cells passed (lit where something was listed, faint
 /// where empty), the current cell outlined with its coordinates, and on the ray the `t` of
 /// the next vertical and horizontal lines from the current cell.
-pub fn draw_walk(canvas: &Canvas, tree: &SceneTree, trace: &Trace, rows: &[WalkRow], frame: usize) {
+fn draw_walk(canvas: &Canvas, tree: &SceneTree, trace: &Trace, rows: &[WalkRow], frame: usize) {
     let shown = trace.shown(frame).len();
     let passed: Vec<&WalkRow> = rows.iter().filter(|row| row.entered_at < shown).collect();
     for (index, row) in passed.iter().enumerate() {
@@ -551,7 +691,7 @@ pub fn draw_walk(canvas: &Canvas, tree: &SceneTree, trace: &Trace, rows: &[WalkR
 }
 
 /// The current cell's name and the ticks of its next lines on the ray.
-pub fn draw_walk_marks(
+fn draw_walk_marks(
     canvas: &Canvas,
     ray: &accelviz_core::Ray<DVec2>,
     trace: &Trace,
@@ -578,5 +718,31 @@ pub fn draw_walk_marks(
                 if axis == 0 { 1.0 } else { -1.0 },
             );
         }
+    }
+}
+
+/// A plot against the cells along the longer side (1 to [`MOST_ALONG`]), `height` points
+/// high, its values called `y_label`; fixed (no drag or zoom: it sits in a scrolled panel).
+pub fn cell_size_plot<'a>(id: impl egui::AsIdSalt, height: f32, y_label: &str) -> Plot<'a> {
+    Plot::new(id)
+        .height(height)
+        .default_x_bounds(0.0, f64::from(MOST_ALONG) + 1.0)
+        .custom_x_axes(vec![narrow_x_axis("cells along the longer side")])
+        .y_axis_label(y_label.to_owned())
+        .allow_scroll(false)
+        .allow_drag(false)
+        .allow_zoom(false)
+        .allow_double_click_reset(false)
+}
+
+/// The size the lesson shows (`along` cells along the longer side), as a line on a
+/// [`cell_size_plot`].
+pub fn shown_size_line(plot: &mut PlotUi<'_>, along: Option<u32>) {
+    if let Some(along) = along {
+        plot.vline(
+            VLine::new("shown", f64::from(along))
+                .color(Color32::WHITE)
+                .width(1.5),
+        );
     }
 }
