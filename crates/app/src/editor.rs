@@ -226,12 +226,7 @@ impl EditableScene {
     /// The box around every shape, and the ray's origin and head when the lesson has a ray:
     /// what "fit" shows.
     pub fn bounds(&self) -> Aabb<DVec2> {
-        let shapes = self
-            .scene
-            .shapes
-            .shapes
-            .iter()
-            .fold(Aabb::empty(), |bounds, shape| bounds.union(shape.bounds()));
+        let shapes = self.scene.shapes.bounding_box();
         if self.editing.ray {
             shapes
                 .grown(self.scene.ray_origin)

@@ -41,6 +41,12 @@ impl Default for SahCost {
 }
 
 impl SahCost {
+    /// What traversal measured costs a ray in these units: `C_trav · nodes + C_isect · tests`
+    /// (nodes or cells entered, primitives tested, per ray).
+    pub fn per_ray(&self, nodes: f64, tests: f64) -> f64 {
+        self.traversal_cost * nodes + self.intersection_cost * tests
+    }
+
     /// The cost of making a leaf of `count` primitives: `N · C_isect`.
     #[inline]
     pub fn leaf_cost(&self, count: usize) -> f64 {

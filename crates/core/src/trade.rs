@@ -394,8 +394,9 @@ impl TradeRow {
 
     /// What a ray cost, in the SAH's units: `C_trav·nodes + C_isect·primitives`.
     pub fn measured_cost(&self, params: &BuildParams) -> f64 {
-        params.cost.traversal_cost * self.nodes_per_ray
-            + params.cost.intersection_cost * self.primitives_per_ray
+        params
+            .cost
+            .per_ray(self.nodes_per_ray, self.primitives_per_ray)
     }
 
     /// One ray's traversal, milliseconds.

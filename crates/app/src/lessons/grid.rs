@@ -8,7 +8,8 @@
 use std::sync::Arc;
 
 use accelviz_core::format::{count, number};
-use accelviz_core::{Counters, NoBuildObserver, ShapeSet, TraceOptions, TraversalStacks};
+use accelviz_core::grid::GridCells;
+use accelviz_core::{NoBuildObserver, ShapeSet, TraceOptions};
 use accelviz_scene::document::SceneSettings;
 use egui::RichText;
 use egui_plot::{Legend, Line, LineStyle, PlotPoints, VLine};
@@ -21,7 +22,7 @@ use crate::lesson::{self, Lesson, Parts};
 use crate::lesson_file::LessonText;
 use crate::stage::{SceneTree, Stage};
 use crate::trace::Trace;
-use crate::views::compare::interior_rays;
+use crate::views::compare::{count_rays, interior_rays};
 use crate::views::grid_walk::{
     CellChoice, GridWalk, MOST_ALONG, WalkRow, cell_size_plot, cells_slider_ui, grid_structure,
     measured_sizes, rule_along, shown_size_line,
@@ -79,7 +80,6 @@ impl CostCurve {
             mailboxing,
             ..TraceOptions::default()
         };
-        let mut stacks = TraversalStacks::default();
         let points = measured_sizes(shapes.shapes.len())
             .map(|along| {
                 let tree = SceneTree::build_with(
@@ -93,16 +93,7 @@ impl CostCurve {
                     .params(),
                     &mut NoBuildObserver,
                 );
-                let mut counters = Counters::default();
-                for ray in &rays {
-                    tree.built.tree.trace(
-                        shapes.as_ref(),
-                        ray,
-                        &options,
-                        &mut stacks,
-                        &mut counters,
-                    );
-                }
+                let counters = count_rays(&tree, &rays, &options);
                 let per_ray = |value: u64| value as f64 / rays.len().max(1) as f64;
                 let (cells, tests) = (
                     per_ray(counters.nodes_visited),
@@ -117,7 +108,7 @@ impl CostCurve {
                     resolution,
                     cells_per_ray: cells,
                     tests_per_ray: tests,
-                    cost_per_ray: cost.traversal_cost * cells + cost.intersection_cost * tests,
+                    cost_per_ray: cost.per_ray(cells, tests),
                     predicted: tree.stats.sah_cost,
                 }
             })
@@ -217,7 +208,7 @@ impl GridLesson {
             .walk
             .tree()
             .and_then(|tree| tree.built.grid_cells())
-            .map(|cells| cells.resolution[0].max(cells.resolution[1]));
+            .map(GridCells::cells_along_longest);
         cost_plot_ui(ui, curve, current);
         let settings = self.stage.scene.scene.settings;
         ui.label(

@@ -10,7 +10,7 @@
 use std::sync::Arc;
 
 use accelviz_core::format::{count, number};
-use accelviz_core::grid::{Bucket, HashedCells};
+use accelviz_core::grid::{Bucket, GridCells, HashedCells};
 use accelviz_core::quality::Footprint;
 use accelviz_core::{NoBuildObserver, ShapeSet, Step};
 use accelviz_scene::document::SceneSettings;
@@ -18,7 +18,7 @@ use egui::{Align2, Color32, Rect, RichText, Sense, Stroke, StrokeKind, Vec2};
 use egui_plot::{Legend, Line, LineStyle, PlotPoints, VLine};
 use glam::DVec2;
 
-use crate::background::Derived;
+use crate::background::{Cached, Derived};
 use crate::canvas::{Canvas, faded, palette};
 use crate::editor::Editing;
 use crate::lesson::{self, Lesson, Parts};
@@ -78,7 +78,7 @@ impl MemoryCurve {
     /// Builds the hashed grid at every size over `shapes` and weighs it.
     pub fn measure(shapes: Arc<ShapeSet<DVec2>>, settings: SceneSettings) -> Self {
         let points = measured_sizes(shapes.shapes.len())
-            .map(|along| {
+            .filter_map(|along| {
                 let tree = SceneTree::build_with(
                     grid_structure(true),
                     shapes.clone(),
@@ -90,21 +90,14 @@ impl MemoryCurve {
                     .params(),
                     &mut NoBuildObserver,
                 );
-                let cells = tree
-                    .built
-                    .grid_cells()
-                    .map_or(1, |cells| cells.cell_count());
-                let table = tree.built.hashed_cells();
-                MemoryPoint {
+                let numbers = TableNumbers::of(&tree)?;
+                Some(MemoryPoint {
                     along,
-                    cells,
-                    occupied: table.map_or(0, HashedCells::occupied),
-                    dense_bytes: match &tree.built.tree {
-                        accelviz_core::Tree::HashedGrid(grid) => grid.dense_bytes(),
-                        _ => 0,
-                    },
-                    hashed_bytes: Footprint::of(&tree.built.tree).bytes,
-                }
+                    cells: numbers.cells,
+                    occupied: numbers.occupied,
+                    dense_bytes: numbers.dense_bytes,
+                    hashed_bytes: numbers.hashed_bytes,
+                })
             })
             .collect();
         Self { points }
@@ -121,6 +114,45 @@ impl MemoryCurve {
             None => self.points.first().map(|point| point.along),
             Some(index) => self.points.get(index + 1).map(|point| point.along),
         }
+    }
+}
+
+/// The table's numbers, worked out once a grid (reading every cell's lookup is no work for
+/// every frame).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TableNumbers {
+    /// All cells.
+    pub cells: usize,
+    /// Cells the table holds.
+    pub occupied: usize,
+    /// The table's places.
+    pub places: usize,
+    /// Cells that found their own place taken.
+    pub collisions: usize,
+    /// Places a lookup reads, on average: for a cell held, for an empty one.
+    pub probes: (f64, f64),
+    /// The hashed grid's bytes.
+    pub hashed_bytes: usize,
+    /// The same lists' bytes in a dense grid.
+    pub dense_bytes: usize,
+}
+
+impl TableNumbers {
+    /// The numbers of `tree`, if it is a hashed grid.
+    pub fn of(tree: &SceneTree) -> Option<Self> {
+        let accelviz_core::Tree::HashedGrid(grid) = &tree.built.tree else {
+            return None;
+        };
+        let cells = grid.cells.cell_count();
+        Some(Self {
+            cells,
+            occupied: grid.store.occupied(),
+            places: grid.store.buckets.len(),
+            collisions: grid.store.collisions,
+            probes: grid.store.probes_per_lookup(cells),
+            hashed_bytes: Footprint::of(&tree.built.tree).bytes,
+            dense_bytes: grid.dense_bytes(),
+        })
     }
 }
 
@@ -163,6 +195,7 @@ pub struct HashLesson {
     choice: CellChoice,
     mailboxing: bool,
     walk: GridWalk,
+    numbers: Cached<u64, Option<TableNumbers>>,
     memory: Derived<(u64, ()), MemoryCurve>,
     /// The cell under the pointer (on the canvas or in the table).
     hovered_cell: Option<u32>,
@@ -179,6 +212,7 @@ impl HashLesson {
             },
             mailboxing: true,
             walk: GridWalk::default(),
+            numbers: Cached::default(),
             memory: Derived::default(),
             hovered_cell: None,
         }
@@ -233,7 +267,12 @@ impl HashLesson {
         let Some(table) = tree.built.hashed_cells() else {
             return;
         };
-        let occupied = table.occupied();
+        let occupied = self
+            .numbers
+            .get()
+            .copied()
+            .flatten()
+            .map_or_else(|| table.occupied(), |numbers| numbers.occupied);
         let default_places = HashedCells::default_places(occupied);
         let mut places = self.choice.places.unwrap_or(table.buckets.len());
         let most = (4 * default_places).max(occupied + 2);
@@ -267,21 +306,18 @@ impl HashLesson {
     }
 
     fn numbers_ui(&self, ui: &mut egui::Ui) {
-        let Some(tree) = self.walk.tree() else {
+        let Some(TableNumbers {
+            cells: cell_count,
+            occupied,
+            places,
+            collisions,
+            probes: (found, absent),
+            hashed_bytes,
+            dense_bytes,
+        }) = self.numbers.get().copied().flatten()
+        else {
             return;
         };
-        let (Some(table), Some(cells), accelviz_core::Tree::HashedGrid(grid)) = (
-            tree.built.hashed_cells(),
-            tree.built.grid_cells(),
-            &tree.built.tree,
-        ) else {
-            return;
-        };
-        let cell_count = cells.cell_count();
-        let occupied = table.occupied();
-        let (found, absent) = table.probes_per_lookup(cell_count);
-        let hashed_bytes = Footprint::of(&tree.built.tree).bytes;
-        let dense_bytes = grid.dense_bytes();
         egui::Grid::new("hash numbers").striped(true).show(ui, |ui| {
             let mut row = |name: &str, value: String, hover: &str| {
                 ui.label(name).on_hover_text(hover);
@@ -303,14 +339,14 @@ impl HashLesson {
                 format!(
                     "{} of {} places ({:.0} %)",
                     count(occupied),
-                    count(table.buckets.len()),
-                    100.0 * table.load()
+                    count(places),
+                    100.0 * occupied as f64 / places.max(1) as f64
                 ),
                 "The share of places taken: the fuller the table, the longer the runs of taken places a lookup reads through.",
             );
             row(
                 "collisions",
-                count(table.collisions),
+                count(collisions),
                 "Cells whose own place was taken when they were put in: they moved on to the next free place.",
             );
             row(
@@ -359,7 +395,7 @@ impl HashLesson {
             .walk
             .tree()
             .and_then(|tree| tree.built.grid_cells())
-            .map(|cells| cells.resolution[0].max(cells.resolution[1]));
+            .map(GridCells::cells_along_longest);
         let height = (ui.available_height() - 40.0).clamp(130.0, 220.0);
         cell_size_plot("hash memory", height, "KiB")
             .legend(Legend::default().position(egui_plot::Corner::LeftTop))
@@ -602,6 +638,10 @@ impl Lesson for HashLesson {
                 move || MemoryCurve::measure(shapes, settings)
             },
         );
+        let generation = self.walk.generation();
+        let tree = self.walk.tree().cloned();
+        self.numbers
+            .get_or_make(generation, || tree.as_deref().and_then(TableNumbers::of));
         let cells = (self.walk.tree())
             .and_then(|tree| tree.built.grid_cells())
             .map_or(0, |cells| cells.cell_count()) as u32;

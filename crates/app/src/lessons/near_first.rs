@@ -229,13 +229,7 @@ impl Lesson for NearFirstLesson {
     /// against the order the builders store children in (below the plane, or the lower
     /// centroids, first), so file order meets the far side first and the lesson's point shows.
     fn place_generated_ray(&self, scene: &Scene2d) -> Option<(DVec2, DVec2)> {
-        let bounds = scene
-            .shapes
-            .shapes
-            .iter()
-            .fold(accelviz_core::Aabb::empty(), |acc, shape| {
-                acc.union(shape.bounds())
-            });
+        let bounds = scene.shapes.bounding_box();
         if bounds.is_empty() {
             return None;
         }

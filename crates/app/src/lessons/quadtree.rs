@@ -69,12 +69,24 @@ pub fn quadrant_path(facts: &TreeFacts<DVec2>, node: u32) -> String {
     names.join("·")
 }
 
-/// The quadtree and its builder's report.
+/// The quadtree with its builder's report, and the kD-tree beside it, both measured.
 pub struct RecordedQuadtree {
-    /// The tree.
-    pub tree: SceneTree,
     /// What the builder reported, step by step.
     pub steps: Vec<BuildStep>,
+    /// The quadtree (pane 0) and the kD-tree (pane 1) on the same rays.
+    pub comparison: Comparison,
+}
+
+impl RecordedQuadtree {
+    /// The quadtree.
+    pub fn tree(&self) -> &SceneTree {
+        &self.comparison.trees[0]
+    }
+
+    /// The kD-tree beside it.
+    pub fn kd_tree(&self) -> &SceneTree {
+        &self.comparison.trees[1]
+    }
 }
 
 /// The quadtree with the scene's leaf size.
@@ -89,8 +101,7 @@ pub struct QuadtreeLesson {
     stage: Stage,
     mode: Mode,
     kd: Structure,
-    build: Derived<(u64, ()), RecordedQuadtree>,
-    comparison: Derived<(u64, Structure), Comparison>,
+    build: Derived<(u64, Structure), RecordedQuadtree>,
     trace: Cached<(u64, u64), Trace>,
     kd_trace: Cached<(u64, u64), Trace>,
 }
@@ -103,13 +114,12 @@ impl QuadtreeLesson {
             mode: Mode::Build,
             kd: Structure::KdMiddle,
             build: Derived::default(),
-            comparison: Derived::default(),
             trace: Cached::default(),
             kd_trace: Cached::default(),
         }
     }
 
-    /// The recorded build.
+    /// The recorded build, with the kD-tree beside it.
     pub fn recorded(&self) -> Option<&Arc<RecordedQuadtree>> {
         self.build.get()
     }
@@ -117,11 +127,6 @@ impl QuadtreeLesson {
     /// The recorded traversal.
     pub fn trace(&self) -> Option<&Trace> {
         self.trace.get()
-    }
-
-    /// The quadtree and the kD-tree, measured.
-    pub fn comparison(&self) -> Option<&Arc<Comparison>> {
-        self.comparison.get()
     }
 
     /// What the timeline steps through.
@@ -143,9 +148,9 @@ impl QuadtreeLesson {
 
     /// The build's step `step` in words.
     fn describe_build(&self, build: &RecordedQuadtree, step: &BuildStep) -> String {
-        let facts = &build.tree.built.facts;
+        let facts = &build.tree().built.facts;
         let name = |node: u32| quadrant_path(facts, node);
-        let leaf = build.tree.settings.max_leaf_size;
+        let leaf = build.tree().settings.max_leaf_size;
         match *step {
             BuildStep::NodeStarted {
                 node,
@@ -157,7 +162,7 @@ impl QuadtreeLesson {
                 accelviz_core::format::counted(primitive_count, "primitive", "primitives")
             ),
             BuildStep::Split { node, children, .. } => {
-                let cuts = build.tree.built.cuts(node);
+                let cuts = build.tree().built.cuts(node);
                 let lines: Vec<String> = cuts
                     .iter()
                     .map(|&(axis, position)| {
@@ -216,7 +221,7 @@ impl QuadtreeLesson {
     }
 
     fn numbers_ui(&self, ui: &mut egui::Ui) {
-        let Some(comparison) = self.comparison.get() else {
+        let Some(comparison) = self.build.get().map(|build| &build.comparison) else {
             ui.label("Measuring…");
             return;
         };
@@ -243,30 +248,16 @@ impl QuadtreeLesson {
                             }),
                             ("depth", |c, pane| c.trees[pane].stats.max_depth.to_string()),
                             ("references per primitive", |c, pane| {
-                                let tree = &c.trees[pane];
-                                format!(
-                                    "{:.2}",
-                                    tree.stats.primitive_references as f64
-                                        / tree.shapes.shapes.len().max(1) as f64
-                                )
+                                format!("{:.2}", c.measured(pane).references_per_primitive)
                             }),
                             ("cells visited per ray", |c, pane| {
-                                format!("{:.1}", c.per_ray(pane, |counters| counters.nodes_visited))
+                                format!("{:.1}", c.measured(pane).nodes_per_ray)
                             }),
                             ("primitive tests per ray", |c, pane| {
-                                format!(
-                                    "{:.1}",
-                                    c.per_ray(pane, |counters| counters.primitive_tests)
-                                )
+                                format!("{:.1}", c.measured(pane).tests_per_ray)
                             }),
                             ("cost per ray", |c, pane| {
-                                let cost = c.trees[pane].settings.cost();
-                                number(
-                                    cost.traversal_cost
-                                        * c.per_ray(pane, |counters| counters.nodes_visited)
-                                        + cost.intersection_cost
-                                            * c.per_ray(pane, |counters| counters.primitive_tests),
-                                )
+                                number(c.measured(pane).cost_per_ray)
                             }),
                         ];
                         for (name, figure) in rows {
@@ -291,13 +282,19 @@ impl QuadtreeLesson {
     /// The build so far on `canvas`: the cuts made, the leaves finished (blue, grey when
     /// empty), the current cell and what reaches it lit.
     fn draw_build(&self, ui: &egui::Ui, canvas: &Canvas, build: &RecordedQuadtree) {
-        let tree = &build.tree;
+        let tree = build.tree();
         let facts = &tree.built.facts;
         let shown = self.shown_steps();
         let current = shown.last().map(BuildStep::node);
-        let lit: Vec<u32> = current.map_or_else(Vec::new, |node| tree.built.primitives_below(node));
+        // What reaches the current cell, as a mask: a lookup per shape drawn, not a search.
+        let mut lit = vec![false; tree.shapes.shapes.len()];
+        for primitive in current.map_or_else(Vec::new, |node| tree.built.primitives_below(node)) {
+            if let Some(entry) = lit.get_mut(primitive as usize) {
+                *entry = true;
+            }
+        }
         draw_shapes(ui, canvas, &tree.shapes, |index| {
-            lit.contains(&(index as u32)).then_some(palette::CURRENT)
+            lit[index].then_some(palette::CURRENT)
         });
         canvas.box_outline(
             &tree.built.root_bounds(),
@@ -438,7 +435,7 @@ impl QuadtreeLesson {
 }
 
 impl Lesson for QuadtreeLesson {
-    crate::staged!(build, comparison);
+    crate::staged!(build);
 
     fn share(&self) -> Vec<(String, String)> {
         let mode = match self.mode {
@@ -472,22 +469,20 @@ impl Lesson for QuadtreeLesson {
 
     fn update(&mut self) {
         let scene = &self.stage.scene;
-        request_over_shapes(&mut self.build, scene, (), |shapes, settings| {
+        let kd = self.kd;
+        request_over_shapes(&mut self.build, scene, kd, move |shapes, settings| {
             let mut recorder = BuildRecorder::default();
-            let tree = SceneTree::build_observed(
+            let quadtree = SceneTree::build_observed(
                 quadtree_structure(&settings),
-                shapes,
+                shapes.clone(),
                 settings,
                 &mut recorder,
             );
+            let kd_tree = SceneTree::build(kd, shapes, settings);
             RecordedQuadtree {
-                tree,
                 steps: recorder.steps,
+                comparison: Comparison::of_trees(vec![quadtree, kd_tree]),
             }
-        });
-        let kd = self.kd;
-        request_over_shapes(&mut self.comparison, scene, kd, move |shapes, settings| {
-            Comparison::build(&[quadtree_structure(&settings), kd], shapes, settings)
         });
         let options = TraceOptions {
             order: Order::NearFirst,
@@ -498,7 +493,7 @@ impl Lesson for QuadtreeLesson {
                 .trace
                 .get_or_make((self.build.generation(), scene.revision), || {
                     match scene.ray() {
-                        Ok(ray) => Trace::of_tree(&build.tree, &ray, &options),
+                        Ok(ray) => Trace::of_tree(build.tree(), &ray, &options),
                         Err(_) => Trace::default(),
                     }
                 });
@@ -508,14 +503,14 @@ impl Lesson for QuadtreeLesson {
             };
             self.stage.timeline.set_len(frames);
         }
-        if let Some(comparison) = self.comparison.get().cloned() {
-            self.kd_trace.get_or_make(
-                (self.comparison.generation(), scene.revision),
-                || match scene.ray() {
-                    Ok(ray) => Trace::of_tree(&comparison.trees[1], &ray, &options),
-                    Err(_) => Trace::default(),
-                },
-            );
+        if let Some(build) = self.build.get().cloned() {
+            self.kd_trace
+                .get_or_make((self.build.generation(), scene.revision), || {
+                    match scene.ray() {
+                        Ok(ray) => Trace::of_tree(build.kd_tree(), &ray, &options),
+                        Err(_) => Trace::default(),
+                    }
+                });
         }
     }
 
@@ -529,7 +524,7 @@ impl Lesson for QuadtreeLesson {
                 };
                 let said = self.describe_build(build, step);
                 Some(if frame >= build.steps.len() {
-                    let stats = &build.tree.stats;
+                    let stats = &build.tree().stats;
                     format!(
                         "{said}. Done: {} nodes, {} leaves ({} empty), depth {}, {} references for {} primitives.",
                         count(stats.node_count),
@@ -537,7 +532,7 @@ impl Lesson for QuadtreeLesson {
                         count(stats.empty_leaf_count),
                         stats.max_depth,
                         count(stats.primitive_references),
-                        count(build.tree.shapes.shapes.len())
+                        count(build.tree().shapes.shapes.len())
                     )
                 } else {
                     said
@@ -545,7 +540,7 @@ impl Lesson for QuadtreeLesson {
             }
             Mode::Traverse => {
                 let trace = self.trace.get()?;
-                let facts = &build.tree.built.facts;
+                let facts = &build.tree().built.facts;
                 Some(
                     trace.caption(frame, "Press step: the ray enters the root cell.", |step| {
                         describe_step(step, |node| quadrant_path(facts, node))
@@ -592,7 +587,7 @@ impl Lesson for QuadtreeLesson {
                 Mode::Build => self.draw_build(ui, &main, &build),
                 Mode::Traverse => {
                     let trace = self.trace.get().cloned().unwrap_or_default();
-                    self.draw_traversal(ui, &main, &build.tree, &trace);
+                    self.draw_traversal(ui, &main, build.tree(), &trace);
                     if let Ok(ray) = self.stage.scene.ray() {
                         let shown = trace.shown(self.stage.timeline.shown);
                         draw_ray(
@@ -611,8 +606,8 @@ impl Lesson for QuadtreeLesson {
                 Color32::WHITE,
             )]);
         }
-        if let Some(comparison) = self.comparison.get().cloned() {
-            self.draw_kd(ui, &side, &comparison.trees[1]);
+        if let Some(build) = self.build.get().cloned() {
+            self.draw_kd(ui, &side, build.kd_tree());
         }
         building_note(ui, &main, self.build.working_for(), "the quadtree");
         for canvas in [&main, &side] {

@@ -17,7 +17,7 @@ use crate::editor::Editing;
 use crate::lesson::Lesson;
 use crate::lesson_file::LessonText;
 use crate::stage::{Stage, request_over_shapes};
-use crate::views::compare::{Comparison, comparison_ui};
+use crate::views::compare::{Comparison, Measured, comparison_ui};
 
 /// The five families, in pane order: the lecture's two first.
 pub const FAMILIES: [Family; 5] = [
@@ -50,40 +50,9 @@ pub fn structures(settings: &SceneSettings) -> [Structure; 5] {
     })
 }
 
-/// What one structure costs per ray on the scene, and what it holds.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Measured {
-    /// Nodes (BVH) or cells (kD) visited per ray.
-    pub nodes_per_ray: f64,
-    /// Primitive tests per ray.
-    pub tests_per_ray: f64,
-    /// `C_trav · nodes + C_isect · tests` per ray: the measured SAH cost.
-    pub cost_per_ray: f64,
-    /// Primitive references in leaves per primitive (1 for a BVH).
-    pub references_per_primitive: f64,
-    /// The share of the scene's area in empty leaves (kD).
-    pub empty_share: f64,
-    /// Nodes in the tree.
-    pub node_count: usize,
-}
-
 /// The five structures' figures, in pane order.
 pub fn measure(comparison: &Comparison) -> [Measured; 5] {
-    [0, 1, 2, 3, 4].map(|pane| {
-        let tree = &comparison.trees[pane];
-        let cost = tree.settings.cost();
-        let nodes = comparison.per_ray(pane, |c| c.nodes_visited);
-        let tests = comparison.per_ray(pane, |c| c.primitive_tests);
-        Measured {
-            nodes_per_ray: nodes,
-            tests_per_ray: tests,
-            cost_per_ray: cost.traversal_cost * nodes + cost.intersection_cost * tests,
-            references_per_primitive: tree.stats.primitive_references as f64
-                / tree.shapes.shapes.len().max(1) as f64,
-            empty_share: tree.stats.empty_leaf_share,
-            node_count: tree.stats.node_count,
-        }
-    })
+    [0, 1, 2, 3, 4].map(|pane| comparison.measured(pane))
 }
 
 /// The verdict, from the numbers: the lecture's question first (BVH or kD-tree: who wins, by

@@ -39,33 +39,45 @@ impl Comparison {
         shapes: Arc<ShapeSet<DVec2>>,
         settings: SceneSettings,
     ) -> Self {
-        let rays = measured_rays(&shapes);
-        let trees: Vec<SceneTree> = structures
-            .iter()
-            .map(|&structure| SceneTree::build(structure, shapes.clone(), settings))
-            .collect();
+        Self::of_trees(
+            structures
+                .iter()
+                .map(|&structure| SceneTree::build(structure, shapes.clone(), settings))
+                .collect(),
+        )
+    }
+
+    /// Traces the measured rays (of the first tree's shapes) through trees already built
+    /// over the same shapes.
+    pub fn of_trees(trees: Vec<SceneTree>) -> Self {
+        let rays = trees
+            .first()
+            .map_or_else(Vec::new, |tree| measured_rays(&tree.shapes));
         let options = TraceOptions::default();
         let counters = trees
             .iter()
-            .map(|tree| {
-                let mut counters = Counters::default();
-                let mut stacks = TraversalStacks::default();
-                for ray in &rays {
-                    tree.built.tree.trace(
-                        shapes.as_ref(),
-                        ray,
-                        &options,
-                        &mut stacks,
-                        &mut counters,
-                    );
-                }
-                counters
-            })
+            .map(|tree| count_rays(tree, &rays, &options))
             .collect();
         Self {
             trees,
             counters,
             ray_count: rays.len(),
+        }
+    }
+
+    /// What pane `pane`'s structure costs per measured ray, and what it holds.
+    pub fn measured(&self, pane: usize) -> Measured {
+        let tree = &self.trees[pane];
+        let nodes = self.per_ray(pane, |c| c.nodes_visited);
+        let tests = self.per_ray(pane, |c| c.primitive_tests);
+        Measured {
+            nodes_per_ray: nodes,
+            tests_per_ray: tests,
+            cost_per_ray: tree.settings.cost().per_ray(nodes, tests),
+            references_per_primitive: tree.stats.primitive_references as f64
+                / tree.shapes.shapes.len().max(1) as f64,
+            empty_share: tree.stats.empty_leaf_share,
+            node_count: tree.stats.node_count,
         }
     }
 
@@ -211,14 +223,42 @@ pub fn request_comparison<C: Clone + PartialEq + Send + 'static, const N: usize>
     });
 }
 
+/// What one structure costs per ray on a scene, and what it holds.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Measured {
+    /// Nodes (or cells) entered per ray.
+    pub nodes_per_ray: f64,
+    /// Primitive tests per ray.
+    pub tests_per_ray: f64,
+    /// `C_trav · nodes + C_isect · tests` per ray: the measured SAH cost.
+    pub cost_per_ray: f64,
+    /// Primitive references in leaves per primitive (1 for a BVH).
+    pub references_per_primitive: f64,
+    /// The share of the scene's area in empty leaves or cells.
+    pub empty_share: f64,
+    /// Nodes in the tree.
+    pub node_count: usize,
+}
+
+/// The work of tracing `rays` through `tree` (over the shapes it was built on), counted.
+pub fn count_rays(tree: &SceneTree, rays: &[Ray<DVec2>], options: &TraceOptions) -> Counters {
+    let mut counters = Counters::default();
+    let mut stacks = TraversalStacks::default();
+    for ray in rays {
+        tree.built.tree.trace(
+            tree.shapes.as_ref(),
+            ray,
+            options,
+            &mut stacks,
+            &mut counters,
+        );
+    }
+    counters
+}
+
 /// Seeded rays from a circle around the shapes to random points in their box.
 pub fn measured_rays(shapes: &ShapeSet<DVec2>) -> Vec<Ray<DVec2>> {
-    let bounds = shapes
-        .shapes
-        .iter()
-        .fold(accelviz_core::Aabb::empty(), |bounds, shape| {
-            bounds.union(shape.bounds())
-        });
+    let bounds = shapes.bounding_box();
     if bounds.is_empty() {
         return Vec::new();
     }
@@ -242,12 +282,7 @@ pub fn measured_rays(shapes: &ShapeSet<DVec2>) -> Vec<Ray<DVec2>> {
 /// wherever a ray may start (a camera inside the scene, a bounce), what a grid's cost at a
 /// cell size depends on (rays from outside a scene walled in stop at the wall's cell).
 pub fn interior_rays(shapes: &ShapeSet<DVec2>) -> Vec<Ray<DVec2>> {
-    let bounds = shapes
-        .shapes
-        .iter()
-        .fold(accelviz_core::Aabb::empty(), |bounds, shape| {
-            bounds.union(shape.bounds())
-        });
+    let bounds = shapes.bounding_box();
     if bounds.is_empty() {
         return Vec::new();
     }

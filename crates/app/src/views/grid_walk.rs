@@ -8,9 +8,7 @@ use std::sync::Arc;
 
 use accelviz_core::format::{count, number};
 use accelviz_core::grid::{DEFAULT_DENSITY, GridCells};
-use accelviz_core::{
-    Aabb, GridParams, NoBuildObserver, Order, ShapeSet, Step, Structure, TraceOptions,
-};
+use accelviz_core::{GridParams, NoBuildObserver, Order, ShapeSet, Step, Structure, TraceOptions};
 use egui::{Color32, RichText, Stroke};
 use egui_plot::{Plot, PlotUi, VLine};
 use glam::DVec2;
@@ -67,6 +65,11 @@ impl GridWalk {
     /// The grid, once built.
     pub fn tree(&self) -> Option<&Arc<SceneTree>> {
         self.tree.get()
+    }
+
+    /// Bumped each time a new grid comes in: what is derived from the grid follows it.
+    pub fn generation(&self) -> u64 {
+        self.tree.generation()
     }
 
     /// How long a newer grid has been building, if one is.
@@ -238,19 +241,10 @@ fn request_grid(
     });
 }
 
-/// The box the density rule and the slider cut into cells: the shapes' box.
-fn shapes_bounds(shapes: &ShapeSet<DVec2>) -> Aabb<DVec2> {
-    shapes
-        .shapes
-        .iter()
-        .fold(Aabb::empty(), |bounds, shape| bounds.union(shape.bounds()))
-}
-
 /// The cells along the longer side the density rule gives the shapes.
 pub fn rule_along(shapes: &ShapeSet<DVec2>) -> u32 {
-    let cells =
-        GridCells::for_primitives(shapes_bounds(shapes), shapes.shapes.len(), DEFAULT_DENSITY);
-    cells.resolution[0].max(cells.resolution[1])
+    GridCells::for_primitives(shapes.bounding_box(), shapes.shapes.len(), DEFAULT_DENSITY)
+        .cells_along_longest()
 }
 
 /// One cell the walk passes, with what it did there.
@@ -530,10 +524,9 @@ pub fn cells_slider_ui(
     tree: Option<&Arc<SceneTree>>,
     timeline: &mut crate::timeline::Timeline,
 ) {
-    let cells = tree.and_then(|tree| tree.built.grid_cells().cloned());
-    let built_along = cells
-        .as_ref()
-        .map_or(1, |cells| cells.resolution[0].max(cells.resolution[1]));
+    let built_along = tree
+        .and_then(|tree| tree.built.grid_cells())
+        .map_or(1, GridCells::cells_along_longest);
     let mut along = choice.along.unwrap_or(built_along);
     ui.horizontal_wrapped(|ui| {
         if ui

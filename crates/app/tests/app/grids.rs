@@ -321,7 +321,7 @@ fn the_quadtree_build_is_stepped_from_the_builders_report() {
     let mut lesson = QuadtreeLesson::new(lesson_text("20-quadtree.ron"));
     settle(&mut lesson);
     let recorded = lesson.recorded().expect("built").clone();
-    let facts = &recorded.tree.built.facts;
+    let facts = &recorded.tree().built.facts;
     assert_eq!(lesson.stage().timeline.len, recorded.steps.len());
     let (mut started, mut cut, mut leaves) = (0, 0, 0);
     for step in &recorded.steps {
@@ -331,7 +331,7 @@ fn the_quadtree_build_is_stepped_from_the_builders_report() {
                 cut += 1;
                 assert_eq!(children.len(), 4);
                 let cell = facts.bounds[node as usize];
-                for (axis, position) in recorded.tree.built.cuts(node) {
+                for (axis, position) in recorded.tree().built.cuts(node) {
                     let middle = 0.5 * (cell.min[axis] + cell.max[axis]);
                     assert!((position - middle).abs() < 1e-9);
                 }
@@ -371,7 +371,7 @@ fn the_quadtree_build_is_stepped_from_the_builders_report() {
             .iter()
             .any(|step| matches!(step, Step::ChildrenOrdered { tested: 0, .. }))
     );
-    let comparison = lesson.comparison().expect("measured");
+    let comparison = &lesson.recorded().expect("built").comparison;
     assert_eq!(comparison.trees.len(), 2);
     assert!(comparison.trees[1].built.tree.family() == accelviz_core::Family::Kd);
 }

@@ -130,6 +130,12 @@ impl<V: Vector> GridCells<V> {
         }
     }
 
+    /// The most cells along any axis: along the longest side for cells near square (what
+    /// [`GridCells::along_longest`] was asked for).
+    pub fn cells_along_longest(&self) -> u32 {
+        self.resolution.into_iter().max().unwrap_or(1)
+    }
+
     /// How many cells.
     pub fn cell_count(&self) -> usize {
         self.resolution.iter().map(|&n| n as usize).product()
@@ -243,6 +249,7 @@ mod tests {
         // 100 × 30: 10 cells along x, 3 along y (cells 10 × 10).
         let wide = Aabb::new(DVec2::ZERO, DVec2::new(100.0, 30.0));
         assert_eq!(GridCells::along_longest(wide, 10).resolution, [10, 3, 1]);
+        assert_eq!(GridCells::along_longest(wide, 10).cells_along_longest(), 10);
         // Along the longer side whichever it is; the short side keeps one cell.
         let tall = Aabb::new(DVec2::ZERO, DVec2::new(2.0, 100.0));
         assert_eq!(GridCells::along_longest(tall, 7).resolution, [1, 7, 1]);

@@ -187,16 +187,20 @@ pub struct ShapeSet<V: Vector> {
 }
 
 impl<V: Vector> ShapeSet<V> {
+    /// The box around every shape (empty for no shapes).
+    pub fn bounding_box(&self) -> Aabb<V> {
+        self.shapes
+            .iter()
+            .fold(Aabb::empty(), |bounds, shape| bounds.union(shape.bounds()))
+    }
+
     /// The area (2D) or volume (3D) the shapes cover together, overlaps counted once: the
     /// share of a grid of `samples` points per axis over their box (each at its cell's centre)
     /// that lies in some shape, times the box's measure. The error shrinks as 1/`samples`.
     /// Each shape marks the grid points inside its own box, so the work grows with the
     /// shapes' size on the grid, not with shapes × points.
     pub fn covered_measure(&self, samples: usize) -> f64 {
-        let bounds = self
-            .shapes
-            .iter()
-            .fold(Aabb::empty(), |acc, shape| acc.union(shape.bounds()));
+        let bounds = self.bounding_box();
         let samples = samples.max(1);
         if bounds.is_empty() || self.shapes.is_empty() {
             return 0.0;

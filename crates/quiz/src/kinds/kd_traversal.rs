@@ -2,16 +2,15 @@
 //! far child visited (the ray reaches the plane inside the cell, and no hit was found before
 //! it)? The steps are the core's kD traversal, recorded.
 
-use accelviz_core::{Order, Query, Step, Structure};
+use accelviz_core::{Order, Step, Structure};
 use serde_json::json;
 
 use super::Draft;
 use super::first_hit::scene_and_ray;
 use crate::generate::{
-    AXES, Gen, Level, build, clear_steps, entered, final_hit, grazes_a_corner, num, ray_numbers,
-    record, traversal_question,
+    AXES, Gen, Level, build, clear_steps, grazes_a_corner, num, ray_numbers, record,
 };
-use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node_label};
+use crate::question::{Ask, Choice, Expected, Highlight, node_label};
 
 /// The most cells a question asks about.
 const MOST_ASKED: usize = 3;
@@ -195,28 +194,12 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     // In traversal order: a cell's near child, its near subtree's questions, then its far
     // child (a stable sort keeps each cell's near question before its far one).
     asks.sort_by_key(|ask| ask.frame);
-    let visited = entered(&steps);
-    let hit = final_hit(&steps);
-    let (fields, scene) = traversal_question(
-        shapes,
-        ray,
-        TreeFigure {
-            built,
-            order: Order::NearFirst,
-            query: Query::Closest,
-            steps,
-            reveal_as_reached: false,
-        },
-    );
-    Some(Draft {
-        prompt: "A kD-tree over the shapes, traversed as in the lecture: near child first, the far child only if the ray reaches it and nothing nearer was hit.".into(),
-        figure: Figure::Scene(Box::new(scene)),
+    Some(Draft::near_first_traversal(
+        "A kD-tree over the shapes, traversed as in the lecture: near child first, the far child only if the ray reaches it and nothing nearer was hit.",
+        (shapes, ray),
+        built,
+        steps,
         asks,
-        fields,
-        answer: json!({
-            "visited": visited,
-            "shape": hit.map(|(shape, _)| shape),
-            "cells": answers,
-        }),
-    })
+        ("cells", json!(answers)),
+    ))
 }

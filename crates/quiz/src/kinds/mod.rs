@@ -13,10 +13,12 @@ mod sah_split;
 mod slab;
 mod visit_order;
 
-use serde_json::{Map, Value};
+use accelviz_core::{Built, Order, Query, Ray, ShapeSet, Step};
+use glam::DVec2;
+use serde_json::{Map, Value, json};
 
-use crate::generate::{Gen, Level};
-use crate::question::{Ask, Figure, Question};
+use crate::generate::{Gen, Level, entered, final_hit, traversal_question};
+use crate::question::{Ask, Figure, Question, TreeFigure};
 
 /// One kind of question.
 pub struct KindEntry {
@@ -114,6 +116,45 @@ pub(crate) struct Draft {
     pub(crate) asks: Vec<Ask>,
     pub(crate) fields: Map<String, Value>,
     pub(crate) answer: Value,
+}
+
+impl Draft {
+    /// A question on a near-first, closest-hit traversal of `built` over `shapes` by `ray`:
+    /// the figure shows the recorded `steps`; the answer holds the nodes entered, the shape
+    /// hit, and the steps' own answers under `key`.
+    pub(crate) fn near_first_traversal(
+        prompt: &str,
+        (shapes, ray): (ShapeSet<DVec2>, Ray<DVec2>),
+        built: Built<DVec2>,
+        steps: Vec<Step<f64>>,
+        asks: Vec<Ask>,
+        (key, per_step): (&str, Value),
+    ) -> Self {
+        let visited = entered(&steps);
+        let hit = final_hit(&steps);
+        let (fields, scene) = traversal_question(
+            shapes,
+            ray,
+            TreeFigure {
+                built,
+                order: Order::NearFirst,
+                query: Query::Closest,
+                steps,
+                reveal_as_reached: false,
+            },
+        );
+        let mut answer = Map::new();
+        answer.insert("visited".into(), json!(visited));
+        answer.insert("shape".into(), json!(hit.map(|(shape, _)| shape)));
+        answer.insert(key.into(), per_step);
+        Self {
+            prompt: prompt.into(),
+            figure: Figure::Scene(Box::new(scene)),
+            asks,
+            fields,
+            answer: Value::Object(answer),
+        }
+    }
 }
 
 /// A kind that does not exist, or a seed no question could be made from.

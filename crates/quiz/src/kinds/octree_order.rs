@@ -4,16 +4,15 @@
 //! into the child across that line. The steps are the core's octree traversal (a quadtree in
 //! 2D), recorded.
 
-use accelviz_core::{Order, Query, Step, Structure};
+use accelviz_core::{Order, Step, Structure};
 use serde_json::json;
 
 use super::Draft;
 use super::first_hit::scene_and_ray;
 use crate::generate::{
-    AXES, Gen, Level, build, clear_steps, entered, final_hit, grazes_a_corner, num, ray_numbers,
-    record, traversal_question,
+    AXES, Gen, Level, build, clear_steps, grazes_a_corner, num, ray_numbers, record,
 };
-use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node_label};
+use crate::question::{Ask, Choice, Expected, Highlight, node_label};
 
 /// The most cells a question asks about.
 const MOST_ASKED: usize = 3;
@@ -187,30 +186,14 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     if asks.is_empty() {
         return None;
     }
-    let visited = entered(&steps);
-    let hit = final_hit(&steps);
-    let (fields, scene) = traversal_question(
-        shapes,
-        ray,
-        TreeFigure {
-            built,
-            order: Order::NearFirst,
-            query: Query::Closest,
-            steps,
-            reveal_as_reached: false,
-        },
-    );
-    Some(Draft {
-        prompt: "A quadtree over the shapes: each cell cut at its middle into four, numbered by their sides (bit 0: x above the middle, bit 1: y above). The ray visits the children it passes front to back.".into(),
-        figure: Figure::Scene(Box::new(scene)),
+    Some(Draft::near_first_traversal(
+        "A quadtree over the shapes: each cell cut at its middle into four, numbered by their sides (bit 0: x above the middle, bit 1: y above). The ray visits the children it passes front to back.",
+        (shapes, ray),
+        built,
+        steps,
         asks,
-        fields,
-        answer: json!({
-            "visited": visited,
-            "shape": hit.map(|(shape, _)| shape),
-            "orders": answers,
-        }),
-    })
+        ("orders", json!(answers)),
+    ))
 }
 
 /// `x < 10` or `x > 10`, for an explanation.
