@@ -9,18 +9,26 @@
 //! - `bvh` (svenstaro): its SAH build; its nearest-first iterator yields the candidate
 //!   triangles, each tested with Möller–Trumbore (the library's own test culls back faces).
 //! - `parry3d`: `TriMesh::new` (builds its BVH) and `cast_local_ray_and_get_normal`.
-//! - `embree`: Embree 3 (`libembree3`, loaded at run time, see [`embree`]), built at its
-//!   default quality on one thread, traced with `rtcIntersect1`; `embree-packet`: the same
-//!   scene, camera rays traced as coherent packets of 16 (4×4 pixels, `rtcIntersect16`).
+//! - `embree3`, `embree4`: Embree 3.13 and 4.4 (loaded at run time, see `accelviz_embree`),
+//!   built at their default quality on one thread, traced one ray at a time
+//!   (`rtcIntersect1`, or `rtcOccluded1` for any hit); `embree3-packet`, `embree4-packet`: the
+//!   same scenes, the rays traced as coherent packets of 16 (camera rays in 4×4 pixels,
+//!   `rtcIntersect16` / `rtcOccluded16`). `--isa avx2` limits Embree to AVX2.
 //! - `tinybvh`: tinybvh's 8-wide `BVH8_CPU`, see [`tinybvh`] (needs an AVX2 build).
+//!
+//! Any-hit queries (`--query any`, the default for shadow and ambient occlusion rays) use each
+//! library's occlusion query: Embree's `rtcOccluded*`, obvhs's `ray_traverse_miss`, parry3d's
+//! `intersects_local_ray`, and for `bvh` the first hit its iterator's candidates give.
+//! tinybvh's wrapper has none, so it answers them with its closest hit (said in its name).
 
-mod embree;
 mod tinybvh;
 
 use std::time::{Duration, Instant};
 
+use accelviz_core::Query;
+use accelviz_embree::{Embree, Version};
 use accelviz_scene::Mesh;
-use accelviz_scene::rays::{RaySource, RaySpec};
+use accelviz_scene::rays::{RayKind, RaySource, RaySpec};
 use anyhow::{Context, Result, bail};
 use clap::Parser;
 
@@ -38,15 +46,28 @@ struct Args {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Trace the rays of this file instead.
-    #[arg(long, conflicts_with = "camera")]
+    #[arg(long, conflicts_with_all = ["camera", "ray_kind"])]
     rays_file: Option<String>,
     /// Trace the primary rays of a WIDTHxHEIGHT camera instead (as `accelviz-cli bench --camera`).
     #[arg(long)]
     camera: Option<String>,
-    /// Which peers, comma-separated: obvhs, bvh, parry3d, embree, embree-packet (camera
-    /// rays only), tinybvh (its 8-wide BVH8_CPU; needs an AVX2 build).
+    /// What rays, as `accelviz-cli bench --ray-kind`: random, camera, aimed, shadow, ao,
+    /// bounce. Default: camera with --camera, else random.
+    #[arg(long, value_parser = parse_ray_kind)]
+    ray_kind: Option<RayKind>,
+    /// closest, or any (is anything in the way?). Default: any for shadow and ao rays,
+    /// closest otherwise.
+    #[arg(long, value_parser = parse_query)]
+    query: Option<Query>,
+    /// Which peers, comma-separated: obvhs, bvh, parry3d, embree3, embree4, embree3-packet,
+    /// embree4-packet (16-wide coherent packets), tinybvh (its 8-wide BVH8_CPU; needs an
+    /// AVX2 build).
     #[arg(long, default_value = "obvhs,bvh,parry3d")]
     peers: String,
+    /// Limit Embree to this instruction set (Embree's names: sse2, sse4.2, avx, avx2,
+    /// avx512); the others are compiled for this machine.
+    #[arg(long)]
+    isa: Option<String>,
     /// Build and trace this many times; report the median of each.
     #[arg(long, default_value_t = 1)]
     repeat: usize,
@@ -56,10 +77,27 @@ struct Args {
 }
 
 struct Figures {
-    name: &'static str,
+    name: String,
     build_ms: f64,
     trace_ms: f64,
     hits: usize,
+}
+
+fn parse_ray_kind(name: &str) -> Result<RayKind, String> {
+    RayKind::from_name(name).ok_or_else(|| format!("'{name}' is not a ray kind"))
+}
+
+fn parse_query(name: &str) -> Result<Query, String> {
+    match name {
+        "closest" => Ok(Query::Closest),
+        "any" => Ok(Query::Any),
+        _ => Err(format!("'{name}' is not a query: closest or any")),
+    }
+}
+
+/// A ray's end as an f32 (an unbounded ray's is the largest f32).
+fn t_max_f32(ray: &RaySpec) -> f32 {
+    ray.t_max.min(f32::MAX as f64) as f32
 }
 
 fn load_mesh(mesh: &str) -> Result<Mesh> {
@@ -97,7 +135,7 @@ fn moller_trumbore(origin: glam::Vec3, direction: glam::Vec3, [a, b, c]: &[glam:
     if t >= 0.0 { t } else { f32::INFINITY }
 }
 
-fn run_obvhs(mesh: &Mesh, rays: &[RaySpec]) -> Figures {
+fn run_obvhs(mesh: &Mesh, rays: &[RaySpec], query: Query) -> Figures {
     use obvhs::ray::{Ray, RayHit};
     let triangles: Vec<obvhs::triangle::Triangle> = mesh
         .triangles
@@ -122,22 +160,25 @@ fn run_obvhs(mesh: &Mesh, rays: &[RaySpec]) -> Figures {
                 glam::Vec3A::from_array(to_f32(r.origin)),
                 glam::Vec3A::from_array(to_f32(r.direction)),
                 r.t_min as f32,
-                r.t_max as f32,
+                t_max_f32(r),
             )
         })
         .collect();
     let start = Instant::now();
-    let mut hits = 0;
-    for ray in &rays {
-        let mut hit = RayHit::none();
-        if bvh.ray_traverse(*ray, &mut hit, |ray, id| {
-            triangles[bvh.primitive_indices[id] as usize].intersect(ray)
-        }) {
-            hits += 1;
-        }
-    }
+    let intersect =
+        |ray: &Ray, id: usize| triangles[bvh.primitive_indices[id] as usize].intersect(ray);
+    let hits = match query {
+        Query::Any => rays
+            .iter()
+            .filter(|&&ray| !bvh.ray_traverse_miss(ray, intersect))
+            .count(),
+        _ => rays
+            .iter()
+            .filter(|&&ray| bvh.ray_traverse(ray, &mut RayHit::none(), intersect))
+            .count(),
+    };
     Figures {
-        name: "obvhs:bvh2-ploc-medium",
+        name: "obvhs:bvh2-ploc-medium".to_owned(),
         build_ms,
         trace_ms: start.elapsed().as_secs_f64() * 1e3,
         hits,
@@ -169,7 +210,7 @@ impl bvh::bounding_hierarchy::BHShape<f32, 3> for BvhShape {
     }
 }
 
-fn run_bvh(mesh: &Mesh, rays: &[RaySpec]) -> Figures {
+fn run_bvh(mesh: &Mesh, rays: &[RaySpec], query: Query) -> Figures {
     let mut shapes: Vec<BvhShape> = mesh
         .triangles
         .iter()
@@ -190,26 +231,29 @@ fn run_bvh(mesh: &Mesh, rays: &[RaySpec]) -> Figures {
             nalgebra::Vector3::new(d[0], d[1], d[2]),
         );
         let (origin, direction) = (glam::Vec3::from_array(o), glam::Vec3::from_array(d));
-        let mut closest = r.t_max as f32;
+        let mut closest = t_max_f32(r);
         let mut found = false;
         for shape in tree.nearest_traverse_iterator(&ray, &shapes) {
             let t = moller_trumbore(origin, direction, &shape.corners);
             if t.is_finite() && t <= closest {
                 closest = t;
                 found = true;
+                if query == Query::Any {
+                    break;
+                }
             }
         }
         hits += found as usize;
     }
     Figures {
-        name: "bvh:sah",
+        name: "bvh:sah".to_owned(),
         build_ms,
         trace_ms: start.elapsed().as_secs_f64() * 1e3,
         hits,
     }
 }
 
-fn run_parry(mesh: &Mesh, rays: &[RaySpec]) -> Result<Figures> {
+fn run_parry(mesh: &Mesh, rays: &[RaySpec], query: Query) -> Result<Figures> {
     use parry3d::query::RayCast;
     let vertices: Vec<parry3d::math::Vector> = mesh
         .triangles
@@ -235,67 +279,91 @@ fn run_parry(mesh: &Mesh, rays: &[RaySpec]) -> Result<Figures> {
             parry3d::math::Vector::new(o[0], o[1], o[2]),
             parry3d::math::Vector::new(d[0], d[1], d[2]),
         );
-        if trimesh
-            .cast_local_ray_and_get_normal(&ray, r.t_max.min(f32::MAX as f64) as f32, false)
-            .is_some()
-        {
-            hits += 1;
-        }
+        let hit = match query {
+            Query::Any => trimesh.intersects_local_ray(&ray, t_max_f32(r)),
+            _ => trimesh
+                .cast_local_ray_and_get_normal(&ray, t_max_f32(r), false)
+                .is_some(),
+        };
+        hits += hit as usize;
     }
     Ok(Figures {
-        name: "parry3d:trimesh",
+        name: "parry3d:trimesh".to_owned(),
         build_ms,
         trace_ms: start.elapsed().as_secs_f64() * 1e3,
         hits,
     })
 }
 
-fn run_embree(mesh: &Mesh, rays: &[RaySpec], packets: Option<&[Vec<u32>]>) -> Result<Figures> {
+/// Embree `version`, one ray at a time or (`packets`: the rays' tiles of at most 16) in
+/// coherent packets, limited to `isa` if given.
+fn run_embree(
+    mesh: &Mesh,
+    rays: &[RaySpec],
+    query: Query,
+    (version, isa): (Version, Option<&str>),
+    packets: Option<&[Vec<u32>]>,
+) -> Result<Figures> {
     let triangles: Vec<[[f32; 3]; 3]> = mesh.triangles.iter().map(|t| t.map(to_f32)).collect();
     let start = Instant::now();
-    let scene = embree::Embree::build(&triangles)?;
+    let scene = Embree::build(version, &triangles, 1, isa)?;
     let build_ms = start.elapsed().as_secs_f64() * 1e3;
-    let rays: Vec<([f32; 3], [f32; 3], f32)> = rays
+    let rays: Vec<accelviz_embree::Ray> = rays
         .iter()
-        .map(|r| {
-            (
-                to_f32(r.origin),
-                to_f32(r.direction),
-                r.t_max.min(f32::MAX as f64) as f32,
-            )
+        .map(|r| accelviz_embree::Ray {
+            origin: to_f32(r.origin),
+            direction: to_f32(r.direction),
+            t_max: t_max_f32(r),
         })
         .collect();
+    let any = query == Query::Any;
     let start = Instant::now();
     let hits = match packets {
+        None if any => rays.iter().filter(|ray| scene.occluded(ray)).count(),
         None => rays
             .iter()
-            .filter(|&&(origin, direction, t_max)| {
-                scene.intersect1(origin, direction, t_max).is_some()
-            })
+            .filter(|ray| scene.closest(ray).is_some())
             .count(),
         Some(packets) => {
+            let mut tracer = scene.packets();
             let mut hits = 0;
-            let mut packet_rays = Vec::with_capacity(16);
-            let mut packet_hits = [None; 16];
+            let mut packet_rays = Vec::with_capacity(accelviz_embree::PACKET);
+            let mut packet_hits = [None; accelviz_embree::PACKET];
+            let mut packet_occluded = [false; accelviz_embree::PACKET];
             for packet in packets {
                 packet_rays.clear();
                 packet_rays.extend(packet.iter().map(|&index| rays[index as usize]));
-                scene.intersect_packet::<16>(&packet_rays, &mut packet_hits);
-                hits += packet_hits[..packet.len()].iter().flatten().count();
+                let lanes = packet.len();
+                if any {
+                    tracer.occluded(&packet_rays, &mut packet_occluded);
+                    hits += packet_occluded[..lanes].iter().filter(|&&o| o).count();
+                } else {
+                    tracer.closest(&packet_rays, &mut packet_hits);
+                    hits += packet_hits[..lanes].iter().flatten().count();
+                }
             }
             hits
         }
     };
+    let call = match (packets.is_some(), any) {
+        (false, false) => "intersect1",
+        (false, true) => "occluded1",
+        (true, false) => "intersect16",
+        (true, true) => "occluded16",
+    };
     Ok(Figures {
-        name: if packets.is_some() {
-            "embree:packet16"
-        } else {
-            "embree:intersect1"
-        },
+        name: format!("{}:{call}", version.name()),
         build_ms,
         trace_ms: start.elapsed().as_secs_f64() * 1e3,
         hits,
     })
+}
+
+fn query_name(query: Query) -> &'static str {
+    match query {
+        Query::Any => "any",
+        _ => "closest",
+    }
 }
 
 fn main() -> std::process::ExitCode {
@@ -313,39 +381,57 @@ fn main() -> std::process::ExitCode {
 
 fn run(args: Args) -> Result<String> {
     let mesh = load_mesh(&args.mesh)?;
-    let source = RaySource::from_options(
+    let kind = args.ray_kind.unwrap_or(if args.camera.is_some() {
+        RayKind::Camera
+    } else {
+        RayKind::Random
+    });
+    let source = RaySource::of_kind(
         args.rays_file.as_deref(),
         args.camera.as_deref(),
+        kind,
         args.rays,
         args.seed,
     )
     .map_err(anyhow::Error::msg)?;
+    let query = args.query.unwrap_or(kind.default_query());
     let rays = source.rays(&mesh)?;
     let ray_source = source.label();
-    // Camera rays in packets of 4×4 pixels, for the packet tracers.
-    let packets = match &source {
+    // Packets of 16: camera rays in tiles of 4×4 pixels; other rays 16 in the order made
+    // (secondary rays from neighbouring hits are not neighbours: these packets are
+    // incoherent, as a renderer's would be without sorting).
+    let packets: Vec<Vec<u32>> = match &source {
         RaySource::Camera { width, height } => {
-            Some(accelviz_scene::rays::pixel_tiles(*width, *height, 4, 4))
+            accelviz_scene::rays::pixel_tiles(*width, *height, 4, 4)
         }
-        _ => None,
+        _ => (0..rays.len() as u32)
+            .collect::<Vec<_>>()
+            .chunks(accelviz_embree::PACKET)
+            .map(<[u32]>::to_vec)
+            .collect(),
     };
+    let isa = args.isa.as_deref();
     let mut figures = Vec::new();
     for peer in args.peers.split(',') {
         // Each peer built and traced `repeat` times; its figures are the medians.
         let mut runs = Vec::new();
         for _ in 0..args.repeat.max(1) {
             runs.push(match peer.trim() {
-                "obvhs" => run_obvhs(&mesh, &rays),
-                "bvh" => run_bvh(&mesh, &rays),
-                "parry3d" => run_parry(&mesh, &rays)?,
-                "embree" => run_embree(&mesh, &rays, None)?,
-                "tinybvh" => tinybvh::run(&mesh, &rays)?,
-                "embree-packet" => match &packets {
-                    Some(packets) => run_embree(&mesh, &rays, Some(packets))?,
-                    None => bail!("embree-packet traces camera rays: give --camera"),
-                },
+                "obvhs" => run_obvhs(&mesh, &rays, query),
+                "bvh" => run_bvh(&mesh, &rays, query),
+                "parry3d" => run_parry(&mesh, &rays, query)?,
+                "embree3" => run_embree(&mesh, &rays, query, (Version::Three, isa), None)?,
+                "embree4" => run_embree(&mesh, &rays, query, (Version::Four, isa), None)?,
+                "embree3-packet" => {
+                    run_embree(&mesh, &rays, query, (Version::Three, isa), Some(&packets))?
+                }
+                "embree4-packet" => {
+                    run_embree(&mesh, &rays, query, (Version::Four, isa), Some(&packets))?
+                }
+                "tinybvh" => tinybvh::run(&mesh, &rays, query)?,
                 other => bail!(
-                    "unknown peer '{other}'; peers are obvhs, bvh, parry3d, embree, embree-packet, tinybvh"
+                    "unknown peer '{other}'; peers are obvhs, bvh, parry3d, embree3, embree4, \
+                     embree3-packet, embree4-packet, tinybvh"
                 ),
             });
         }
@@ -368,8 +454,8 @@ fn run(args: Args) -> Result<String> {
         let mrays = rays.len() as f64 / (f.trace_ms * 1e3);
         if args.json {
             out.push_str(&format!(
-                "{{\"accel\":\"{}\",\"mesh\":\"{}\",\"triangles\":{},\"build_ms\":{},\"rays\":{},\"ray_source\":\"{ray_source}\",\"trace_ms\":{},\"mrays_per_s\":{mrays},\"hits\":{},\"threads\":1}}\n",
-                f.name, mesh.name, mesh.triangles.len(), f.build_ms, rays.len(), f.trace_ms, f.hits
+                "{{\"accel\":\"{}\",\"mesh\":\"{}\",\"triangles\":{},\"build_ms\":{},\"rays\":{},\"ray_source\":\"{ray_source}\",\"ray_kind\":\"{}\",\"query\":\"{}\",\"isa\":\"{}\",\"trace_ms\":{},\"mrays_per_s\":{mrays},\"hits\":{},\"threads\":1}}\n",
+                f.name, mesh.name, mesh.triangles.len(), f.build_ms, rays.len(), kind.name(), query_name(query), isa.unwrap_or("native"), f.trace_ms, f.hits
             ));
         } else {
             out.push_str(&format!(

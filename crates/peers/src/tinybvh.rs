@@ -5,9 +5,13 @@
 //! enabled at compile time, so without it this peer says how to build it (`scripts/bench`
 //! builds this crate with `-C target-cpu=native`).
 //!
+//! The wrapper has no occlusion query: any-hit queries are answered by the closest hit
+//! (`tinybvh:bvh8-cpu(closest)` in the tables).
+//!
 //! (tinybvh's binary BVH and its own traversal are left out: on the bunny they miss 16 % of
 //! the hits every other tracer finds.)
 
+use accelviz_core::Query;
 use accelviz_scene::Mesh;
 use accelviz_scene::rays::RaySpec;
 use anyhow::Result;
@@ -15,7 +19,7 @@ use anyhow::Result;
 use crate::Figures;
 
 #[cfg(not(target_feature = "avx2"))]
-pub fn run(_mesh: &Mesh, _rays: &[RaySpec]) -> Result<Figures> {
+pub fn run(_mesh: &Mesh, _rays: &[RaySpec], _query: Query) -> Result<Figures> {
     anyhow::bail!(
         "tinybvh's BVH8_CPU traversal needs AVX2 at compile time: build accelviz-peers with \
          RUSTFLAGS='-C target-cpu=native' (scripts/bench does)"
@@ -23,7 +27,7 @@ pub fn run(_mesh: &Mesh, _rays: &[RaySpec]) -> Result<Figures> {
 }
 
 #[cfg(target_feature = "avx2")]
-pub fn run(mesh: &Mesh, rays: &[RaySpec]) -> Result<Figures> {
+pub fn run(mesh: &Mesh, rays: &[RaySpec], query: Query) -> Result<Figures> {
     use std::time::Instant;
     use tinybvh_rs::{bvh, bvh8_cpu, mbvh};
 
@@ -49,14 +53,22 @@ pub fn run(mesh: &Mesh, rays: &[RaySpec]) -> Result<Figures> {
     let hits = rays
         .iter()
         .filter(|r| {
-            let mut ray = PaddedRay::new(crate::to_f32(r.origin), crate::to_f32(r.direction));
+            let mut ray = PaddedRay::new(
+                crate::to_f32(r.origin),
+                crate::to_f32(r.direction),
+                crate::t_max_f32(r),
+            );
+            let t_end = ray.ray.hit.t;
             tinybvh_rs::Intersector::intersect(&wide, &mut ray.ray);
-            // A miss leaves `t` at tinybvh's "infinity", 1e30.
-            ray.ray.hit.t < tinybvh_rs::INFINITE
+            // A miss leaves `t` where it began: the ray's end, or tinybvh's "infinity", 1e30.
+            ray.ray.hit.t < t_end
         })
         .count();
     Ok(Figures {
-        name: "tinybvh:bvh8-cpu",
+        name: match query {
+            Query::Any => "tinybvh:bvh8-cpu(closest)".to_owned(),
+            _ => "tinybvh:bvh8-cpu".to_owned(),
+        },
         build_ms,
         trace_ms: start.elapsed().as_secs_f64() * 1e3,
         hits,
@@ -77,10 +89,15 @@ struct PaddedRay {
 
 #[cfg(target_feature = "avx2")]
 impl PaddedRay {
-    fn new(origin: [f32; 3], direction: [f32; 3]) -> Self {
-        // As tinybvh's `Ray(O, D)`: the direction normalised, its reciprocal, every mask bit
-        // (the first padding word is the C++ ray's mask).
-        let direction = glam::Vec3::from_array(direction).normalize();
+    fn new(origin: [f32; 3], direction: [f32; 3], t_max: f32) -> Self {
+        // As tinybvh's `Ray(O, D, rayLength)`: the direction normalised, its reciprocal, every
+        // mask bit (the first padding word is the C++ ray's mask), the hit's `t` at the end
+        // of the ray (counted in lengths of the normalised direction).
+        let direction = glam::Vec3::from_array(direction);
+        let length = direction.length();
+        let direction = direction / length;
+        let mut hit = tinybvh_rs::Intersection::new();
+        hit.t = (t_max * length).min(tinybvh_rs::INFINITE);
         Self {
             ray: tinybvh_rs::Ray {
                 origin,
@@ -89,7 +106,7 @@ impl PaddedRay {
                 padding_1: 0,
                 r_d: direction.recip().to_array(),
                 padding_2: 0,
-                hit: tinybvh_rs::Intersection::new(),
+                hit,
             },
             _user_data: [0; 64],
         }
