@@ -89,7 +89,7 @@ impl BenchArgs {
             seed: 1,
             ray_kind: None,
             trace: TraceArgs {
-                order: crate::OrderArg::NearFirst,
+                order: None,
                 precision: Precision::F32,
                 robust: false,
                 mailbox: false,

@@ -80,9 +80,10 @@ pub enum Precision {
 /// Switches shared by `query` and `bench`.
 #[derive(Args, Debug, Clone, Copy)]
 pub struct TraceArgs {
-    /// Child order when the ray hits both children.
-    #[arg(long, value_enum, default_value_t)]
-    order: OrderArg,
+    /// Child order when the ray hits both children. Default: near-first for the closest
+    /// hit, file-order for any hit (ordering buys an occlusion query nothing, as in Embree's).
+    #[arg(long, value_enum)]
+    order: Option<OrderArg>,
     /// Arithmetic precision of the structure, the triangles and the rays.
     #[arg(long, value_enum, default_value_t)]
     precision: Precision,
@@ -167,8 +168,9 @@ impl TraceArgs {
         TraceOptions {
             query,
             order: match self.order {
-                OrderArg::NearFirst => Order::NearFirst,
-                OrderArg::FileOrder => Order::FileOrder,
+                Some(OrderArg::NearFirst) => Order::NearFirst,
+                Some(OrderArg::FileOrder) => Order::FileOrder,
+                None => query.default_order(),
             },
             mailboxing: self.mailbox,
             ..TraceOptions::default()

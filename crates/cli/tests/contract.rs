@@ -161,10 +161,11 @@ fn bench_reports_one_json_object_per_spec() {
     assert_eq!(lines[0]["avg_prims_tested"], 5120.0);
 }
 
-/// `bench --ray-kind`: shadow and ambient occlusion rays ask for any hit unless told, and the
-/// JSON echoes the kind and the query, with the tree's quality beside its speed: EPO (BVHs),
-/// bytes, the fill rate (wide trees) and the leaves' sizes. Any-hit never visits more nodes
-/// than closest-hit on the same rays, and finds them blocked as often.
+/// `bench --ray-kind`: shadow and ambient occlusion rays ask for any hit unless told, in file
+/// order unless told, and the JSON echoes the kind, the query and the order, with the tree's
+/// quality beside its speed: EPO (BVHs), bytes, the fill rate (wide trees) and the leaves'
+/// sizes. Any-hit never visits more nodes than closest-hit on the same rays in the same
+/// order, and finds them blocked as often.
 #[test]
 fn bench_ray_kinds_queries_and_quality() {
     let run = |extra: &[&str]| -> Vec<serde_json::Value> {
@@ -187,10 +188,22 @@ fn bench_ray_kinds_queries_and_quality() {
             .collect()
     };
     let any = run(&["--ray-kind", "ao", "--rays", "2000"]);
-    let closest = run(&["--ray-kind", "ao", "--rays", "2000", "--query", "closest"]);
+    let closest = run(&[
+        "--ray-kind",
+        "ao",
+        "--rays",
+        "2000",
+        "--query",
+        "closest",
+        "--order",
+        "file-order",
+    ]);
+    let closest_default = run(&["--ray-kind", "ao", "--rays", "10", "--query", "closest"]);
+    assert_eq!(closest_default[0]["order"], "near-first");
     for (any, closest) in any.iter().zip(&closest) {
         assert_eq!(any["ray_kind"], "ao");
         assert_eq!(any["query"], "any");
+        assert_eq!(any["order"], "file-order");
         assert_eq!(closest["query"], "closest");
         assert_eq!(any["hits"], closest["hits"], "{any}");
         assert!(

