@@ -59,8 +59,9 @@ pub struct BenchArgs {
     /// machine has.
     #[arg(long)]
     isa: Option<String>,
-    /// Threads tracing rays, in tiles of 256 rays (the build is single-threaded); a
-    /// comma-separated list (`1,2`) measures each in the same rounds.
+    /// Threads building (the binned SAH builder builds big nodes' sides at once) and tracing
+    /// rays (in tiles of 256 rays); a comma-separated list (`1,2`) measures each in the same
+    /// rounds.
     #[arg(long, default_value = "1")]
     threads: String,
     /// Trace rays N at a time as packets (a wide BVH traces a packet together; other
@@ -404,12 +405,26 @@ fn measure<V: Vector3>(
             _ => None,
         })
         .collect();
-    // Build every structure once per round; keep the first round's.
+    // Build every structure once per round on each number of threads (a rayon pool of that
+    // many: the binned SAH builder forks onto it); keep the first build.
+    let pools = axes
+        .threads
+        .iter()
+        .map(|&count| rayon::ThreadPoolBuilder::new().num_threads(count).build())
+        .collect::<Result<Vec<_>, _>>()?;
+    // The builds after the first are dropped after the timing, not in it (as a peer's scene
+    // outlives its build's timing).
     let mut accels: Vec<Option<Accel<V, TriangleSet<V>>>> = specs.iter().map(|_| None).collect();
-    let builds = interleaved(rounds, specs.len(), |index| {
-        let (accel, _) = specs[index].build(&triangles, params);
-        accels[index].get_or_insert(accel);
+    let mut spares = Vec::new();
+    let builds = interleaved(rounds, specs.len() * pools.len(), |index| {
+        let (spec, pool) = (index / pools.len(), index % pools.len());
+        let (accel, _) = pools[pool].install(|| specs[spec].build(&triangles, params));
+        match &accels[spec] {
+            None => accels[spec] = Some(accel),
+            Some(_) => spares.push(accel),
+        }
     });
+    drop(spares);
     let accels: Vec<_> = accels.into_iter().flatten().collect();
     // Trace with every combination once per round.
     let mut configurations = Vec::new();
@@ -494,7 +509,7 @@ fn measure<V: Vector3>(
             threads: axes.threads[threads],
             packet: axes.packets[packet],
             triangles: triangles.triangles().len(),
-            build: builds[spec].clone(),
+            build: builds[spec * axes.threads.len() + threads].clone(),
             nodes: stats.node_count,
             leaves: stats.leaf_count,
             max_depth: stats.max_depth,

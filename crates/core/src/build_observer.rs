@@ -87,6 +87,10 @@ impl std::fmt::Display for LeafReason {
 
 /// Told about every step of a build.
 pub trait BuildObserver {
+    /// False for an observer that hears nothing ([`NoBuildObserver`]): a builder may then
+    /// build in parallel, in whatever order its threads finish (the tree is the same).
+    const ACTIVE: bool = true;
+
     /// The builder starts on `node` at `depth`, which holds `primitive_count` primitives.
     #[inline(always)]
     fn node_started(&mut self, _node: u32, _depth: usize, _primitive_count: usize) {}
@@ -117,7 +121,9 @@ pub trait BuildObserver {
 #[derive(Clone, Copy, Debug, Default)]
 pub struct NoBuildObserver;
 
-impl BuildObserver for NoBuildObserver {}
+impl BuildObserver for NoBuildObserver {
+    const ACTIVE: bool = false;
+}
 
 /// Keeps why each leaf is a leaf, by node.
 #[derive(Clone, Debug, Default, PartialEq)]

@@ -73,14 +73,41 @@ pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>, O: BuildObserver>(
     if primitive_count == 0 {
         return Bvh::default();
     }
-    let mut nodes = Vec::with_capacity(2 * primitive_count);
     let (root_bounds, root_info) = splitter.root();
-    nodes.push(BvhNode {
-        bounds: root_bounds,
-        first: 0,
-        count: primitive_count as u32,
-    });
-    let mut work = vec![(0usize, 0usize, primitive_count, root_info, 0usize)];
+    let nodes = grow_subtree(
+        &mut splitter,
+        root_bounds,
+        (0, primitive_count),
+        root_info,
+        0,
+        max_leaf_size,
+        observer,
+    );
+    Bvh {
+        nodes,
+        primitive_indices: splitter.into_order(),
+    }
+}
+
+/// The subtree of the node over `begin..end` (with its box and the splitter's notes, at
+/// `depth`), laid out as the whole tree is: the node first (index 0), then its children side
+/// by side, then the left child's subtree, then the right's. Interior nodes' `first` counts
+/// from the returned list's start; leaves' `first` is a position in the splitter's order.
+fn grow_subtree<V: Vector, S: RangeSplitter<V>, O: BuildObserver>(
+    splitter: &mut S,
+    bounds: Aabb<V>,
+    (begin, end): (usize, usize),
+    info: S::NodeInfo,
+    depth: usize,
+    max_leaf_size: usize,
+    observer: &mut O,
+) -> Vec<BvhNode<V>> {
+    let mut nodes = vec![BvhNode {
+        bounds,
+        first: begin as u32,
+        count: (end - begin) as u32,
+    }];
+    let mut work = vec![(0usize, begin, end, info, depth)];
     while let Some((node_index, begin, end, info, depth)) = work.pop() {
         observer.node_started(node_index as u32, depth, end - begin);
         let node_bounds = nodes[node_index].bounds;
@@ -125,9 +152,179 @@ pub(crate) fn build_top_down<V: Vector, S: RangeSplitter<V>, O: BuildObserver>(
         work.push((left_index + 1, mid, end, right.1, depth + 1));
         work.push((left_index, begin, mid, left.1, depth + 1));
     }
-    Bvh {
-        nodes,
-        primitive_indices: splitter.into_order(),
+    nodes
+}
+
+/// A splitter whose two sides of a split can be built at once: it hands each side its own
+/// part of the primitives' order (disjoint, so the threads share nothing).
+pub(crate) trait ForkingSplitter<V: Vector>: RangeSplitter<V> + Send + Sized
+where
+    Self::NodeInfo: Send,
+{
+    /// The splitters of `begin..mid` and `mid..end`, for a splitter holding exactly the
+    /// range `begin..end` of a node just split at `mid`.
+    fn fork(self, mid: usize) -> (Self, Self);
+}
+
+/// A node needs at least this many primitives for its two sides to be built in parallel:
+/// below it, handing a side to another thread costs more than it saves.
+const PARALLEL_GRAIN: usize = 4096;
+
+/// Forks nest at most this deep (a lopsided tree would otherwise deepen the call stack by
+/// one frame a level); deeper subtrees are built by the sequential driver.
+const MAX_FORK_DEPTH: usize = 32;
+
+/// A subtree built in parallel: the pieces before they are laid out as one list.
+enum Part<V: Vector> {
+    /// A subtree from the sequential driver ([`grow_subtree`]'s layout).
+    Grown(Vec<BvhNode<V>>),
+    /// A node whose two sides were built at once: its box, then the left and right parts.
+    Forked(Aabb<V>, Box<[Part<V>; 2]>),
+}
+
+/// [`build_top_down`] on every thread of the current rayon pool: a node of at least twice
+/// [`PARALLEL_GRAIN`] primitives, once split, has its two sides built at once (`rayon::join`;
+/// work stealing balances lopsided splits). The splits are the splitter's, made on the same
+/// ranges in the same state, and the pieces are laid out as the sequential driver lays them
+/// out, so the tree is identical on any number of threads (tested), one included, and to the
+/// observed sequential build's. Returns the nodes; the order of the primitives is left in the
+/// splitter's storage.
+pub(crate) fn build_top_down_parallel<V: Vector, S: ForkingSplitter<V>>(
+    splitter: S,
+    primitive_count: usize,
+    max_leaf_size: usize,
+) -> Vec<BvhNode<V>>
+where
+    S::NodeInfo: Send,
+{
+    if primitive_count == 0 {
+        return Vec::new();
+    }
+    let (bounds, info) = splitter.root();
+    let root = grow_parallel(
+        splitter,
+        bounds,
+        (0, primitive_count),
+        info,
+        (0, 0),
+        max_leaf_size,
+    );
+    let mut nodes = Vec::with_capacity(2 * primitive_count.div_ceil(max_leaf_size.max(1)));
+    nodes.push(BvhNode {
+        bounds,
+        first: 0,
+        count: 0,
+    });
+    lay_out(root, 0, &mut nodes);
+    nodes
+}
+
+/// Builds the subtree of `begin..end` (`depth` deep in the tree, `forks` deep in forks), its
+/// sides at once where the node is big enough.
+fn grow_parallel<V: Vector, S: ForkingSplitter<V>>(
+    mut splitter: S,
+    bounds: Aabb<V>,
+    (begin, end): (usize, usize),
+    info: S::NodeInfo,
+    (depth, forks): (usize, usize),
+    max_leaf_size: usize,
+) -> Part<V>
+where
+    S::NodeInfo: Send,
+{
+    let sequential = |mut splitter: S, info| {
+        Part::Grown(grow_subtree(
+            &mut splitter,
+            bounds,
+            (begin, end),
+            info,
+            depth,
+            max_leaf_size,
+            &mut NoBuildObserver,
+        ))
+    };
+    if end - begin < 2 * PARALLEL_GRAIN || forks >= MAX_FORK_DEPTH {
+        return sequential(splitter, info);
+    }
+    let Ok(split) = splitter.split(begin, end, &bounds, &info) else {
+        // A leaf (the splitter keeps its reasons for the observed build).
+        return Part::Grown(vec![BvhNode {
+            bounds,
+            first: begin as u32,
+            count: (end - begin) as u32,
+        }]);
+    };
+    let (left, right) = splitter.fork(split.mid);
+    let next = (depth + 1, forks + 1);
+    let (left, right) = rayon::join(
+        || {
+            grow_parallel(
+                left,
+                split.left.0,
+                (begin, split.mid),
+                split.left.1,
+                next,
+                max_leaf_size,
+            )
+        },
+        || {
+            grow_parallel(
+                right,
+                split.right.0,
+                (split.mid, end),
+                split.right.1,
+                next,
+                max_leaf_size,
+            )
+        },
+    );
+    Part::Forked(bounds, Box::new([left, right]))
+}
+
+/// Writes `part`, whose root is already at `nodes[at]`, into `nodes`: its descendants
+/// appended in the sequential driver's order, interior nodes' `first` made absolute.
+fn lay_out<V: Vector>(part: Part<V>, at: usize, nodes: &mut Vec<BvhNode<V>>) {
+    match part {
+        Part::Grown(grown) => {
+            // The part's index k > 0 lands at base + k - 1.
+            let base = nodes.len();
+            let place = |node: BvhNode<V>| {
+                if node.is_leaf() {
+                    node
+                } else {
+                    BvhNode {
+                        first: (base + node.first as usize - 1) as u32,
+                        ..node
+                    }
+                }
+            };
+            let mut grown = grown.into_iter();
+            if let Some(root) = grown.next() {
+                nodes[at] = place(root);
+            }
+            nodes.extend(grown.map(place));
+        }
+        Part::Forked(bounds, sides) => {
+            let first = nodes.len();
+            nodes[at] = BvhNode {
+                bounds,
+                first: first as u32,
+                count: 0,
+            };
+            let [left, right] = *sides;
+            let placeholder = |part: &Part<V>| BvhNode {
+                bounds: match part {
+                    Part::Grown(grown) => grown[0].bounds,
+                    Part::Forked(bounds, _) => *bounds,
+                },
+                first: 0,
+                count: 0,
+            };
+            nodes.push(placeholder(&left));
+            nodes.push(placeholder(&right));
+            lay_out(left, first, nodes);
+            lay_out(right, first + 1, nodes);
+        }
     }
 }
 

@@ -9,7 +9,9 @@
 
 use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReason};
-use crate::bvh::build::{Builder, RangeSplitter, Split, build_top_down};
+use crate::bvh::build::{
+    Builder, ForkingSplitter, RangeSplitter, Split, build_top_down, build_top_down_parallel,
+};
 use crate::bvh::tree::Bvh;
 use crate::math::{Real, Vector};
 use crate::params::BuildParams;
@@ -50,7 +52,35 @@ impl<V: Vector> Bin<V> {
         self.centroid_bounds = self.centroid_bounds.grown(centroid);
         self.count += 1;
     }
+
+    /// Adds another bin's primitives (binned apart) to this one.
+    fn merge(&mut self, other: &Self) {
+        self.bounds = self.bounds.union(other.bounds);
+        self.centroid_bounds = self.centroid_bounds.union(other.centroid_bounds);
+        self.count += other.count;
+    }
 }
+
+/// Drops each primitive of `refs` into its bin of `bins` by its centroid's coordinate on
+/// `axis`, and notes the bin in `bin_of` (for the partition).
+#[inline(always)]
+fn bin_into<V: Vector>(
+    bins: &mut [Bin<V>],
+    refs: &[PrimitiveRef<V>],
+    bin_of: &mut [u16],
+    binning: &Binning<V::Scalar>,
+    axis: usize,
+) {
+    for (primitive, bin_of) in refs.iter().zip(bin_of) {
+        let centroid = primitive.bounds.center();
+        let index = binning.bin(centroid[axis]);
+        *bin_of = index as u16;
+        bins[index].add(primitive.bounds, centroid);
+    }
+}
+
+/// A node of at least this many primitives is binned in chunks on every thread.
+const PARALLEL_BINNING: usize = 32_768;
 
 /// The planes between bins, each with what lies left and right of it: `visit(plane,
 /// left_count, left_half_area, right_count, right_half_area)` for every plane `1..B` with
@@ -101,17 +131,42 @@ struct PrimitiveRef<V: Vector> {
     index: u32,
 }
 
-struct Splitter<V: Vector> {
-    refs: Vec<PrimitiveRef<V>>,
+/// The binned splitter over a part of the primitives' order: the whole of it, or (in a
+/// parallel build) the range of one subtree, `offset..offset + refs.len()`.
+struct Splitter<'a, V: Vector> {
+    refs: &'a mut [PrimitiveRef<V>],
+    /// The bin of each primitive of the node being split, by position in `refs`.
+    bin_of: &'a mut [u16],
+    /// Where `refs[0]` sits in the whole order (node ranges are given in it).
+    offset: usize,
     bin_count: usize,
     max_leaf_size: usize,
     cost: SahCost,
     /// The bins of the node being split.
     bins: Vec<Bin<V>>,
-    /// The bin of each primitive of the node being split, by position in `refs`.
-    bin_of: Vec<u16>,
     /// For each plane of the axis being costed: its right side's count and half area.
     right_sides: Vec<(u32, V::Scalar)>,
+}
+
+impl<'a, V: Vector> Splitter<'a, V> {
+    /// A splitter over the whole order (`refs` and its bins' scratch `bin_of`).
+    fn new(
+        refs: &'a mut [PrimitiveRef<V>],
+        bin_of: &'a mut [u16],
+        bin_count: usize,
+        params: &BuildParams,
+    ) -> Self {
+        Self {
+            refs,
+            bin_of,
+            offset: 0,
+            bin_count,
+            max_leaf_size: params.max_leaf_size.max(1),
+            cost: params.cost,
+            bins: vec![Bin::EMPTY(); bin_count],
+            right_sides: vec![(0, V::Scalar::ZERO); bin_count],
+        }
+    }
 }
 
 /// Maps centroid coordinates to bins along one axis.
@@ -151,7 +206,7 @@ impl<S: Real> Binning<S> {
     }
 }
 
-impl<V: Vector> RangeSplitter<V> for Splitter<V> {
+impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
     /// The box around the node's centroids: where the bins go.
     type NodeInfo = Aabb<V>;
 
@@ -172,6 +227,8 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
         centroid_bounds: &Aabb<V>,
     ) -> Result<Split<V, Aabb<V>>, LeafReason> {
         let count = end - begin;
+        // Positions in this part's storage.
+        let (begin, end) = (begin - self.offset, end - self.offset);
         if count <= self.max_leaf_size && self.cost.leaf_beats_any_split(count) {
             return Err(LeafReason::LeafCheaper {
                 leaf_cost: self.cost.leaf_cost(count),
@@ -193,7 +250,7 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
                     .fold(Aabb::empty(), |acc, r| acc.union(r.bounds))
             };
             return Ok(Split {
-                mid,
+                mid: mid + self.offset,
                 cost: None,
                 left: (half(&self.refs[begin..mid]), *centroid_bounds),
                 right: (half(&self.refs[mid..end]), *centroid_bounds),
@@ -201,14 +258,28 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
         };
         // Drop every centroid into its bin, remembering the bin for the partition.
         self.bins.fill(Bin::EMPTY());
-        for (primitive, bin_of) in self.refs[begin..end]
-            .iter()
-            .zip(&mut self.bin_of[begin..end])
-        {
-            let centroid = primitive.bounds.center();
-            let index = binning.bin(centroid[axis]);
-            *bin_of = index as u16;
-            self.bins[index].add(primitive.bounds, centroid);
+        let refs = &self.refs[begin..end];
+        let bin_of = &mut self.bin_of[begin..end];
+        if count < PARALLEL_BINNING {
+            bin_into(&mut self.bins, refs, bin_of, &binning, axis);
+        } else {
+            // The top nodes' binning in chunks on the current rayon pool, their bins merged:
+            // a bin's box, centroid box and count are the same in any grouping.
+            use rayon::prelude::*;
+            let chunks: Vec<Vec<Bin<V>>> = refs
+                .par_chunks(PARALLEL_BINNING / 4)
+                .zip(bin_of.par_chunks_mut(PARALLEL_BINNING / 4))
+                .map(|(refs, bin_of)| {
+                    let mut bins = vec![Bin::EMPTY(); bin_count];
+                    bin_into(&mut bins, refs, bin_of, &binning, axis);
+                    bins
+                })
+                .collect();
+            for chunk in &chunks {
+                for (bin, part) in self.bins.iter_mut().zip(chunk) {
+                    bin.merge(part);
+                }
+            }
         }
         // Cost each plane between bins by A_L·N_L + A_R·N_R, all that varies within a node.
         let mut best: Option<(V::Scalar, usize)> = None; // (weighted, plane)
@@ -276,7 +347,7 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
             )
         };
         Ok(Split {
-            mid: begin + left_end,
+            mid: self.offset + begin + left_end,
             cost: Some(best_cost),
             left: side(&self.bins[..plane]),
             right: side(&self.bins[plane..]),
@@ -288,40 +359,99 @@ impl<V: Vector> RangeSplitter<V> for Splitter<V> {
     }
 }
 
+impl<V: Vector> ForkingSplitter<V> for Splitter<'_, V> {
+    fn fork(self, mid: usize) -> (Self, Self) {
+        let Splitter {
+            refs,
+            bin_of,
+            offset,
+            bin_count,
+            max_leaf_size,
+            cost,
+            bins,
+            right_sides,
+        } = self;
+        let (left_refs, right_refs) = refs.split_at_mut(mid - offset);
+        let (left_bins, right_bins) = bin_of.split_at_mut(mid - offset);
+        let part = |refs, bin_of, offset, bins, right_sides| Splitter {
+            refs,
+            bin_of,
+            offset,
+            bin_count,
+            max_leaf_size,
+            cost,
+            bins,
+            right_sides,
+        };
+        (
+            part(left_refs, left_bins, offset, bins, right_sides),
+            part(
+                right_refs,
+                right_bins,
+                mid,
+                vec![Bin::EMPTY(); bin_count],
+                vec![(0, V::Scalar::ZERO); bin_count],
+            ),
+        )
+    }
+}
+
+/// Each primitive's box with its number, in input order: the binned builder's working order.
+/// On the current rayon pool, in order.
+fn primitive_refs<V: Vector>(primitive_bounds: &[Aabb<V>]) -> Vec<PrimitiveRef<V>> {
+    use rayon::prelude::*;
+    primitive_bounds
+        .par_iter()
+        .with_min_len(PARALLEL_BINNING / 4)
+        .enumerate()
+        .map(|(index, &bounds)| PrimitiveRef {
+            bounds,
+            index: index as u32,
+        })
+        .collect()
+}
+
+/// The primitives' numbers in the order the build left them (on the current rayon pool).
+fn order_of<V: Vector>(refs: &[PrimitiveRef<V>]) -> Vec<u32> {
+    use rayon::prelude::*;
+    refs.par_iter()
+        .with_min_len(PARALLEL_BINNING / 4)
+        .map(|r| r.index)
+        .collect()
+}
+
 impl Builder for BinnedSah {
     fn name(&self) -> String {
         format!("sah-binned:{}", self.bins)
     }
 
+    /// Unobserved, on every thread of the current rayon pool ([`build_top_down_parallel`]:
+    /// the same tree on any number of threads); observed, one node after another, in the
+    /// order the observer hears them.
     fn build_observed<V: Vector, O: BuildObserver>(
         &self,
         primitive_bounds: &[Aabb<V>],
         params: &BuildParams,
         observer: &mut O,
     ) -> Bvh<V> {
-        // Bin indices are kept in 16 bits.
-        let bin_count = self.bins.clamp(2, u16::MAX as usize);
-        let splitter = Splitter {
-            refs: primitive_bounds
-                .iter()
-                .enumerate()
-                .map(|(index, &bounds)| PrimitiveRef {
-                    bounds,
-                    index: index as u32,
-                })
-                .collect(),
-            bin_count,
-            max_leaf_size: params.max_leaf_size.max(1),
-            cost: params.cost,
-            bins: vec![Bin::EMPTY(); bin_count],
-            bin_of: vec![0; primitive_bounds.len()],
-            right_sides: vec![(0, V::Scalar::ZERO); bin_count],
-        };
-        build_top_down(
-            splitter,
-            primitive_bounds.len(),
-            params.max_leaf_size.max(1),
-            observer,
-        )
+        let mut refs = primitive_refs(primitive_bounds);
+        let mut bin_of = vec![0; primitive_bounds.len()];
+        let splitter = Splitter::new(&mut refs, &mut bin_of, self.bin_count(), params);
+        let max_leaf_size = params.max_leaf_size.max(1);
+        if O::ACTIVE {
+            return build_top_down(splitter, primitive_bounds.len(), max_leaf_size, observer);
+        }
+        let nodes = build_top_down_parallel(splitter, primitive_bounds.len(), max_leaf_size);
+        Bvh {
+            nodes,
+            primitive_indices: order_of(&refs),
+        }
+    }
+}
+
+impl BinnedSah {
+    /// The bins per axis used: bin indices are kept in 16 bits.
+    fn bin_count(&self) -> usize {
+        self.bins.clamp(2, u16::MAX as usize)
     }
 }

@@ -57,6 +57,188 @@ fn subtree_ranges<V: Vector>(binary: &Bvh<V>) -> Vec<(u32, u32)> {
     ranges
 }
 
+/// The dynamic programme's answers for one binary node: the cheapest way to fill at most
+/// `i` slots (`costs[i - 1]`, `choices[i - 1]`), and how a wide node standing for it splits
+/// its `W` slots between its children.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Row<const W: usize> {
+    costs: [f64; W],
+    choices: [Choice; W],
+    node_split: u8,
+}
+
+impl<const W: usize> Row<W> {
+    const UNSOLVED: Self = Self {
+        costs: [f64::INFINITY; W],
+        choices: [Choice::Fewer; W],
+        node_split: 0,
+    };
+
+    /// The row of binary node `node` over `count` primitives, from its children's rows (a
+    /// leaf has none).
+    fn of<V: Vector>(
+        node: &crate::bvh::BvhNode<V>,
+        count: usize,
+        children: Option<[&Row<W>; 2]>,
+        cost: &SahCost,
+    ) -> Self {
+        let area = node.bounds.area().to_f64();
+        let Some([left, right]) = children else {
+            return Self {
+                costs: [area * cost.leaf_cost(count); W],
+                choices: [Choice::Leaf; W],
+                node_split: 0,
+            };
+        };
+        // The best split of i slots between the two children, for each i.
+        let distribute = |slots: usize| -> (f64, u8) {
+            (1..slots)
+                .map(|k| (left.costs[k - 1] + right.costs[slots - k - 1], k as u8))
+                .fold((f64::INFINITY, 0), |best, next| {
+                    if next.0 < best.0 { next } else { best }
+                })
+        };
+        let (children_cost, node_split) = distribute(W);
+        let as_node = area * cost.traversal_cost + children_cost;
+        let as_leaf = if count <= LEAF_BLOCK {
+            area * cost.leaf_cost(count)
+        } else {
+            f64::INFINITY
+        };
+        let mut row = Self {
+            node_split,
+            ..Self::UNSOLVED
+        };
+        (row.costs[0], row.choices[0]) = if as_leaf <= as_node {
+            (as_leaf, Choice::Leaf)
+        } else {
+            (as_node, Choice::Node)
+        };
+        for slots in 2..=W {
+            let (split_cost, k) = distribute(slots);
+            (row.costs[slots - 1], row.choices[slots - 1]) = if split_cost < row.costs[slots - 2] {
+                (split_cost, Choice::Distribute(k))
+            } else {
+                (row.costs[slots - 2], Choice::Fewer)
+            };
+        }
+        row
+    }
+}
+
+/// A block of at least this many binary nodes has its two halves solved at once.
+const PARALLEL_GRAIN: usize = 4096;
+
+/// Blocks nest at most this deep in parallel (a lopsided tree's blocks would otherwise
+/// deepen the call stack a frame a level); deeper, a block is solved in one loop.
+const MAX_FORK_DEPTH: usize = 32;
+
+/// Every node's [`Row`], children before parents. A tree laid out as the top-down builders
+/// lay it out (a node's children side by side, then the left child's subtree, then the
+/// right's) is cut into the blocks of its subtrees, and the two halves of a big block are
+/// solved at once on the current rayon pool: each node's row depends on its children's
+/// alone, so the rows are the same on any number of threads. Any other layout is solved in
+/// one loop.
+fn solve<V: Vector, const W: usize>(
+    binary: &Bvh<V>,
+    ranges: &[(u32, u32)],
+    cost: &SahCost,
+) -> Vec<Row<W>> {
+    let nodes = &binary.nodes;
+    let mut rows = vec![Row::<W>::UNSOLVED; nodes.len()];
+    // How many nodes lie below each node (its descendants), and whether every subtree
+    // occupies one block after its node's children.
+    let mut below = vec![0usize; nodes.len()];
+    let mut in_blocks = true;
+    for index in (0..nodes.len()).rev() {
+        let node = &nodes[index];
+        if node.is_leaf() {
+            continue;
+        }
+        let [left, right] = node.children().map(|child| child as usize);
+        below[index] = 2 + below[left] + below[right];
+        let left_first = left + 2;
+        let right_first = left + 2 + below[left];
+        in_blocks &= (nodes[left].is_leaf() || nodes[left].first as usize == left_first)
+            && (nodes[right].is_leaf() || nodes[right].first as usize == right_first);
+    }
+    in_blocks &= nodes[0].is_leaf() || nodes[0].first == 1;
+    let (root, rest) = rows.split_at_mut(1);
+    if in_blocks && !nodes[0].is_leaf() {
+        let blocks = Blocks {
+            binary,
+            ranges,
+            below: &below,
+            cost,
+        };
+        blocks.solve(1, rest, 0);
+    } else {
+        solve_in_order(binary, ranges, cost, 1, rest);
+    }
+    let children = (!nodes[0].is_leaf()).then(|| [&rest[0], &rest[1]]);
+    root[0] = Row::of(&nodes[0], ranges[0].1 as usize, children, cost);
+    rows
+}
+
+/// Solves the nodes `first..first + rows.len()` (into `rows`), every one of whose children
+/// lies among them, from the last to the first.
+fn solve_in_order<V: Vector, const W: usize>(
+    binary: &Bvh<V>,
+    ranges: &[(u32, u32)],
+    cost: &SahCost,
+    first: usize,
+    rows: &mut [Row<W>],
+) {
+    for index in (first..first + rows.len()).rev() {
+        let node = &binary.nodes[index];
+        let children =
+            (!node.is_leaf()).then(|| node.children().map(|child| &rows[child as usize - first]));
+        let row = Row::of(node, ranges[index].1 as usize, children, cost);
+        rows[index - first] = row;
+    }
+}
+
+/// The tree cut into the blocks of its subtrees, for [`solve`].
+struct Blocks<'a, V: Vector> {
+    binary: &'a Bvh<V>,
+    ranges: &'a [(u32, u32)],
+    below: &'a [usize],
+    cost: &'a SahCost,
+}
+
+impl<V: Vector> Blocks<'_, V> {
+    /// Solves the block of a node whose children are `first` and `first + 1`: the two
+    /// children, then the left one's descendants, then the right one's (`rows`).
+    fn solve<const W: usize>(&self, first: usize, rows: &mut [Row<W>], forks: usize) {
+        if rows.len() < 2 * PARALLEL_GRAIN || forks >= MAX_FORK_DEPTH {
+            solve_in_order(self.binary, self.ranges, self.cost, first, rows);
+            return;
+        }
+        let (pair, below) = rows.split_at_mut(2);
+        let (left_below, right_below) = below.split_at_mut(self.below[first]);
+        let nodes = &self.binary.nodes;
+        let descend = |child: usize, rows: &mut [Row<W>]| {
+            if !nodes[child].is_leaf() {
+                self.solve(nodes[child].first as usize, rows, forks + 1);
+            }
+        };
+        rayon::join(
+            || descend(first, left_below),
+            || descend(first + 1, right_below),
+        );
+        for (slot, below) in [(0, &*left_below), (1, &*right_below)] {
+            let node = &nodes[first + slot];
+            let children = (!node.is_leaf()).then(|| [&below[0], &below[1]]);
+            pair[slot] = Row::of(
+                node,
+                self.ranges[first + slot].1 as usize,
+                children,
+                self.cost,
+            );
+        }
+    }
+}
+
 /// Collapses `binary` into a BVH of `W` children per node (`2 <= W <= 16`), with the
 /// SAH-optimal choice of which binary nodes to keep (see the module docs). The wide tree keeps
 /// the binary one.
@@ -72,56 +254,7 @@ pub fn collapse<V: Vector, const W: usize>(binary: Bvh<V>, cost: &SahCost) -> Wi
         };
     }
     let ranges = subtree_ranges(&binary);
-    let node_count = binary.nodes.len();
-    // costs[n][i - 1] and choices[n][i - 1]: the cheapest way to fill at most i slots.
-    let mut costs = vec![[f64::INFINITY; W]; node_count];
-    let mut choices = vec![[Choice::Fewer; W]; node_count];
-    // How a wide node standing for n splits its W slots between n's children.
-    let mut node_splits = vec![0u8; node_count];
-    for index in (0..node_count).rev() {
-        let node = &binary.nodes[index];
-        let area = node.bounds.area().to_f64();
-        let count = ranges[index].1 as usize;
-        if node.is_leaf() {
-            costs[index] = [area * cost.leaf_cost(count); W];
-            choices[index] = [Choice::Leaf; W];
-            continue;
-        }
-        let [left, right] = node.children().map(|child| child as usize);
-        // The best split of i slots between the two children, for each i.
-        let distribute = |slots: usize| -> (f64, u8) {
-            (1..slots)
-                .map(|k| (costs[left][k - 1] + costs[right][slots - k - 1], k as u8))
-                .fold((f64::INFINITY, 0), |best, next| {
-                    if next.0 < best.0 { next } else { best }
-                })
-        };
-        let (children_cost, node_split) = distribute(W);
-        node_splits[index] = node_split;
-        let as_node = area * cost.traversal_cost + children_cost;
-        let as_leaf = if count <= LEAF_BLOCK {
-            area * cost.leaf_cost(count)
-        } else {
-            f64::INFINITY
-        };
-        let mut row_costs = [f64::INFINITY; W];
-        let mut row_choices = [Choice::Fewer; W];
-        (row_costs[0], row_choices[0]) = if as_leaf <= as_node {
-            (as_leaf, Choice::Leaf)
-        } else {
-            (as_node, Choice::Node)
-        };
-        for slots in 2..=W {
-            let (split_cost, k) = distribute(slots);
-            (row_costs[slots - 1], row_choices[slots - 1]) = if split_cost < row_costs[slots - 2] {
-                (split_cost, Choice::Distribute(k))
-            } else {
-                (row_costs[slots - 2], Choice::Fewer)
-            };
-        }
-        costs[index] = row_costs;
-        choices[index] = row_choices;
-    }
+    let rows = solve::<V, W>(&binary, &ranges, cost);
 
     let mut wide = WideBvh {
         nodes: vec![WideNode::default()],
@@ -139,9 +272,9 @@ pub fn collapse<V: Vector, const W: usize>(binary: Bvh<V>, cost: &SahCost) -> Wi
             subtrees.push(source);
         } else {
             let [left, right] = binary.nodes[source as usize].children();
-            let k = node_splits[source as usize] as usize;
-            slot_subtrees(&binary, &choices, left, k, &mut subtrees);
-            slot_subtrees(&binary, &choices, right, W - k, &mut subtrees);
+            let k = rows[source as usize].node_split as usize;
+            slot_subtrees(&binary, &rows, left, k, &mut subtrees);
+            slot_subtrees(&binary, &rows, right, W - k, &mut subtrees);
         }
         // Wide children are allocated side by side, then filled (depth first).
         let mut node = WideNode::<V::Scalar, W>::default();
@@ -153,7 +286,7 @@ pub fn collapse<V: Vector, const W: usize>(binary: Bvh<V>, cost: &SahCost) -> Wi
                 node.planes[UPPER][axis][slot] = bounds.max[axis];
             }
             let is_leaf = binary.nodes[subtree as usize].is_leaf()
-                || choices[subtree as usize][0] == Choice::Leaf;
+                || rows[subtree as usize].choices[0] == Choice::Leaf;
             if is_leaf {
                 let (first, count) = ranges[subtree as usize];
                 node.child[slot] = wide.primitive_indices.len() as u32;
@@ -191,18 +324,18 @@ pub fn collapse<V: Vector, const W: usize>(binary: Bvh<V>, cost: &SahCost) -> Wi
 /// `node`, by the choices made for it, in binary (left to right) order.
 fn slot_subtrees<V: Vector, const W: usize>(
     binary: &Bvh<V>,
-    choices: &[[Choice; W]],
+    rows: &[Row<W>],
     node: u32,
     slots: usize,
     out: &mut Vec<u32>,
 ) {
-    match choices[node as usize][slots - 1] {
+    match rows[node as usize].choices[slots - 1] {
         Choice::Leaf | Choice::Node => out.push(node),
-        Choice::Fewer => slot_subtrees(binary, choices, node, slots - 1, out),
+        Choice::Fewer => slot_subtrees(binary, rows, node, slots - 1, out),
         Choice::Distribute(k) => {
             let [left, right] = binary.nodes[node as usize].children();
-            slot_subtrees(binary, choices, left, k as usize, out);
-            slot_subtrees(binary, choices, right, slots - k as usize, out);
+            slot_subtrees(binary, rows, left, k as usize, out);
+            slot_subtrees(binary, rows, right, slots - k as usize, out);
         }
     }
 }
@@ -334,6 +467,28 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The programme solved by blocks of subtrees, on two threads, gives every node the row
+    /// one loop over the nodes gives.
+    #[test]
+    fn solving_by_blocks_gives_the_rows_of_one_loop() {
+        let bounds = boxes(120_000, 11);
+        let binary = BinnedSah { bins: 16 }.build(&bounds, &BuildParams::default());
+        assert!(
+            binary.nodes.len() > 4 * PARALLEL_GRAIN,
+            "big enough to fork"
+        );
+        let ranges = subtree_ranges(&binary);
+        let cost = SahCost::default();
+        // Two threads where there are threads (WebAssembly has none: the blocks one by one).
+        let by_blocks = match rayon::ThreadPoolBuilder::new().num_threads(2).build() {
+            Ok(pool) => pool.install(|| solve::<DVec3, 8>(&binary, &ranges, &cost)),
+            Err(_) => solve::<DVec3, 8>(&binary, &ranges, &cost),
+        };
+        let mut in_order = vec![Row::<8>::UNSOLVED; binary.nodes.len()];
+        solve_in_order(&binary, &ranges, &cost, 0, &mut in_order);
+        assert!(by_blocks == in_order);
     }
 
     #[test]

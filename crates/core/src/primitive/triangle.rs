@@ -5,6 +5,10 @@ use crate::math::{Real, Vector3};
 use crate::primitive::{HitTest, PrimitiveSet};
 use crate::ray::Ray;
 
+/// Copies of at least this many triangles are split between the threads of the current rayon
+/// pool (a leaf-ordered copy of a big mesh, its blocks of four).
+const PARALLEL_COPY_GRAIN: usize = 8192;
+
 /// A triangle mesh as a flat list of triangles, numbered in order.
 ///
 /// A degenerate (zero-area) triangle keeps its number and its box but is stored collapsed to
@@ -266,8 +270,11 @@ impl<S: Real> TriangleBlock<S> {
     /// Packs triangles (in slot order) four to a block; a short last block repeats its last
     /// triangle.
     pub fn pack<V: Vector3<Scalar = S>>(triangles: &[[V; 3]]) -> Vec<Self> {
+        use rayon::prelude::*;
+        // On the current rayon pool, in order (a copy: the same blocks on any threads).
         triangles
-            .chunks(4)
+            .par_chunks(4)
+            .with_min_len(PARALLEL_COPY_GRAIN / 4)
             .map(|chunk| {
                 let mut block = Self::default();
                 for lane in 0..4 {
@@ -432,9 +439,12 @@ impl<V: Vector3> PrimitiveSet<V> for TriangleSet<V> {
     }
 
     fn permuted(&self, order: &[u32]) -> Self {
+        use rayon::prelude::*;
         Self {
+            // On the current rayon pool, in order (a copy: the same on any threads).
             triangles: order
-                .iter()
+                .par_iter()
+                .with_min_len(PARALLEL_COPY_GRAIN)
                 .map(|&index| self.triangles[index as usize])
                 .collect(),
             degenerate_count: self.degenerate_count,

@@ -11,4 +11,5 @@ mod kd_budget;
 mod kd_cases;
 mod observer_steps;
 mod octree_order;
+mod parallel_build;
 mod slab_extremes;
