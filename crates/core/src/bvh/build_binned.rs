@@ -425,7 +425,7 @@ impl Builder for BinnedSah {
         format!("sah-binned:{}", self.bins)
     }
 
-    /// Unobserved, on every thread of the current rayon pool ([`build_top_down_parallel`]:
+    /// Unobserved, on every thread of the current rayon pool (`build_top_down_parallel`:
     /// the same tree on any number of threads); observed, one node after another, in the
     /// order the observer hears them.
     fn build_observed<V: Vector, O: BuildObserver>(
