@@ -412,19 +412,28 @@ fn measure<V: Vector3>(
         .iter()
         .map(|&count| rayon::ThreadPoolBuilder::new().num_threads(count).build())
         .collect::<Result<Vec<_>, _>>()?;
-    // The builds after the first are dropped after the timing, not in it (as a peer's scene
-    // outlives its build's timing).
+    // Each build timed alone, and again until a sample has built for `MIN_SAMPLE_MS`; the
+    // builds after the first are dropped outside the timing (as a peer's scene outlives its
+    // build's), in the rounds' interleaved order.
+    let configurations = specs.len() * pools.len();
     let mut accels: Vec<Option<Accel<V, TriangleSet<V>>>> = specs.iter().map(|_| None).collect();
-    let mut spares = Vec::new();
-    let builds = interleaved(rounds, specs.len() * pools.len(), |index| {
-        let (spec, pool) = (index / pools.len(), index % pools.len());
-        let (accel, _) = pools[pool].install(|| specs[spec].build(&triangles, params));
-        match &accels[spec] {
-            None => accels[spec] = Some(accel),
-            Some(_) => spares.push(accel),
+    let mut builds = vec![Samples::default(); configurations];
+    for round in 0..rounds {
+        for step in 0..configurations {
+            let index = accelviz_core::trade::interleaved_index(round, step, configurations);
+            let (spec, pool) = (index / pools.len(), index % pools.len());
+            let (mut built_ms, mut runs) = (0.0, 0u32);
+            while runs == 0 || built_ms < accelviz_core::trade::MIN_SAMPLE_MS {
+                let (accel, ms) = pools[pool].install(|| specs[spec].build(&triangles, params));
+                built_ms += ms;
+                runs += 1;
+                if accels[spec].is_none() {
+                    accels[spec] = Some(accel);
+                }
+            }
+            builds[index].push(built_ms / f64::from(runs));
         }
-    });
-    drop(spares);
+    }
     let accels: Vec<_> = accels.into_iter().flatten().collect();
     // Trace with every combination once per round.
     let mut configurations = Vec::new();

@@ -5,9 +5,7 @@
 use std::sync::Arc;
 
 use accelviz_core::format::{count, number};
-use accelviz_core::{
-    Counters, PrimitiveSet, Ray, ShapeSet, SplitRule, Structure, TraceOptions, TraversalStacks,
-};
+use accelviz_core::{PrimitiveSet, Ray, ShapeSet, SplitRule, Structure, TraceOptions};
 use accelviz_scene::document::SceneSettings;
 use accelviz_scene::scene2d::{Layout, generate};
 use egui::Color32;
@@ -21,7 +19,7 @@ use crate::lesson::Lesson;
 use crate::lesson_file::LessonText;
 use crate::stage::{SceneTree, Stage, request_over_shapes};
 use crate::trace::{Trace, describe_step};
-use crate::views::compare::measured_rays;
+use crate::views::compare::{count_rays, measured_rays};
 use crate::views::scene_view::{
     building_note, draw_ray, draw_tested_shapes, narrow_x_axis, powers_of_ten, t_hint_ui,
 };
@@ -49,17 +47,7 @@ struct CurrentScene {
 
 /// Box and primitive tests per ray through `tree`, over `rays`.
 fn bvh_tests_per_ray(tree: &SceneTree, rays: &[Ray<DVec2>]) -> f64 {
-    let mut counters = Counters::default();
-    let mut stacks = TraversalStacks::default();
-    for ray in rays {
-        tree.built.tree.trace(
-            tree.shapes.as_ref(),
-            ray,
-            &TraceOptions::default(),
-            &mut stacks,
-            &mut counters,
-        );
-    }
+    let counters = count_rays(tree, rays, &TraceOptions::default());
     (counters.box_tests + counters.primitive_tests) as f64 / rays.len().max(1) as f64
 }
 

@@ -256,27 +256,143 @@ pub fn collapse<V: Vector, const W: usize>(binary: Bvh<V>, cost: &SahCost) -> Wi
     let ranges = subtree_ranges(&binary);
     let rows = solve::<V, W>(&binary, &ranges, cost);
 
-    let mut wide = WideBvh {
-        nodes: vec![WideNode::default()],
-        primitive_indices: Vec::with_capacity(binary.primitive_indices.len() * 2),
-        node_sources: vec![0],
-        leaf_sources: Vec::new(),
-        binary: Bvh::default(),
+    let plan = Plan {
+        binary: &binary,
+        ranges: &ranges,
+        rows: &rows,
     };
     // The root is a wide node even when the binary root would rather be a leaf.
-    let mut pending = vec![(0usize, 0u32)];
-    let mut subtrees = Vec::with_capacity(W);
-    while let Some((wide_index, source)) = pending.pop() {
+    let layout = plan.part(0, 0);
+    WideBvh {
+        nodes: layout.nodes,
+        primitive_indices: layout.primitive_indices,
+        node_sources: layout.node_sources,
+        leaf_sources: layout.leaf_sources,
+        binary,
+    }
+}
+
+/// A wide tree being laid out, or a part of one: a wide subtree laid out on its own, its node
+/// 0 standing for its top and its primitive slots counted from 0.
+struct Layout<S: Real, const W: usize> {
+    nodes: Vec<WideNode<S, W>>,
+    primitive_indices: Vec<u32>,
+    node_sources: Vec<u32>,
+    leaf_sources: Vec<u32>,
+}
+
+impl<S: Real, const W: usize> Layout<S, W> {
+    /// A layout whose node 0, not yet filled, stands for binary node `source` over `count`
+    /// primitives.
+    fn rooted(source: u32, count: usize) -> Self {
+        Self {
+            nodes: vec![WideNode::default()],
+            // Leaves padded to blocks of four take at most twice the slots.
+            primitive_indices: Vec::with_capacity(2 * count),
+            node_sources: vec![source],
+            leaf_sources: Vec::new(),
+        }
+    }
+
+    /// Puts `part` here, its node 0 at `at` (allocated, with its source, by its parent), the
+    /// rest after everything laid out so far: where one layout, depth first, would have put
+    /// it when it came to `at`.
+    fn append(&mut self, at: usize, part: Self) {
+        let node_base = self.nodes.len();
+        let slot_base = self.primitive_indices.len() as u32;
+        let place = |mut node: WideNode<S, W>| {
+            for (child, &count) in node.child.iter_mut().zip(&node.count) {
+                if *child == EMPTY_SLOT {
+                    continue;
+                }
+                *child = if count > 0 {
+                    *child + slot_base
+                } else {
+                    // A part's node k > 0 lands at node_base + k - 1.
+                    (node_base + *child as usize - 1) as u32
+                };
+            }
+            node
+        };
+        let mut nodes = part.nodes.into_iter();
+        if let Some(top) = nodes.next() {
+            self.nodes[at] = place(top);
+        }
+        self.nodes.extend(nodes.map(place));
+        self.primitive_indices.extend(part.primitive_indices);
+        self.node_sources.extend(&part.node_sources[1..]);
+        self.leaf_sources.extend(part.leaf_sources);
+    }
+}
+
+/// A subtree of at least this many primitives has its wide children's subtrees laid out at
+/// once.
+const PARALLEL_LAYOUT_GRAIN: usize = 8192;
+
+/// What the layout reads: the binary tree, its subtrees' primitive ranges, the programme's
+/// choices.
+struct Plan<'a, V: Vector, const W: usize> {
+    binary: &'a Bvh<V>,
+    ranges: &'a [(u32, u32)],
+    rows: &'a [Row<W>],
+}
+
+impl<V: Vector, const W: usize> Plan<'_, V, W> {
+    /// The wide subtree standing for binary node `source`: laid out depth first, wide
+    /// children side by side, each then filled; a big one's children's subtrees at once on
+    /// the current rayon pool, as parts put in their places in order, so the tree is the one
+    /// a single loop lays out, on any number of threads.
+    fn part(&self, source: u32, forks: usize) -> Layout<V::Scalar, W> {
+        let count = self.ranges[source as usize].1 as usize;
+        let mut layout = Layout::rooted(source, count);
+        if count < PARALLEL_LAYOUT_GRAIN || forks >= MAX_FORK_DEPTH {
+            self.grow(&mut layout, source);
+            return layout;
+        }
+        let children = self.emit(&mut layout, 0, source, &mut Vec::with_capacity(W));
+        use rayon::prelude::*;
+        let parts: Vec<Layout<V::Scalar, W>> = children
+            .par_iter()
+            .map(|&(_, child)| self.part(child, forks + 1))
+            .collect();
+        for (&(at, _), part) in children.iter().zip(parts) {
+            layout.append(at, part);
+        }
+        layout
+    }
+
+    /// Lays out the whole wide subtree under `layout`'s node 0 (standing for `source`), one
+    /// node after another.
+    fn grow(&self, layout: &mut Layout<V::Scalar, W>, source: u32) {
+        let mut pending = vec![(0usize, source)];
+        let mut subtrees = Vec::with_capacity(W);
+        while let Some((wide_index, source)) = pending.pop() {
+            let children = self.emit(layout, wide_index, source, &mut subtrees);
+            // Reversed, so the first child's subtree is laid out first.
+            pending.extend(children.into_iter().rev());
+        }
+    }
+
+    /// Fills wide node `wide_index`, standing for binary node `source`: each slot's box, its
+    /// leaves' primitives (padded to blocks); allocates its wide children side by side and
+    /// returns them (index, binary node) in slot order. `subtrees` is scratch.
+    fn emit(
+        &self,
+        layout: &mut Layout<V::Scalar, W>,
+        wide_index: usize,
+        source: u32,
+        subtrees: &mut Vec<u32>,
+    ) -> Vec<(usize, u32)> {
+        let (binary, rows, ranges) = (self.binary, self.rows, self.ranges);
         subtrees.clear();
         if binary.nodes[source as usize].is_leaf() {
             subtrees.push(source);
         } else {
             let [left, right] = binary.nodes[source as usize].children();
             let k = rows[source as usize].node_split as usize;
-            slot_subtrees(&binary, &rows, left, k, &mut subtrees);
-            slot_subtrees(&binary, &rows, right, W - k, &mut subtrees);
+            slot_subtrees(binary, rows, left, k, subtrees);
+            slot_subtrees(binary, rows, right, W - k, subtrees);
         }
-        // Wide children are allocated side by side, then filled (depth first).
         let mut node = WideNode::<V::Scalar, W>::default();
         let mut children = Vec::new();
         for (slot, &subtree) in subtrees.iter().enumerate() {
@@ -289,35 +405,35 @@ pub fn collapse<V: Vector, const W: usize>(binary: Bvh<V>, cost: &SahCost) -> Wi
                 || rows[subtree as usize].choices[0] == Choice::Leaf;
             if is_leaf {
                 let (first, count) = ranges[subtree as usize];
-                node.child[slot] = wide.primitive_indices.len() as u32;
+                node.child[slot] = layout.primitive_indices.len() as u32;
                 node.count[slot] = count;
                 let primitives = &binary.primitive_indices[first as usize..][..count as usize];
-                wide.primitive_indices.extend_from_slice(primitives);
+                layout.primitive_indices.extend_from_slice(primitives);
                 let blocks = (count as usize).div_ceil(LEAF_BLOCK);
                 let last = primitives[primitives.len() - 1];
-                wide.primitive_indices
+                layout
+                    .primitive_indices
                     .resize(blocks * LEAF_BLOCK + node.child[slot] as usize, last);
-                wide.leaf_sources.push(subtree);
-                wide.leaf_sources
+                layout.leaf_sources.push(subtree);
+                layout
+                    .leaf_sources
                     .extend(std::iter::repeat_n(EMPTY_SLOT, blocks - 1));
             } else {
-                let child_index = wide.nodes.len() + children.len();
+                let child_index = layout.nodes.len() + children.len();
                 node.child[slot] = child_index as u32;
                 children.push((child_index, subtree));
             }
         }
-        wide.nodes[wide_index] = node;
-        wide.nodes
-            .resize(wide.nodes.len() + children.len(), WideNode::default());
+        layout.nodes[wide_index] = node;
+        layout
+            .nodes
+            .resize(layout.nodes.len() + children.len(), WideNode::default());
         for &(child_index, subtree) in &children {
-            wide.node_sources.push(subtree);
-            debug_assert_eq!(wide.node_sources.len(), child_index + 1);
+            layout.node_sources.push(subtree);
+            debug_assert_eq!(layout.node_sources.len(), child_index + 1);
         }
-        // Reversed, so the first child's subtree is laid out first.
-        pending.extend(children.into_iter().rev());
+        children
     }
-    wide.binary = binary;
-    wide
 }
 
 /// The binary subtrees that fill at most `slots` slots of a wide node for the subtree of
@@ -489,6 +605,35 @@ mod tests {
         let mut in_order = vec![Row::<8>::UNSOLVED; binary.nodes.len()];
         solve_in_order(&binary, &ranges, &cost, 0, &mut in_order);
         assert!(by_blocks == in_order);
+    }
+
+    /// The layout by parts, on two threads, puts every node, slot and source where one loop
+    /// puts them.
+    #[test]
+    fn laying_out_by_parts_gives_the_layout_of_one_loop() {
+        let bounds = boxes(120_000, 5);
+        let binary = BinnedSah { bins: 16 }.build(&bounds, &BuildParams::default());
+        let ranges = subtree_ranges(&binary);
+        let rows = solve::<DVec3, 8>(&binary, &ranges, &SahCost::default());
+        let plan = Plan {
+            binary: &binary,
+            ranges: &ranges,
+            rows: &rows,
+        };
+        assert!(
+            ranges[0].1 as usize > 4 * PARALLEL_LAYOUT_GRAIN,
+            "big enough to fork"
+        );
+        let by_parts = match rayon::ThreadPoolBuilder::new().num_threads(2).build() {
+            Ok(pool) => pool.install(|| plan.part(0, 0)),
+            Err(_) => plan.part(0, 0),
+        };
+        let mut one_loop = Layout::rooted(0, binary.primitive_indices.len());
+        plan.grow(&mut one_loop, 0);
+        assert!(by_parts.nodes == one_loop.nodes);
+        assert_eq!(by_parts.primitive_indices, one_loop.primitive_indices);
+        assert_eq!(by_parts.node_sources, one_loop.node_sources);
+        assert_eq!(by_parts.leaf_sources, one_loop.leaf_sources);
     }
 
     #[test]

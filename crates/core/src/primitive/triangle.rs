@@ -423,6 +423,16 @@ impl<V: Vector3> PrimitiveSet<V> for TriangleSet<V> {
         Aabb::from_points(self.triangles[index])
     }
 
+    /// On the current rayon pool, in order.
+    fn all_bounds(&self) -> Vec<Aabb<V>> {
+        use rayon::prelude::*;
+        self.triangles
+            .par_iter()
+            .with_min_len(PARALLEL_COPY_GRAIN)
+            .map(|&corners| Aabb::from_points(corners))
+            .collect()
+    }
+
     // Inlined, so that a traversal's ray state is written in place (a copy of the prepared
     // ray right after it was written stalls on store forwarding).
     #[inline(always)]

@@ -1,13 +1,13 @@
 //! The binned SAH builder on several threads gives the tree it gives on one, and the one its
 //! observed (sequential) build gives: node for node, in the same order, over the same
-//! primitive order. Inputs large enough to fork many times: a scanned mesh, a cloud of boxes,
-//! and the degenerate ones (every box the same, sizes growing geometrically, which splits
-//! lopsidedly at every level).
+//! primitive order; and so does the whole 8-wide build, its collapse and leaf-ordered copy.
+//! Inputs large enough to fork many times: a scanned mesh, a cloud of boxes, and the
+//! degenerate ones (every box the same, sizes growing geometrically, which splits lopsidedly
+//! at every level).
 
-use accelviz_core::Aabb;
-use accelviz_core::BuildObserver;
 use accelviz_core::bvh::{BinnedSah, Builder, Bvh};
 use accelviz_core::params::BuildParams;
+use accelviz_core::{Aabb, BuildObserver, LeafPrimitives, PrimitiveSet};
 use glam::{DVec3, Vec3};
 
 /// An observer that hears nothing but is there: the builder then builds one node after
@@ -79,6 +79,26 @@ fn the_parallel_binned_build_gives_the_sequential_tree() {
         })
         .collect();
     assert_same_tree_on_any_threads("bunny", &triangles);
+    // The whole 8-wide build (boxes, binary build, collapse, leaf-ordered copy in blocks) on
+    // one thread and on two.
+    let set = accelviz_core::TriangleSet::<Vec3>::from_f64(&bunny.triangles);
+    let structure = accelviz_core::Structure::parse("bvh8:sah-binned").expect("a structure");
+    let build = || {
+        let tree = structure.build(&set, &BuildParams::default());
+        let ordered = tree.leaf_ordered(&set);
+        (tree, ordered)
+    };
+    let (one_tree, one_ordered) = on_threads(1, build);
+    let (two_tree, two_ordered) = on_threads(2, build);
+    assert!(
+        one_tree == two_tree,
+        "the 8-wide tree differs on two threads"
+    );
+    assert!(
+        one_ordered.stored().triangles() == two_ordered.stored().triangles()
+            && one_ordered.stored().blocks() == two_ordered.stored().blocks(),
+        "the leaf-ordered copy differs on two threads"
+    );
     assert_same_tree_on_any_threads("cloud", &cloud(40_000, 3));
     // Every box the same: no plane separates them, and big nodes are halved.
     let same = vec![Aabb::new(DVec3::ZERO, DVec3::ONE); 20_000];
