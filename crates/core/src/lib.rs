@@ -54,6 +54,7 @@ pub mod math;
 pub mod observer;
 pub mod octree;
 pub mod outcome;
+mod parallel;
 pub mod params;
 pub mod primitive;
 pub mod quality;

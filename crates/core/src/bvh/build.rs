@@ -102,11 +102,13 @@ fn grow_subtree<V: Vector, S: RangeSplitter<V>, O: BuildObserver>(
     max_leaf_size: usize,
     observer: &mut O,
 ) -> Vec<BvhNode<V>> {
-    let mut nodes = vec![BvhNode {
+    // At most two nodes a primitive (a leaf holds at least one).
+    let mut nodes = Vec::with_capacity(2 * (end - begin));
+    nodes.push(BvhNode {
         bounds,
         first: begin as u32,
         count: (end - begin) as u32,
-    }];
+    });
     let mut work = vec![(0usize, begin, end, info, depth)];
     while let Some((node_index, begin, end, info, depth)) = work.pop() {
         observer.node_started(node_index as u32, depth, end - begin);
@@ -172,7 +174,7 @@ const PARALLEL_GRAIN: usize = 4096;
 
 /// Forks nest at most this deep (a lopsided tree would otherwise deepen the call stack by
 /// one frame a level); deeper subtrees are built by the sequential driver.
-const MAX_FORK_DEPTH: usize = 32;
+const MAX_FORK_DEPTH: usize = 16;
 
 /// A subtree built in parallel: the pieces before they are laid out as one list.
 enum Part<V: Vector> {

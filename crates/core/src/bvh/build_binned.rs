@@ -6,6 +6,11 @@
 //! Each node is O(n + B) and the tree is nearly as good as the exact sweep (which tries every
 //! axis and every primitive) for B ≈ 16; fewer bins build faster and cost more to trace. The
 //! trade is measured by `accelviz-cli bench`. Binning one axis follows pbrt-v3 §4.3.2.
+//!
+//! Unobserved, it builds on every thread of the current rayon pool, in the two ways Wald's
+//! paper sets out: the top nodes' binning split between threads (data parallel), and below
+//! them each big node's two sides at once (task parallel, `build.rs`). The tree is the one a
+//! single thread builds.
 
 use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReason};
@@ -260,7 +265,7 @@ impl<V: Vector> RangeSplitter<V> for Splitter<'_, V> {
         self.bins.fill(Bin::EMPTY());
         let refs = &self.refs[begin..end];
         let bin_of = &mut self.bin_of[begin..end];
-        if count < PARALLEL_BINNING {
+        if count < PARALLEL_BINNING || !crate::parallel::has_threads() {
             bin_into(&mut self.bins, refs, bin_of, &binning, axis);
         } else {
             // The top nodes' binning in chunks on the current rayon pool, their bins merged:
@@ -426,8 +431,8 @@ impl Builder for BinnedSah {
     }
 
     /// Unobserved, on every thread of the current rayon pool (`build_top_down_parallel`:
-    /// the same tree on any number of threads); observed, one node after another, in the
-    /// order the observer hears them.
+    /// the same tree on any number of threads); observed, or on one thread, one node after
+    /// another (in the order the observer hears them).
     fn build_observed<V: Vector, O: BuildObserver>(
         &self,
         primitive_bounds: &[Aabb<V>],
@@ -438,7 +443,7 @@ impl Builder for BinnedSah {
         let mut bin_of = vec![0; primitive_bounds.len()];
         let splitter = Splitter::new(&mut refs, &mut bin_of, self.bin_count(), params);
         let max_leaf_size = params.max_leaf_size.max(1);
-        if O::ACTIVE {
+        if O::ACTIVE || !crate::parallel::has_threads() {
             return build_top_down(splitter, primitive_bounds.len(), max_leaf_size, observer);
         }
         let nodes = build_top_down_parallel(splitter, primitive_bounds.len(), max_leaf_size);

@@ -131,7 +131,7 @@ const PARALLEL_GRAIN: usize = 4096;
 
 /// Blocks nest at most this deep in parallel (a lopsided tree's blocks would otherwise
 /// deepen the call stack a frame a level); deeper, a block is solved in one loop.
-const MAX_FORK_DEPTH: usize = 32;
+const MAX_FORK_DEPTH: usize = 16;
 
 /// Every node's [`Row`], children before parents. A tree laid out as the top-down builders
 /// lay it out (a node's children side by side, then the left child's subtree, then the
@@ -164,7 +164,7 @@ fn solve<V: Vector, const W: usize>(
     }
     in_blocks &= nodes[0].is_leaf() || nodes[0].first == 1;
     let (root, rest) = rows.split_at_mut(1);
-    if in_blocks && !nodes[0].is_leaf() {
+    if in_blocks && !nodes[0].is_leaf() && crate::parallel::has_threads() {
         let blocks = Blocks {
             binary,
             ranges,
@@ -345,7 +345,10 @@ impl<V: Vector, const W: usize> Plan<'_, V, W> {
     fn part(&self, source: u32, forks: usize) -> Layout<V::Scalar, W> {
         let count = self.ranges[source as usize].1 as usize;
         let mut layout = Layout::rooted(source, count);
-        if count < PARALLEL_LAYOUT_GRAIN || forks >= MAX_FORK_DEPTH {
+        if count < PARALLEL_LAYOUT_GRAIN
+            || forks >= MAX_FORK_DEPTH
+            || !crate::parallel::has_threads()
+        {
             self.grow(&mut layout, source);
             return layout;
         }
