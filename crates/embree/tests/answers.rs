@@ -29,6 +29,9 @@ fn same_closest(three: Option<Hit>, four: Option<Hit>) -> Result<(), String> {
     }
 }
 
+// Ignored by `cargo test`: CI has neither Embree (the issue asks for this test compiled in
+// CI, not run), and a test that passed by skipping itself when they are missing would prove
+// nothing. `scripts/bench` installs both and runs it with `-- --ignored` before it measures.
 #[test]
 #[ignore = "needs Embree 3 and Embree 4 installed: scripts/bench installs them and runs this"]
 fn embree4_answers_as_embree3_does() {

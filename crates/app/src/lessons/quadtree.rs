@@ -342,20 +342,7 @@ impl QuadtreeLesson {
             Some(Step::PrimitiveTested { primitive, .. }) => Some(*primitive),
             _ => None,
         };
-        // The cells the walk has entered, faint.
-        for step in shown {
-            if let Step::CellEntered { node, .. } = *step
-                && tree.built.facts.is_leaf(node)
-            {
-                node_outline(
-                    canvas,
-                    tree,
-                    node,
-                    Stroke::NONE,
-                    Some(faded(palette::CURRENT, 30)),
-                );
-            }
-        }
+        fill_entered_leaves(canvas, tree, shown);
         draw_tested_shapes(ui, canvas, &tree.shapes, shown, current_primitive);
         draw_tree(canvas, tree, &TreeLook::default());
         if let Some(Step::ChildrenOrdered { order, count, .. }) = trace.frame(frame).last() {
@@ -394,19 +381,7 @@ impl QuadtreeLesson {
     /// The kD-tree beside: its cells, and the leaves its traversal of the same ray entered.
     fn draw_kd(&self, ui: &egui::Ui, canvas: &Canvas, tree: &SceneTree) {
         let trace = self.kd_trace.get().cloned().unwrap_or_default();
-        for step in &trace.steps {
-            if let Step::CellEntered { node, .. } = *step
-                && tree.built.facts.is_leaf(node)
-            {
-                node_outline(
-                    canvas,
-                    tree,
-                    node,
-                    Stroke::NONE,
-                    Some(faded(palette::CURRENT, 30)),
-                );
-            }
-        }
+        fill_entered_leaves(canvas, tree, &trace.steps);
         draw_tested_shapes(ui, canvas, &tree.shapes, &trace.steps, None);
         draw_tree(canvas, tree, &TreeLook::default());
         if let Ok(ray) = self.stage.scene.ray() {
@@ -617,5 +592,22 @@ impl Lesson for QuadtreeLesson {
         self.stage.scene.draw_footer(&side);
         main.finish();
         side.finish();
+    }
+}
+
+/// The leaf cells a traversal has entered in `steps`, filled faintly.
+fn fill_entered_leaves(canvas: &Canvas, tree: &SceneTree, steps: &[Step<f64>]) {
+    for step in steps {
+        if let Step::CellEntered { node, .. } = *step
+            && tree.built.facts.is_leaf(node)
+        {
+            node_outline(
+                canvas,
+                tree,
+                node,
+                Stroke::NONE,
+                Some(faded(palette::CURRENT, 30)),
+            );
+        }
     }
 }
