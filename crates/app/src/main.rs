@@ -173,6 +173,32 @@ pub fn build_tree_aside(triangles: &[f64], structure: &str) -> Result<Vec<u8>, S
     accelviz_app::mesh::aside::work::build(triangles, structure)
 }
 
+/// For `web/worker.js`: traces bands `first`, `first + step`, … of a heat map's image `key`
+/// (numbers) through the packed `tree` over `triangles`, calling `on_band(band, costs)` with
+/// each band's costs (a `Uint32Array`) as it is traced.
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen]
+pub fn trace_heat_aside(
+    tree: &[u8],
+    triangles: &[f64],
+    key: &[f64],
+    first: u32,
+    step: u32,
+    on_band: &js_sys::Function,
+) -> Result<(), String> {
+    accelviz_app::mesh::heat::work::trace_bands(
+        tree,
+        triangles,
+        key,
+        first as usize,
+        step as usize,
+        &mut |band, costs| {
+            let costs = js_sys::Uint32Array::from(&costs[..]);
+            let _ = on_band.call2(&wasm_bindgen::JsValue::NULL, &(band as u32).into(), &costs);
+        },
+    )
+}
+
 /// For `web/bench.mjs`: a structure built over triangles, tracing rays as the app does
 /// (see `accelviz_app::web_bench`).
 #[cfg(target_arch = "wasm32")]

@@ -580,10 +580,11 @@ impl Lesson for HeatLesson {
                 {
                     let key = job.key();
                     log::info!(
-                        "accelviz: heat maps {}x{} traced in {} ms",
+                        "accelviz: heat maps {}x{} traced in {} ms {}",
                         key.width,
                         key.height,
-                        ms.round()
+                        ms.round(),
+                        job.traced_where()
                     );
                 }
                 self.maps = Some(maps);

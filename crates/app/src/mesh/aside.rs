@@ -85,7 +85,11 @@ fn read_aside(
             ("bytes", bytes.into()),
         ],
         &[buffer.into()],
-        move |permille| progress.store(permille, Ordering::Relaxed),
+        move |report| {
+            if let worker::Report::Progress(permille) = report {
+                progress.store(permille, Ordering::Relaxed);
+            }
+        },
         move |outcome| {
             let mesh = outcome.map(|numbers| {
                 // Copied once, straight into the triangles' memory.
@@ -587,16 +591,29 @@ pub mod worker {
     /// What a worker sends back: its result's bytes (a typed array), or why there is none.
     pub type Outcome = Result<JsValue, String>;
 
+    /// What a worker says before it is done.
+    pub enum Report {
+        /// How far it got, per mille.
+        Progress(u32),
+        /// A part of its result (a typed array), numbered.
+        Part {
+            /// Which part.
+            at: u32,
+            /// Its numbers.
+            values: JsValue,
+        },
+    }
+
     /// What hears a job's outcome, shared by the handlers that may hear it.
     type OnDone = Rc<RefCell<Option<Box<dyn FnOnce(Outcome)>>>>;
 
     /// Starts `web/worker.js` on `job` (an object of named fields, see there), handing it the
-    /// buffers in `transfer`; `on_progress` hears the per mille it reports, `on_done` its
-    /// outcome, once.
+    /// buffers in `transfer` and the page's compiled module (so the worker need not compile
+    /// it again); `on_report` hears what it reports on the way, `on_done` its outcome, once.
     pub fn start(
         job: &[(&str, JsValue)],
         transfer: &[JsValue],
-        on_progress: impl Fn(u32) + 'static,
+        on_report: impl Fn(Report) + 'static,
         on_done: impl FnOnce(Outcome) + 'static,
     ) -> Result<WorkerJob, String> {
         let describe = |error: JsValue| format!("{error:?}");
@@ -624,7 +641,13 @@ pub mod worker {
                         .filter(|value| !value.is_undefined())
                 };
                 if let Some(progress) = field("progress").and_then(|value| value.as_f64()) {
-                    on_progress(progress as u32);
+                    on_report(Report::Progress(progress as u32));
+                } else if let Some(values) = field("part") {
+                    let at = field("at").and_then(|at| at.as_f64()).unwrap_or(-1.0);
+                    on_report(Report::Part {
+                        at: at as u32,
+                        values,
+                    });
                 } else if let Some(done) = field("done") {
                     finish(Ok(done));
                 } else {
@@ -645,7 +668,8 @@ pub mod worker {
         worker.set_onmessage(Some(on_message.as_ref().unchecked_ref()));
         worker.set_onerror(Some(on_error.as_ref().unchecked_ref()));
         let message = js_sys::Object::new();
-        for (name, value) in job {
+        let module = ("module", wasm_bindgen::module());
+        for (name, value) in job.iter().chain([&module]) {
             js_sys::Reflect::set(&message, &JsValue::from_str(name), value).map_err(describe)?;
         }
         let transfer: js_sys::Array = transfer.iter().collect();

@@ -1,17 +1,20 @@
 //! Heat maps in the app: every pixel of the view's camera traced by the core's traversal with
 //! its counting observer, near first and in file order, a band of rows at a time, one ray at
-//! a time or in packets of 8×8 pixels (the core's packet traversal). On the
-//! desktop the bands are shared by worker threads (both cores); in the browser, which has
-//! none, a few bands are traced each frame. Either way the maps fill in band by band, the
-//! view shows them as they grow, and the UI never waits.
+//! a time or in packets of 8×8 pixels (the core's packet traversal). On the desktop the bands
+//! are shared by worker threads (both cores); in the browser, whose page has one thread, by
+//! Web Workers running the same WASM module on the packed tree (the bunny's 512×512 maps in
+//! 0.5-0.65 s in headless Chromium, against 1.3-1.7 s traced on the page a slice a frame,
+//! which the page still falls back to). Every way calls [`trace_band`]; the maps fill in
+//! band by band, the view shows them as they grow, and the UI never waits.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 
-use accelviz_core::camera::Camera;
+use accelviz_core::camera::{Camera, Projection};
 use accelviz_core::heatmap::{HeatMap, PixelCost, trace_rows, trace_rows_in_packets};
 use accelviz_core::{NoObserver, Order, Query, TraceOptions, TraversalStacks};
 use accelviz_scene::rays::{RayKind, pixel_secondary_rays};
+use glam::DVec3;
 use web_time::Instant;
 
 use super::tree::MeshTree;
@@ -39,6 +42,8 @@ struct Shared {
     next_band: AtomicUsize,
     bands_done: AtomicUsize,
     cancelled: AtomicBool,
+    /// A Web Worker failed: the page traces the maps itself.
+    workers_failed: AtomicBool,
     started: Instant,
     finished_ms: Mutex<Option<f64>>,
 }
@@ -66,10 +71,15 @@ pub struct HeatJob {
     key: HeatKey,
     tree: Arc<MeshTree>,
     shared: Arc<Shared>,
-    /// The browser traces on the UI thread, in slices; the desktop on workers.
-    on_ui_thread: bool,
+    /// Bands are traced on the UI thread, in slices (the browser without Web Workers, tests);
+    /// else by worker threads (the desktop) or Web Workers (the browser).
+    on_ui_thread: AtomicBool,
     /// When the last slice ended (the browser): the time since is what the page took to draw.
     last_slice: Mutex<Option<Instant>>,
+    /// The Web Workers tracing the bands (the browser); dropped, they stop.
+    web_workers: Mutex<Vec<Box<dyn std::any::Any>>>,
+    /// Where the bands are traced, in words (for the log).
+    traced_where: Mutex<String>,
 }
 
 /// A snapshot of a job's maps.
@@ -84,7 +94,8 @@ pub struct HeatMaps {
 
 impl HeatJob {
     /// Starts tracing every pixel of `key`'s image through `tree`: on `threads` worker
-    /// threads, or (`threads == 0`) a slice a frame on the UI thread.
+    /// threads, or (`threads == 0`) in Web Workers in the browser (one per core, each given
+    /// the tree packed), else a slice a frame on the UI thread.
     pub fn start(key: HeatKey, tree: Arc<MeshTree>, threads: usize) -> Self {
         let shared = Arc::new(Shared {
             maps: Mutex::new([
@@ -94,15 +105,34 @@ impl HeatJob {
             next_band: AtomicUsize::new(0),
             bands_done: AtomicUsize::new(0),
             cancelled: AtomicBool::new(false),
+            workers_failed: AtomicBool::new(false),
             started: Instant::now(),
             finished_ms: Mutex::new(None),
         });
+        #[cfg(target_arch = "wasm32")]
+        let web_workers = match threads {
+            0 => web::start_workers(&key, &tree, &shared).unwrap_or_else(|problem| {
+                log::error!("accelviz: heat maps traced on the page: {problem}");
+                Vec::new()
+            }),
+            _ => Vec::new(),
+        };
+        #[cfg(not(target_arch = "wasm32"))]
+        let web_workers: Vec<Box<dyn std::any::Any>> = Vec::new();
         let job = Self {
             key,
             tree,
             shared,
-            on_ui_thread: threads == 0,
+            on_ui_thread: AtomicBool::new(threads == 0 && web_workers.is_empty()),
             last_slice: Mutex::new(None),
+            traced_where: Mutex::new(match (threads, web_workers.len()) {
+                (0, 0) => "on the page".to_owned(),
+                (0, 1) => "in a Web Worker".to_owned(),
+                (0, workers) => format!("in {workers} Web Workers"),
+                (1, _) => "on a worker thread".to_owned(),
+                (threads, _) => format!("on {threads} worker threads"),
+            }),
+            web_workers: Mutex::new(web_workers),
         };
         if threads > 0 {
             let (shared, tree) = (job.shared.clone(), job.tree.clone());
@@ -123,9 +153,25 @@ impl HeatJob {
     }
 
     /// Without workers: in the browser, traces bands for a slice of the frame; in tests
-    /// (native, workers off), all of them, so a test sees whole maps. With workers: nothing.
+    /// (native, workers off), all of them, so a test sees whole maps. With workers: nothing,
+    /// unless a Web Worker failed: then the page takes the job over.
     pub fn advance(&self) {
-        if !self.on_ui_thread {
+        if self.shared.workers_failed.load(Ordering::Acquire)
+            && !self.on_ui_thread.load(Ordering::Acquire)
+        {
+            // Whatever the workers traced is drawn; the page traces every band again (and
+            // what the stopped workers may still have sent is ignored).
+            if let Ok(mut workers) = self.web_workers.lock() {
+                workers.clear();
+            }
+            self.shared.next_band.store(0, Ordering::Release);
+            self.shared.bands_done.store(0, Ordering::Release);
+            self.on_ui_thread.store(true, Ordering::Release);
+            if let Ok(mut traced_where) = self.traced_where.lock() {
+                *traced_where = "on the page (its Web Workers failed)".to_owned();
+            }
+        }
+        if !self.on_ui_thread.load(Ordering::Acquire) {
             return;
         }
         if cfg!(not(target_arch = "wasm32")) {
@@ -150,6 +196,14 @@ impl HeatJob {
     /// Traces every band left, here and now (tests; a caller that must have the maps).
     pub fn finish(&self) {
         while trace_next_band(&self.shared, &self.tree, &self.key) {}
+    }
+
+    /// Where the bands are traced, in words: "in a Web Worker", "on 2 worker threads", ….
+    pub fn traced_where(&self) -> String {
+        self.traced_where
+            .lock()
+            .map(|traced_where| traced_where.clone())
+            .unwrap_or_default()
     }
 
     /// How many bands are traced: changes whenever the maps do.
@@ -201,15 +255,47 @@ fn trace_next_band(shared: &Shared, tree: &MeshTree, key: &HeatKey) -> bool {
         return false;
     }
     let band = shared.next_band.fetch_add(1, Ordering::AcqRel);
-    let bands = key.height.div_ceil(BAND_ROWS);
-    if band >= bands {
+    if band >= band_count(key) {
         return false;
     }
-    let rows = band * BAND_ROWS..((band + 1) * BAND_ROWS).min(key.height);
+    put_band(shared, key, band, &trace_band(tree, key, band));
+    true
+}
+
+/// How many bands `key`'s image has.
+fn band_count(key: &HeatKey) -> usize {
+    key.height.div_ceil(BAND_ROWS)
+}
+
+/// The rows of band `band`.
+fn band_rows(key: &HeatKey, band: usize) -> std::ops::Range<usize> {
+    band * BAND_ROWS..((band + 1) * BAND_ROWS).min(key.height)
+}
+
+/// Puts band `band`'s pixels into both maps, and notes the time when it was the last.
+fn put_band(shared: &Shared, key: &HeatKey, band: usize, traced: &[Vec<PixelCost>; 2]) {
+    let rows = band_rows(key, band);
+    if let Ok(mut maps) = shared.maps.lock() {
+        for (map, out) in maps.iter_mut().zip(traced) {
+            map.pixels[rows.start * key.width..rows.end * key.width].copy_from_slice(out);
+        }
+    }
+    let done = shared.bands_done.fetch_add(1, Ordering::AcqRel) + 1;
+    if done == band_count(key)
+        && let Ok(mut finished) = shared.finished_ms.lock()
+    {
+        *finished = Some(shared.started.elapsed().as_secs_f64() * 1e3);
+    }
+}
+
+/// Traces band `band` of `key`'s image through `tree`: its pixels' costs, near first and in
+/// file order (what every way of running a job, threads, slices or Web Workers, calls).
+fn trace_band(tree: &MeshTree, key: &HeatKey, band: usize) -> [Vec<PixelCost>; 2] {
+    let rows = band_rows(key, band);
     let mut stacks = TraversalStacks::default();
     let ordered = tree.ordered();
     let bounds = tree.mesh.bounds();
-    let traced = ORDERS.map(|order| {
+    ORDERS.map(|order| {
         let options = TraceOptions {
             order,
             query: key.ray_kind.default_query(),
@@ -259,17 +345,393 @@ fn trace_next_band(shared: &Shared, tree: &MeshTree, key: &HeatKey) -> bool {
             );
         }
         out
-    });
-    if let Ok(mut maps) = shared.maps.lock() {
-        for (map, out) in maps.iter_mut().zip(&traced) {
-            map.pixels[rows.start * key.width..rows.end * key.width].copy_from_slice(out);
+    })
+}
+
+/// Heat maps traced in Web Workers (the browser, which gives the page one thread).
+#[cfg(target_arch = "wasm32")]
+mod web {
+    use std::sync::Arc;
+    use std::sync::atomic::Ordering;
+
+    use super::{HeatKey, Shared, band_of_numbers, put_band};
+    use crate::mesh::MeshTree;
+    use crate::mesh::aside::worker::{self, Report};
+    use crate::mesh::aside::{flat_triangles, pack};
+
+    /// Starts a Web Worker per core but one (at least one, at most four) on `key`'s bands through `tree`, each
+    /// taking every n-th band and sending it back as it is traced; the workers' bands go
+    /// into `shared`. If one fails, [`HeatJob::advance`](super::HeatJob::advance) hears of
+    /// it and the page traces the maps itself.
+    pub fn start_workers(
+        key: &HeatKey,
+        tree: &MeshTree,
+        shared: &Arc<Shared>,
+    ) -> Result<Vec<Box<dyn std::any::Any>>, String> {
+        // One core is left to the page, which draws in software where there is no GPU (on
+        // two cores, one worker traced the bunny's maps as fast as two: they took the page's
+        // core from it).
+        let cores =
+            web_sys::window().map_or(2.0, |window| window.navigator().hardware_concurrency());
+        let count = (cores as usize).saturating_sub(1).clamp(1, 4);
+        let packed = pack(&tree.build);
+        let triangles = flat_triangles(&tree.mesh.triangles);
+        let key_numbers = key.to_numbers();
+        (0..count)
+            .map(|first| {
+                let tree_bytes = js_sys::Uint8Array::from(&packed[..]);
+                let triangle_numbers = js_sys::Float64Array::from(triangles);
+                let transfer = [tree_bytes.buffer().into(), triangle_numbers.buffer().into()];
+                let (on_part, on_done) = (shared.clone(), shared.clone());
+                let key = *key;
+                worker::start(
+                    &[
+                        ("job", "heat".into()),
+                        ("tree", tree_bytes.into()),
+                        ("triangles", triangle_numbers.into()),
+                        ("key", js_sys::Float64Array::from(&key_numbers[..]).into()),
+                        ("first", (first as u32).into()),
+                        ("step", (count as u32).into()),
+                    ],
+                    &transfer,
+                    move |report| {
+                        let Report::Part { at, values } = report else {
+                            return;
+                        };
+                        if on_part.workers_failed.load(Ordering::Acquire)
+                            || on_part.cancelled.load(Ordering::Acquire)
+                        {
+                            return;
+                        }
+                        let numbers = js_sys::Uint32Array::new(&values).to_vec();
+                        match band_of_numbers(&key, at as usize, &numbers) {
+                            Ok(traced) => put_band(&on_part, &key, at as usize, &traced),
+                            Err(problem) => {
+                                log::error!("accelviz: a heat map's worker: {problem}");
+                                on_part.workers_failed.store(true, Ordering::Release);
+                            }
+                        }
+                    },
+                    move |outcome| {
+                        if let Err(problem) = outcome {
+                            log::error!("accelviz: a heat map's worker failed: {problem}");
+                            on_done.workers_failed.store(true, Ordering::Release);
+                        }
+                    },
+                )
+                .map(|job| Box::new(job) as Box<dyn std::any::Any>)
+            })
+            .collect()
+    }
+}
+
+/// How many numbers [`HeatKey::to_numbers`] makes.
+const KEY_NUMBERS: usize = 15;
+
+impl HeatKey {
+    /// The key as numbers, to send to a Web Worker: the camera's eye, target and up, its
+    /// projection (0 perspective, 1 orthographic) and that projection's angle or size, the
+    /// image's width and height, the packet tile and the ray kind's place in
+    /// [`RayKind::ALL`]. (The tree's generation stays on the page.)
+    pub fn to_numbers(&self) -> Vec<f64> {
+        let camera = &self.camera;
+        let (projection, size) = match camera.projection {
+            Projection::Perspective { vertical_fov } => (0.0, vertical_fov),
+            Projection::Orthographic { half_height } => (1.0, half_height),
+        };
+        let kind = RayKind::ALL
+            .iter()
+            .position(|kind| *kind == self.ray_kind)
+            .unwrap_or(0);
+        [camera.eye, camera.target, camera.up]
+            .iter()
+            .flat_map(|point| point.to_array())
+            .chain([
+                projection,
+                size,
+                self.width as f64,
+                self.height as f64,
+                self.tile as f64,
+                kind as f64,
+            ])
+            .collect()
+    }
+
+    /// The key [`HeatKey::to_numbers`] made (its tree generation 0), or what is wrong.
+    pub fn from_numbers(numbers: &[f64]) -> Result<Self, String> {
+        let &[
+            ex,
+            ey,
+            ez,
+            tx,
+            ty,
+            tz,
+            ux,
+            uy,
+            uz,
+            projection,
+            size,
+            width,
+            height,
+            tile,
+            kind,
+        ] = numbers
+        else {
+            return Err(format!(
+                "a heat map's key has {KEY_NUMBERS} numbers, not {}",
+                numbers.len()
+            ));
+        };
+        let count = |value: f64, what: &str, most: f64| {
+            if value.fract() == 0.0 && (1.0..=most).contains(&value) {
+                Ok(value as usize)
+            } else {
+                Err(format!(
+                    "a heat map's {what} {value} is not a count up to {most}"
+                ))
+            }
+        };
+        let projection = match projection {
+            0.0 => Projection::Perspective { vertical_fov: size },
+            1.0 => Projection::Orthographic { half_height: size },
+            other => return Err(format!("unknown projection {other}")),
+        };
+        let ray_kind = *RayKind::ALL
+            .get(count(kind + 1.0, "ray kind", RayKind::ALL.len() as f64)? - 1)
+            .ok_or("unknown ray kind")?;
+        Ok(Self {
+            tree: 0,
+            camera: Camera {
+                eye: DVec3::new(ex, ey, ez),
+                target: DVec3::new(tx, ty, tz),
+                up: DVec3::new(ux, uy, uz),
+                projection,
+            },
+            width: count(width, "width", 1e5)?,
+            height: count(height, "height", 1e5)?,
+            tile: count(tile, "packet tile", PACKET_TILE as f64)?,
+            ray_kind,
+        })
+    }
+}
+
+/// A band's costs as numbers (both orders, three counts a pixel), to send back from a worker.
+fn band_numbers(traced: &[Vec<PixelCost>; 2]) -> Vec<u32> {
+    traced
+        .iter()
+        .flatten()
+        .flat_map(|cost| [cost.nodes, cost.boxes, cost.prims])
+        .collect()
+}
+
+/// Band `band`'s costs from [`band_numbers`], or what is wrong with them.
+#[cfg(any(target_arch = "wasm32", test))]
+fn band_of_numbers(
+    key: &HeatKey,
+    band: usize,
+    numbers: &[u32],
+) -> Result<[Vec<PixelCost>; 2], String> {
+    let pixels = band_rows(key, band).len() * key.width;
+    if band >= band_count(key) || numbers.len() != 2 * 3 * pixels {
+        return Err(format!(
+            "band {band} of a heat map came back with {} numbers",
+            numbers.len()
+        ));
+    }
+    let costs = |numbers: &[u32]| {
+        numbers
+            .chunks_exact(3)
+            .map(|n| PixelCost {
+                nodes: n[0],
+                boxes: n[1],
+                prims: n[2],
+            })
+            .collect()
+    };
+    let (near_first, file_order) = numbers.split_at(3 * pixels);
+    Ok([costs(near_first), costs(file_order)])
+}
+
+/// The work a Web Worker does for a heat map, called by `web/worker.js` through `main.rs`.
+pub mod work {
+    use std::sync::Arc;
+
+    use accelviz_core::TriangleSet;
+    use accelviz_scene::Mesh;
+
+    use super::{HeatKey, band_count, band_numbers, trace_band};
+    use crate::mesh::MeshTree;
+    use crate::mesh::aside::{triangles_of, unpack};
+
+    /// Traces bands `first`, `first + step`, … of the image `key` (numbers, see
+    /// [`HeatKey::to_numbers`]) through the [`pack`](crate::mesh::aside::pack)ed `tree` over
+    /// `triangles` (nine numbers each), handing each band's costs to `on_band` as they come.
+    pub fn trace_bands(
+        tree: &[u8],
+        triangles: &[f64],
+        key: &[f64],
+        first: usize,
+        step: usize,
+        on_band: &mut dyn FnMut(usize, Vec<u32>),
+    ) -> Result<(), String> {
+        let key = HeatKey::from_numbers(key)?;
+        let mesh = Mesh {
+            name: String::new(),
+            triangles: triangles_of(triangles),
+        };
+        let set = TriangleSet::from_f64(&mesh.triangles);
+        let build = unpack(tree)?;
+        if build.root_triangles > mesh.triangles.len() || step == 0 {
+            return Err("a heat map's tree and triangles do not belong together".to_owned());
+        }
+        let tree = MeshTree::with_built(Arc::new(mesh), set, build);
+        for band in (first..band_count(&key)).step_by(step) {
+            on_band(band, band_numbers(&trace_band(&tree, &key, band)));
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use accelviz_core::Structure;
+
+    /// The maps a Web Worker's bands make are the page's, pixel for pixel, whichever way the
+    /// bands are shared out; and the key survives the trip as numbers.
+    #[test]
+    fn bands_traced_aside_make_the_same_maps() {
+        let mesh = Arc::new(accelviz_scene::builtin::teapot());
+        let structure = Structure::parse("bvh8:sah-binned").expect("in the catalogue");
+        let tree = Arc::new(MeshTree::build(mesh.clone(), structure));
+        let packed = super::super::aside::pack(&tree.build);
+        let triangles = super::super::aside::flat_triangles(&mesh.triangles);
+        // 21 rows: the last band is short.
+        for (ray_kind, tile) in [(RayKind::Camera, PACKET_TILE), (RayKind::Shadow, 1)] {
+            let key = HeatKey {
+                tree: 0,
+                camera: Camera::framing(&mesh.bounds()),
+                width: 37,
+                height: 21,
+                tile,
+                ray_kind,
+            };
+            assert_eq!(HeatKey::from_numbers(&key.to_numbers()), Ok(key));
+            let job = HeatJob::start(key, tree.clone(), 0);
+            job.finish();
+            let on_page = job.snapshot();
+            assert!(on_page.millis.is_some());
+            assert!(on_page.maps[0].pixels.iter().any(|cost| cost.nodes > 0));
+            for workers in 1..=3 {
+                let mut aside = [
+                    HeatMap::new(key.width, key.height),
+                    HeatMap::new(key.width, key.height),
+                ];
+                let mut bands = Vec::new();
+                for first in 0..workers {
+                    let numbers = key.to_numbers();
+                    work::trace_bands(
+                        &packed,
+                        triangles,
+                        &numbers,
+                        first,
+                        workers,
+                        &mut |band, costs| {
+                            let traced = band_of_numbers(&key, band, &costs).expect("a whole band");
+                            let rows = band_rows(&key, band);
+                            for (map, out) in aside.iter_mut().zip(&traced) {
+                                map.pixels[rows.start * key.width..rows.end * key.width]
+                                    .copy_from_slice(out);
+                            }
+                            bands.push(band);
+                        },
+                    )
+                    .expect("traces");
+                }
+                bands.sort_unstable();
+                assert_eq!(bands, (0..band_count(&key)).collect::<Vec<_>>());
+                assert_eq!(
+                    aside,
+                    on_page.maps,
+                    "{} in {workers} workers",
+                    ray_kind.name()
+                );
+            }
         }
     }
-    let done = shared.bands_done.fetch_add(1, Ordering::AcqRel) + 1;
-    if done == bands
-        && let Ok(mut finished) = shared.finished_ms.lock()
-    {
-        *finished = Some(shared.started.elapsed().as_secs_f64() * 1e3);
+
+    /// A job whose Web Workers failed half-way is taken over by the page: whole maps, each
+    /// band counted once.
+    #[test]
+    fn the_page_takes_over_from_failed_workers() {
+        let mesh = Arc::new(accelviz_scene::builtin::teapot());
+        let structure = Structure::parse("bvh:sah-binned").expect("in the catalogue");
+        let tree = Arc::new(MeshTree::build(mesh.clone(), structure));
+        let key = HeatKey {
+            tree: 0,
+            camera: Camera::framing(&mesh.bounds()),
+            width: 24,
+            height: 40,
+            tile: 1,
+            ray_kind: RayKind::Camera,
+        };
+        let whole = HeatJob::start(key, tree.clone(), 0);
+        whole.finish();
+        // As if workers had sent two of the five bands and then one had failed.
+        let job = HeatJob::start(key, tree.clone(), 0);
+        job.on_ui_thread.store(false, Ordering::Release);
+        for band in [3, 0] {
+            put_band(&job.shared, &key, band, &trace_band(&tree, &key, band));
+        }
+        job.advance();
+        assert_eq!(job.bands_done(), 2, "workers at work: the page waits");
+        job.shared.workers_failed.store(true, Ordering::Release);
+        job.advance();
+        assert!(job.done());
+        assert_eq!(job.bands_done(), band_count(&key));
+        assert_eq!(job.snapshot().maps, whole.snapshot().maps);
     }
-    true
+
+    /// Numbers that are not a key or a band: an error, never a panic.
+    #[test]
+    fn bad_numbers_are_refused() {
+        let key = HeatKey {
+            tree: 0,
+            camera: Camera::framing(&accelviz_scene::builtin::teapot().bounds()),
+            width: 16,
+            height: 16,
+            tile: 1,
+            ray_kind: RayKind::Ao,
+        };
+        let numbers = key.to_numbers();
+        assert!(HeatKey::from_numbers(&numbers[1..]).is_err());
+        for (at, bad) in [
+            (9, 2.0),
+            (11, 0.0),
+            (12, 1.5),
+            (13, 9.0),
+            (14, 6.0),
+            (14, -1.0),
+            (11, f64::NAN),
+        ] {
+            let mut wrong = numbers.clone();
+            wrong[at] = bad;
+            assert!(
+                HeatKey::from_numbers(&wrong).is_err(),
+                "number {at} = {bad}"
+            );
+        }
+        assert!(band_of_numbers(&key, 0, &[0; 5]).is_err());
+        assert!(band_of_numbers(&key, 2, &vec![0; 2 * 3 * 8 * 16]).is_err());
+        assert!(band_of_numbers(&key, 1, &vec![0; 2 * 3 * 8 * 16]).is_ok());
+        let tree = super::super::aside::pack(
+            &MeshTree::build(
+                Arc::new(accelviz_scene::builtin::teapot()),
+                accelviz_core::Structure::parse("bvh:sah-binned").expect("in the catalogue"),
+            )
+            .build,
+        );
+        assert!(work::trace_bands(&tree[..10], &[], &numbers, 0, 1, &mut |_, _| {}).is_err());
+        assert!(work::trace_bands(&tree, &[], &numbers, 0, 1, &mut |_, _| {}).is_err());
+    }
 }
