@@ -16,6 +16,12 @@ use crate::spec::{Accel, AccelSpec};
 use crate::timing::{Samples, interleaved};
 use crate::{BuildArgs, Precision, TraceArgs, convert_rays, load_mesh};
 
+/// Builds timed for one sample of a structure's build time, at least: the sample is their
+/// median. With one build a sample, the bunny's two-thread
+/// builds ranged from 10.6 to 37.7 ms around a median of 17 (the second vCPU is shared, and
+/// one build the machine interrupts moved a round by half).
+const BUILDS_PER_SAMPLE: usize = 5;
+
 #[derive(Args, Debug)]
 pub struct BenchArgs {
     #[arg(long, default_value = "builtin:lumpy-sphere", help = crate::mesh_help())]
@@ -412,9 +418,10 @@ fn measure<V: Vector3>(
         .iter()
         .map(|&count| rayon::ThreadPoolBuilder::new().num_threads(count).build())
         .collect::<Result<Vec<_>, _>>()?;
-    // Each build timed alone, and again until a sample has built for `MIN_SAMPLE_MS`; the
-    // builds after the first are dropped outside the timing (as a peer's scene outlives its
-    // build's), in the rounds' interleaved order.
+    // Each build timed alone, at least `BUILDS_PER_SAMPLE` times and until a sample has built
+    // for `MIN_SAMPLE_MS`; the sample is their median. The builds after the first are dropped
+    // outside the timing (as a peer's scene outlives its build's), in the rounds' interleaved
+    // order.
     let configurations = specs.len() * pools.len();
     let mut accels: Vec<Option<Accel<V, TriangleSet<V>>>> = specs.iter().map(|_| None).collect();
     let mut builds = vec![Samples::default(); configurations];
@@ -422,16 +429,17 @@ fn measure<V: Vector3>(
         for step in 0..configurations {
             let index = accelviz_core::trade::interleaved_index(round, step, configurations);
             let (spec, pool) = (index / pools.len(), index % pools.len());
-            let (mut built_ms, mut runs) = (0.0, 0u32);
-            while runs == 0 || built_ms < accelviz_core::trade::MIN_SAMPLE_MS {
+            let (mut sample, mut built_ms) = (Samples::default(), 0.0);
+            while sample.len() < BUILDS_PER_SAMPLE || built_ms < accelviz_core::trade::MIN_SAMPLE_MS
+            {
                 let (accel, ms) = pools[pool].install(|| specs[spec].build(&triangles, params));
+                sample.push(ms);
                 built_ms += ms;
-                runs += 1;
                 if accels[spec].is_none() {
                     accels[spec] = Some(accel);
                 }
             }
-            builds[index].push(built_ms / f64::from(runs));
+            builds[index].push(sample.median());
         }
     }
     let accels: Vec<_> = accels.into_iter().flatten().collect();
