@@ -41,7 +41,8 @@ pub struct BenchArgs {
     #[arg(long, conflicts_with = "camera")]
     aimed: bool,
     /// Trace the primary rays of a WIDTHxHEIGHT pinhole camera looking at the mesh instead
-    /// (coherent rays, as a renderer traces them).
+    /// (coherent rays, as a renderer traces them); with `--ray-kind shadow`, `ao` or
+    /// `bounce`, the rays from every pixel's hit, the pixels in 8×8 tiles (coherent too).
     #[arg(long)]
     camera: Option<String>,
     /// Seed of the random rays.

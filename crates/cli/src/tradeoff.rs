@@ -41,7 +41,9 @@ pub struct TradeoffArgs {
     /// The same as `--ray-kind aimed`.
     #[arg(long, conflicts_with = "ray_kind")]
     aimed: bool,
-    /// The camera image for `--ray-kind camera`, WIDTHxHEIGHT (else about `--rays` pixels).
+    /// The camera image for `--ray-kind camera`, WIDTHxHEIGHT (else about `--rays` pixels);
+    /// for shadow, ao and bounce rays, the rays from every pixel's hit, in 8×8 tiles of pixels
+    /// (else about `--rays` from random pixels).
     #[arg(long)]
     camera: Option<String>,
     /// closest or any (is anything in the way?). Default: any for shadow and ao rays, closest

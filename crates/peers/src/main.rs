@@ -48,7 +48,8 @@ struct Args {
     /// Trace the rays of this file instead.
     #[arg(long, conflicts_with_all = ["camera", "ray_kind"])]
     rays_file: Option<String>,
-    /// Trace the primary rays of a WIDTHxHEIGHT camera instead (as `accelviz-cli bench --camera`).
+    /// Trace the primary rays of a WIDTHxHEIGHT camera instead, or with a secondary ray kind
+    /// the rays from every pixel's hit in 8×8 tiles (as `accelviz-cli bench --camera`).
     #[arg(long)]
     camera: Option<String>,
     /// What rays, as `accelviz-cli bench --ray-kind`: random, camera, aimed, shadow, ao,
@@ -398,8 +399,9 @@ fn run(args: Args) -> Result<String> {
     let rays = source.rays(&mesh)?;
     let ray_source = source.label();
     // Packets of 16: camera rays in tiles of 4×4 pixels; other rays 16 in the order made
-    // (secondary rays from neighbouring hits are not neighbours: these packets are
-    // incoherent, as a renderer's would be without sorting).
+    // (secondary rays from random pixels' hits are not neighbours: these packets are
+    // incoherent, as a renderer's would be without sorting; from every pixel, in tiles of
+    // 8×8 pixels, 16 in a row come from two rows of a tile: coherent).
     let packets: Vec<Vec<u32>> = match &source {
         RaySource::Camera { width, height } => {
             accelviz_scene::rays::pixel_tiles(*width, *height, 4, 4)

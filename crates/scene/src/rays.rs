@@ -337,6 +337,16 @@ pub enum RaySource {
         /// The generator's seed.
         seed: u64,
     },
+    /// Shadow, ambient occlusion or bounce rays from every pixel of the benchmark camera's
+    /// image ([`rays_from_pixels`]), in tiles of pixels: coherent packets.
+    FromPixels {
+        /// Which.
+        kind: RayKind,
+        /// Pixels across.
+        width: usize,
+        /// Pixels down.
+        height: usize,
+    },
     /// A ray file.
     File(String),
 }
@@ -363,13 +373,15 @@ impl RaySource {
         match self {
             Self::Random { .. } => Some(RayKind::Random),
             Self::Camera { .. } => Some(RayKind::Camera),
-            Self::Kind { kind, .. } => Some(*kind),
+            Self::Kind { kind, .. } | Self::FromPixels { kind, .. } => Some(*kind),
             Self::File(_) => None,
         }
     }
 
     /// Chooses from command-line options with a ray kind: a file, else `kind` (a camera's
-    /// image `camera`, `WIDTHxHEIGHT`, or about `count` pixels).
+    /// image `camera`, `WIDTHxHEIGHT`, or about `count` pixels; shadow, ambient occlusion and
+    /// bounce rays from every pixel of the image `camera` if given, else about `count` from
+    /// random pixels).
     pub fn of_kind(
         file: Option<&str>,
         camera: Option<&str>,
@@ -380,18 +392,23 @@ impl RaySource {
         if let Some(path) = file {
             return Ok(Self::File(path.to_owned()));
         }
-        Ok(match kind {
-            RayKind::Random => Self::Random { count, seed },
-            RayKind::Camera => {
-                let (width, height) = match camera {
-                    Some(camera) => {
-                        parse_resolution(camera).map_err(|error| format!("--camera: {error}"))?
-                    }
-                    None => square_image(count),
-                };
+        let image = camera
+            .map(|camera| parse_resolution(camera).map_err(|error| format!("--camera: {error}")))
+            .transpose()?;
+        Ok(match (kind, image) {
+            (RayKind::Random, _) => Self::Random { count, seed },
+            (RayKind::Camera, image) => {
+                let (width, height) = image.unwrap_or_else(|| square_image(count));
                 Self::Camera { width, height }
             }
-            RayKind::Aimed | RayKind::Shadow | RayKind::Ao | RayKind::Bounce => {
+            (RayKind::Shadow | RayKind::Ao | RayKind::Bounce, Some((width, height))) => {
+                Self::FromPixels {
+                    kind,
+                    width,
+                    height,
+                }
+            }
+            (RayKind::Aimed | RayKind::Shadow | RayKind::Ao | RayKind::Bounce, _) => {
                 Self::Kind { kind, count, seed }
             }
         })
@@ -405,6 +422,12 @@ impl RaySource {
                 .map_err(|problem| LoadError::in_file(&mesh.name, problem))?,
             Self::Random { count, seed } => random_rays(&mesh.bounds(), *count, *seed),
             Self::Camera { width, height } => camera_rays(&mesh.bounds(), *width, *height),
+            Self::FromPixels {
+                kind,
+                width,
+                height,
+            } => rays_from_pixels(*kind, mesh, *width, *height)
+                .map_err(|problem| LoadError::in_file(&mesh.name, problem))?,
             Self::File(path) => load_rays(path)?,
         })
     }
@@ -416,6 +439,11 @@ impl RaySource {
             Self::Random { count, seed } => format!("random:{count}:seed{seed}"),
             Self::Camera { width, height } => format!("camera:{width}x{height}"),
             Self::Kind { kind, count, seed } => format!("{}:{count}:seed{seed}", kind.name()),
+            Self::FromPixels {
+                kind,
+                width,
+                height,
+            } => format!("{}:camera:{width}x{height}", kind.name()),
             Self::File(path) => path.clone(),
         }
     }
@@ -770,28 +798,107 @@ pub fn pixel_secondary_rays<V: accelviz_core::Vector3>(
     ray: &Ray<V>,
     hit: accelviz_core::Hit<V::Scalar>,
 ) -> Vec<Ray<V>> {
-    let Some(triangle) = mesh.triangles.get(hit.primitive as usize) else {
-        return Vec::new();
-    };
-    let wide = ray.cast::<DVec3>();
-    let seed = wide
-        .origin
-        .to_array()
-        .iter()
-        .chain(&wide.direction.to_array())
-        .fold(0u64, |seed, value| seed.rotate_left(13) ^ value.to_bits());
-    let point = wide.at(accelviz_core::Real::to_f64(hit.t));
-    rays_from_hit(
+    pixel_secondary_specs(
         kind,
+        mesh,
         bounds,
-        triangle.map(DVec3::from_array),
-        point,
-        wide.direction,
-        &mut SplitMix64::new(seed),
+        &ray.cast::<DVec3>(),
+        accelviz_core::Real::to_f64(hit.t),
+        hit.primitive,
     )
     .iter()
     .filter_map(|spec| spec.to_ray::<V>().ok())
     .collect()
+}
+
+/// [`pixel_secondary_rays`] in f64, as specifications: from the camera ray `ray`'s hit at
+/// `t` on triangle `primitive`.
+fn pixel_secondary_specs(
+    kind: RayKind,
+    mesh: &crate::Mesh,
+    bounds: &Aabb<DVec3>,
+    ray: &Ray<DVec3>,
+    t: f64,
+    primitive: u32,
+) -> Vec<RaySpec> {
+    let Some(triangle) = mesh.triangles.get(primitive as usize) else {
+        return Vec::new();
+    };
+    let seed = ray
+        .origin
+        .to_array()
+        .iter()
+        .chain(&ray.direction.to_array())
+        .fold(0u64, |seed, value| seed.rotate_left(13) ^ value.to_bits());
+    rays_from_hit(
+        kind,
+        bounds,
+        triangle.map(DVec3::from_array),
+        ray.at(t),
+        ray.direction,
+        &mut SplitMix64::new(seed),
+    )
+}
+
+/// The side of the square tiles [`rays_from_pixels`] takes pixels in: 64 pixels, a packet's
+/// worth of camera rays.
+pub const PIXEL_TILE: usize = 8;
+
+/// Shadow, ambient occlusion or bounce rays from every pixel of the benchmark camera's
+/// `width × height` image whose ray hits `mesh` (traced in f64, watertight), the rays each
+/// pixel's heat map counts ([`pixel_secondary_rays`]); the pixels in tiles of
+/// [`PIXEL_TILE`]² ([`pixel_tiles`]), so neighbouring pixels' rays are neighbours and a
+/// packet of them is coherent, as a renderer's that traces a tile's shadow rays together.
+/// Fails when the camera sees none of the mesh.
+pub fn rays_from_pixels(
+    kind: RayKind,
+    mesh: &crate::Mesh,
+    width: usize,
+    height: usize,
+) -> Result<Vec<RaySpec>, String> {
+    use accelviz_core::bvh::{BinnedSah, Builder, TraversalStack, traverse};
+    use accelviz_core::params::BuildParams;
+    use accelviz_core::{NoObserver, PrimitiveSet, TraceOptions, TriangleSet};
+
+    let bounds = mesh.bounds();
+    let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
+    let bvh = BinnedSah::default().build(&triangles.all_bounds(), &BuildParams::default());
+    let primaries = camera_rays(&bounds, width, height);
+    let options = TraceOptions::default().with_robust(true);
+    let mut stack = TraversalStack::new();
+    let mut rays = Vec::new();
+    for pixel in pixel_tiles(width, height, PIXEL_TILE, PIXEL_TILE)
+        .into_iter()
+        .flatten()
+    {
+        let Ok(primary) = primaries[pixel as usize].to_ray::<DVec3>() else {
+            continue;
+        };
+        if let Some(hit) = traverse(
+            &bvh,
+            &triangles,
+            &primary,
+            &options,
+            &mut stack,
+            &mut NoObserver,
+        ) {
+            rays.extend(pixel_secondary_specs(
+                kind,
+                mesh,
+                &bounds,
+                &primary,
+                hit.t,
+                hit.primitive,
+            ));
+        }
+    }
+    if rays.is_empty() {
+        return Err(format!(
+            "the benchmark camera's {width}x{height} pixels start no {} rays on the mesh",
+            kind.name()
+        ));
+    }
+    Ok(rays)
 }
 
 /// A unit direction about `normal`, with density proportional to the cosine of its angle
@@ -902,5 +1009,71 @@ mod tests {
             assert!(!bounds.contains_point(origin));
             assert!(bounds.contains_point(aim));
         }
+    }
+
+    /// Rays from pixels are each hit pixel's heat-map rays, the pixels in tiles: the first
+    /// rays come from the first tile's pixels; a camera with a ray kind asks for them.
+    #[test]
+    fn rays_from_pixels_are_the_pixels_rays_tile_by_tile() {
+        use accelviz_core::bvh::{BinnedSah, Builder, TraversalStack, traverse};
+        use accelviz_core::params::BuildParams;
+        use accelviz_core::{NoObserver, PrimitiveSet, TraceOptions, TriangleSet};
+
+        let mesh = crate::builtin::teapot();
+        let (width, height) = (21, 13);
+        let source =
+            RaySource::of_kind(None, Some("21x13"), RayKind::Shadow, 5, 1).expect("a source");
+        assert_eq!(source.label(), "shadow:camera:21x13");
+        assert_eq!(source.kind(), Some(RayKind::Shadow));
+        assert!(matches!(
+            RaySource::of_kind(None, None, RayKind::Shadow, 5, 1),
+            Ok(RaySource::Kind { .. })
+        ));
+
+        let bounds = mesh.bounds();
+        let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
+        let bvh = BinnedSah::default().build(&triangles.all_bounds(), &BuildParams::default());
+        let primaries = camera_rays(&bounds, width, height);
+        let options = TraceOptions::default().with_robust(true);
+        let mut stack = TraversalStack::new();
+        for kind in [RayKind::Shadow, RayKind::Ao, RayKind::Bounce] {
+            let made = rays_from_pixels(kind, &mesh, width, height).expect("rays");
+            let mut expected = Vec::new();
+            for tile in pixel_tiles(width, height, PIXEL_TILE, PIXEL_TILE) {
+                for pixel in tile {
+                    let ray = primaries[pixel as usize].to_ray::<DVec3>().expect("a ray");
+                    if let Some(hit) = traverse(
+                        &bvh,
+                        &triangles,
+                        &ray,
+                        &options,
+                        &mut stack,
+                        &mut NoObserver,
+                    ) {
+                        expected.extend(pixel_secondary_rays::<DVec3>(
+                            kind, &mesh, &bounds, &ray, hit,
+                        ));
+                    }
+                }
+            }
+            let made: Vec<_> = made
+                .iter()
+                .map(|spec| spec.to_ray::<DVec3>().expect("a ray"))
+                .collect();
+            assert!(made.len() > 10, "{}: {}", kind.name(), made.len());
+            assert_eq!(made, expected, "{}", kind.name());
+            let via_source = RaySource::of_kind(None, Some("21x13"), kind, 5, 1)
+                .expect("a source")
+                .rays(&mesh)
+                .expect("rays");
+            assert_eq!(via_source.len(), made.len());
+        }
+        // Pixels that start nothing (a triangle flat as a line) say so.
+        let line = crate::Mesh {
+            name: "line.obj".into(),
+            triangles: vec![[[0.0, 0.0, 0.0], [1.0, 1.0, 0.0], [2.0, 2.0, 0.0]]],
+        };
+        let problem = rays_from_pixels(RayKind::Shadow, &line, 4, 4).unwrap_err();
+        assert!(problem.contains("start no shadow rays"), "{problem}");
     }
 }
