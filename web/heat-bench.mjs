@@ -65,7 +65,7 @@ try {
       if (onPage === 'yes') {
         const post = Worker.prototype.postMessage;
         Worker.prototype.postMessage = function (message, transfer) {
-          if (message && message.job === 'heat') throw new Error('heat-map workers refused (--on-page yes)');
+          if (message && String(message.job).startsWith('heat')) throw new Error('heat-map workers refused (--on-page yes)');
           return post.call(this, message, transfer);
         };
       }

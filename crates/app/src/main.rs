@@ -173,30 +173,31 @@ pub fn build_tree_aside(triangles: &[f64], structure: &str) -> Result<Vec<u8>, S
     accelviz_app::mesh::aside::work::build(triangles, structure)
 }
 
-/// For `web/worker.js`: traces bands `first`, `first + step`, … of a heat map's image `key`
-/// (numbers) through the packed `tree` over `triangles`, calling `on_band(band, costs)` with
-/// each band's costs (a `Uint32Array`) as it is traced.
+/// For `web/worker.js`: a heat map's tree, taken in once (packed, over its triangles, nine
+/// numbers each), then traced a band at a time for any camera (see
+/// `accelviz_app::mesh::heat::work`).
 #[cfg(target_arch = "wasm32")]
 #[wasm_bindgen::prelude::wasm_bindgen]
-pub fn trace_heat_aside(
-    tree: &[u8],
-    triangles: &[f64],
-    key: &[f64],
-    first: u32,
-    step: u32,
-    on_band: &js_sys::Function,
-) -> Result<(), String> {
-    accelviz_app::mesh::heat::work::trace_bands(
-        tree,
-        triangles,
-        key,
-        first as usize,
-        step as usize,
-        &mut |band, costs| {
-            let costs = js_sys::Uint32Array::from(&costs[..]);
-            let _ = on_band.call2(&wasm_bindgen::JsValue::NULL, &(band as u32).into(), &costs);
-        },
-    )
+pub struct HeatTracer(accelviz_app::mesh::heat::work::Tracer);
+
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen]
+impl HeatTracer {
+    /// Takes in the packed `tree` over `triangles`.
+    #[wasm_bindgen::prelude::wasm_bindgen(constructor)]
+    pub fn new(tree: &[u8], triangles: &[f64]) -> Result<HeatTracer, String> {
+        accelviz_app::mesh::heat::work::Tracer::new(tree, triangles).map(HeatTracer)
+    }
+
+    /// How many bands the image `key` (numbers) has.
+    pub fn band_count(key: &[f64]) -> Result<u32, String> {
+        accelviz_app::mesh::heat::work::Tracer::band_count(key).map(|count| count as u32)
+    }
+
+    /// Band `band` of the image `key`: its pixels' costs, both orders.
+    pub fn trace_band(&self, key: &[f64], band: u32) -> Result<Vec<u32>, String> {
+        self.0.trace_band(key, band as usize)
+    }
 }
 
 /// For `web/bench.mjs`: a structure built over triangles, tracing rays as the app does

@@ -76,7 +76,7 @@ pub struct HeatJob {
     on_ui_thread: AtomicBool,
     /// When the last slice ended (the browser): the time since is what the page took to draw.
     last_slice: Mutex<Option<Instant>>,
-    /// The Web Workers tracing the bands (the browser); dropped, they stop.
+    /// The Web Workers' job (the browser); dropped, they stop tracing it.
     web_workers: Mutex<Vec<Box<dyn std::any::Any>>>,
     /// Where the bands are traced, in words (for the log).
     traced_where: Mutex<String>,
@@ -94,8 +94,8 @@ pub struct HeatMaps {
 
 impl HeatJob {
     /// Starts tracing every pixel of `key`'s image through `tree`: on `threads` worker
-    /// threads, or (`threads == 0`) in Web Workers in the browser (one per core, each given
-    /// the tree packed), else a slice a frame on the UI thread.
+    /// threads, or (`threads == 0`) in the browser's pool of Web Workers (a core each but
+    /// one, holding the tree packed), else a slice a frame on the UI thread.
     pub fn start(key: HeatKey, tree: Arc<MeshTree>, threads: usize) -> Self {
         let shared = Arc::new(Shared {
             maps: Mutex::new([
@@ -109,23 +109,18 @@ impl HeatJob {
             started: Instant::now(),
             finished_ms: Mutex::new(None),
         });
-        #[cfg(target_arch = "wasm32")]
-        let web_workers = match threads {
-            0 => web::start_workers(&key, &tree, &shared).unwrap_or_else(|problem| {
-                log::error!("accelviz: heat maps traced on the page: {problem}");
-                Vec::new()
-            }),
-            _ => Vec::new(),
+        let (web_workers, worker_count) = if threads == 0 {
+            start_web_workers(&key, &tree, &shared)
+        } else {
+            (Vec::new(), 0)
         };
-        #[cfg(not(target_arch = "wasm32"))]
-        let web_workers: Vec<Box<dyn std::any::Any>> = Vec::new();
         let job = Self {
             key,
             tree,
             shared,
             on_ui_thread: AtomicBool::new(threads == 0 && web_workers.is_empty()),
             last_slice: Mutex::new(None),
-            traced_where: Mutex::new(match (threads, web_workers.len()) {
+            traced_where: Mutex::new(match (threads, worker_count) {
                 (0, 0) => "on the page".to_owned(),
                 (0, 1) => "in a Web Worker".to_owned(),
                 (0, workers) => format!("in {workers} Web Workers"),
@@ -249,6 +244,33 @@ impl Drop for HeatJob {
     }
 }
 
+/// Has the browser's Web Workers trace `key`'s maps into `shared`: their job (dropped, they
+/// stop) and how many workers; none where there are none, or they cannot start.
+#[cfg(target_arch = "wasm32")]
+fn start_web_workers(
+    key: &HeatKey,
+    tree: &Arc<MeshTree>,
+    shared: &Arc<Shared>,
+) -> (Vec<Box<dyn std::any::Any>>, usize) {
+    match web::start_workers(key, tree, shared) {
+        Ok((job, count)) => (vec![Box::new(job)], count),
+        Err(problem) => {
+            log::error!("accelviz: heat maps traced on the page: {problem}");
+            (Vec::new(), 0)
+        }
+    }
+}
+
+/// Native builds have worker threads instead.
+#[cfg(not(target_arch = "wasm32"))]
+fn start_web_workers(
+    _key: &HeatKey,
+    _tree: &Arc<MeshTree>,
+    _shared: &Arc<Shared>,
+) -> (Vec<Box<dyn std::any::Any>>, usize) {
+    (Vec::new(), 0)
+}
+
 /// Traces the next band not yet taken into both maps; false when there is none left.
 fn trace_next_band(shared: &Shared, tree: &MeshTree, key: &HeatKey) -> bool {
     if shared.cancelled.load(Ordering::Acquire) {
@@ -348,80 +370,202 @@ fn trace_band(tree: &MeshTree, key: &HeatKey, band: usize) -> [Vec<PixelCost>; 2
     })
 }
 
-/// Heat maps traced in Web Workers (the browser, which gives the page one thread).
+/// Heat maps traced in Web Workers (the browser, which gives the page one thread): a pool of
+/// workers kept for the page's life, which hold the last tree they were sent, so a new camera
+/// (an orbit's every frame) costs a message, not a worker's start and the tree's trip.
 #[cfg(target_arch = "wasm32")]
 mod web {
-    use std::sync::Arc;
+    use std::cell::{Cell, RefCell};
+    use std::rc::Rc;
     use std::sync::atomic::Ordering;
+    use std::sync::{Arc, Weak};
+
+    use wasm_bindgen::JsValue;
 
     use super::{HeatKey, Shared, band_of_numbers, put_band};
     use crate::mesh::MeshTree;
-    use crate::mesh::aside::worker::{self, Report};
+    use crate::mesh::aside::worker::{Spawned, field};
     use crate::mesh::aside::{flat_triangles, pack};
 
-    /// Starts a Web Worker per core but one (at least one, at most four) on `key`'s bands through `tree`, each
-    /// taking every n-th band and sending it back as it is traced; the workers' bands go
-    /// into `shared`. If one fails, [`HeatJob::advance`](super::HeatJob::advance) hears of
-    /// it and the page traces the maps itself.
+    thread_local! {
+        static POOL: RefCell<Option<Pool>> = const { RefCell::new(None) };
+    }
+
+    /// The job whose bands the workers' messages are for.
+    struct Sink {
+        id: u64,
+        key: HeatKey,
+        shared: Arc<Shared>,
+    }
+
+    struct Pool {
+        workers: Vec<Spawned>,
+        /// The tree the workers hold.
+        tree: Weak<MeshTree>,
+        sink: Rc<RefCell<Option<Sink>>>,
+        /// A worker failed: the pool is made again for the next job.
+        broken: Rc<Cell<bool>>,
+        jobs: u64,
+    }
+
+    impl Pool {
+        /// A worker per core but one (at least one, at most four). One core is left to the
+        /// page, which draws in software where there is no GPU (on two cores, one worker
+        /// traced the bunny's maps as fast as two: they took the page's core from it).
+        fn new() -> Result<Self, String> {
+            let cores =
+                web_sys::window().map_or(2.0, |window| window.navigator().hardware_concurrency());
+            let count = (cores as usize).saturating_sub(1).clamp(1, 4);
+            let sink: Rc<RefCell<Option<Sink>>> = Rc::default();
+            let broken: Rc<Cell<bool>> = Rc::default();
+            let workers = (0..count)
+                .map(|_| {
+                    let (sink, sink_on_error) = (sink.clone(), sink.clone());
+                    let (broken, broken_on_error) = (broken.clone(), broken.clone());
+                    Spawned::new(
+                        move |data| hear(&data, &sink, &broken),
+                        move |problem| {
+                            log::error!("accelviz: a heat map's worker failed: {problem}");
+                            broken_on_error.set(true);
+                            if let Some(sink) = sink_on_error.borrow().as_ref() {
+                                sink.shared.workers_failed.store(true, Ordering::Release);
+                            }
+                        },
+                    )
+                })
+                .collect::<Result<_, _>>()?;
+            Ok(Self {
+                workers,
+                tree: Weak::new(),
+                sink,
+                broken,
+                jobs: 0,
+            })
+        }
+    }
+
+    /// A worker's message: a band of the job the pool traces (one it stopped is ignored), or
+    /// why it could not trace it.
+    fn hear(data: &JsValue, sink: &RefCell<Option<Sink>>, broken: &Cell<bool>) {
+        let sink = sink.borrow();
+        let Some(sink) = sink.as_ref() else {
+            return;
+        };
+        if field(data, "id").and_then(|id| id.as_f64()) != Some(sink.id as f64)
+            || sink.shared.workers_failed.load(Ordering::Acquire)
+        {
+            return;
+        }
+        let failed = if let Some(values) = field(data, "part") {
+            let at = field(data, "at").and_then(|at| at.as_f64()).unwrap_or(-1.0) as usize;
+            let numbers = js_sys::Uint32Array::new(&values).to_vec();
+            match band_of_numbers(&sink.key, at, &numbers) {
+                Ok(traced) => {
+                    put_band(&sink.shared, &sink.key, at, &traced);
+                    None
+                }
+                Err(problem) => Some(problem),
+            }
+        } else {
+            field(data, "problem").map(|problem| problem.as_string().unwrap_or_default())
+        };
+        if let Some(problem) = failed {
+            log::error!("accelviz: a heat map's worker: {problem}");
+            broken.set(true);
+            sink.shared.workers_failed.store(true, Ordering::Release);
+        }
+    }
+
+    /// A job the pool traces; dropped, the workers stop tracing it (after the band each is
+    /// tracing).
+    pub struct PoolJob {
+        id: u64,
+    }
+
+    impl Drop for PoolJob {
+        fn drop(&mut self) {
+            POOL.with(|pool| {
+                let Ok(pool) = pool.try_borrow() else {
+                    return;
+                };
+                let Some(pool) = pool.as_ref() else {
+                    return;
+                };
+                let mut sink = pool.sink.borrow_mut();
+                if sink.as_ref().is_some_and(|sink| sink.id == self.id) {
+                    *sink = None;
+                    for worker in &pool.workers {
+                        let _ = worker.post(&[("job", "heat-cancel".into())], &[]);
+                    }
+                }
+            });
+        }
+    }
+
+    /// Has the pool's workers trace `key`'s bands through `tree`, each every n-th band, the
+    /// bands going into `shared` as they come; sends the tree first if they hold another.
+    /// The job, and how many workers trace it.
     pub fn start_workers(
         key: &HeatKey,
-        tree: &MeshTree,
+        tree: &Arc<MeshTree>,
         shared: &Arc<Shared>,
-    ) -> Result<Vec<Box<dyn std::any::Any>>, String> {
-        // One core is left to the page, which draws in software where there is no GPU (on
-        // two cores, one worker traced the bunny's maps as fast as two: they took the page's
-        // core from it).
-        let cores =
-            web_sys::window().map_or(2.0, |window| window.navigator().hardware_concurrency());
-        let count = (cores as usize).saturating_sub(1).clamp(1, 4);
-        let packed = pack(&tree.build);
-        let triangles = flat_triangles(&tree.mesh.triangles);
-        let key_numbers = key.to_numbers();
-        (0..count)
-            .map(|first| {
-                let tree_bytes = js_sys::Uint8Array::from(&packed[..]);
-                let triangle_numbers = js_sys::Float64Array::from(triangles);
-                let transfer = [tree_bytes.buffer().into(), triangle_numbers.buffer().into()];
-                let (on_part, on_done) = (shared.clone(), shared.clone());
-                let key = *key;
-                worker::start(
+    ) -> Result<(PoolJob, usize), String> {
+        POOL.with(|cell| {
+            let mut slot = cell.borrow_mut();
+            if slot.as_ref().is_some_and(|pool| pool.broken.get()) {
+                *slot = None;
+            }
+            if slot.is_none() {
+                *slot = Some(Pool::new()?);
+            }
+            let Some(pool) = slot.as_mut() else {
+                return Err("no pool".to_owned());
+            };
+            if !pool
+                .tree
+                .upgrade()
+                .is_some_and(|held| Arc::ptr_eq(&held, tree))
+            {
+                let packed = pack(&tree.build);
+                let triangles = flat_triangles(&tree.mesh.triangles);
+                for worker in &pool.workers {
+                    let tree_bytes = js_sys::Uint8Array::from(&packed[..]);
+                    let triangle_numbers = js_sys::Float64Array::from(triangles);
+                    let transfer = [tree_bytes.buffer().into(), triangle_numbers.buffer().into()];
+                    worker.post(
+                        &[
+                            ("job", "heat-tree".into()),
+                            ("tree", tree_bytes.into()),
+                            ("triangles", triangle_numbers.into()),
+                        ],
+                        &transfer,
+                    )?;
+                }
+                pool.tree = Arc::downgrade(tree);
+            }
+            pool.jobs += 1;
+            let id = pool.jobs;
+            *pool.sink.borrow_mut() = Some(Sink {
+                id,
+                key: *key,
+                shared: shared.clone(),
+            });
+            let numbers = js_sys::Float64Array::from(&key.to_numbers()[..]);
+            let step = pool.workers.len();
+            for (first, worker) in pool.workers.iter().enumerate() {
+                worker.post(
                     &[
-                        ("job", "heat".into()),
-                        ("tree", tree_bytes.into()),
-                        ("triangles", triangle_numbers.into()),
-                        ("key", js_sys::Float64Array::from(&key_numbers[..]).into()),
+                        ("job", "heat-bands".into()),
+                        ("id", JsValue::from_f64(id as f64)),
+                        ("key", numbers.clone().into()),
                         ("first", (first as u32).into()),
-                        ("step", (count as u32).into()),
+                        ("step", (step as u32).into()),
                     ],
-                    &transfer,
-                    move |report| {
-                        let Report::Part { at, values } = report else {
-                            return;
-                        };
-                        if on_part.workers_failed.load(Ordering::Acquire)
-                            || on_part.cancelled.load(Ordering::Acquire)
-                        {
-                            return;
-                        }
-                        let numbers = js_sys::Uint32Array::new(&values).to_vec();
-                        match band_of_numbers(&key, at as usize, &numbers) {
-                            Ok(traced) => put_band(&on_part, &key, at as usize, &traced),
-                            Err(problem) => {
-                                log::error!("accelviz: a heat map's worker: {problem}");
-                                on_part.workers_failed.store(true, Ordering::Release);
-                            }
-                        }
-                    },
-                    move |outcome| {
-                        if let Err(problem) = outcome {
-                            log::error!("accelviz: a heat map's worker failed: {problem}");
-                            on_done.workers_failed.store(true, Ordering::Release);
-                        }
-                    },
-                )
-                .map(|job| Box::new(job) as Box<dyn std::any::Any>)
-            })
-            .collect()
+                    &[],
+                )?;
+            }
+            Ok((PoolJob { id }, step))
+        })
     }
 }
 
@@ -563,32 +707,45 @@ pub mod work {
     use crate::mesh::MeshTree;
     use crate::mesh::aside::{triangles_of, unpack};
 
-    /// Traces bands `first`, `first + step`, … of the image `key` (numbers, see
-    /// [`HeatKey::to_numbers`]) through the [`pack`](crate::mesh::aside::pack)ed `tree` over
-    /// `triangles` (nine numbers each), handing each band's costs to `on_band` as they come.
-    pub fn trace_bands(
-        tree: &[u8],
-        triangles: &[f64],
-        key: &[f64],
-        first: usize,
-        step: usize,
-        on_band: &mut dyn FnMut(usize, Vec<u32>),
-    ) -> Result<(), String> {
-        let key = HeatKey::from_numbers(key)?;
-        let mesh = Mesh {
-            name: String::new(),
-            triangles: triangles_of(triangles),
-        };
-        let set = TriangleSet::from_f64(&mesh.triangles);
-        let build = unpack(tree)?;
-        if build.root_triangles > mesh.triangles.len() || step == 0 {
-            return Err("a heat map's tree and triangles do not belong together".to_owned());
+    /// A heat map's tree in a worker: taken in once, then traced band by band for any camera.
+    pub struct Tracer {
+        tree: MeshTree,
+    }
+
+    impl Tracer {
+        /// The [`pack`](crate::mesh::aside::pack)ed `tree` over `triangles` (nine numbers
+        /// each), or why they are not one.
+        pub fn new(tree: &[u8], triangles: &[f64]) -> Result<Self, String> {
+            let mesh = Mesh {
+                name: String::new(),
+                triangles: triangles_of(triangles),
+            };
+            let set = TriangleSet::from_f64(&mesh.triangles);
+            let build = unpack(tree)?;
+            if build.root_triangles > mesh.triangles.len() {
+                return Err("a heat map's tree and triangles do not belong together".to_owned());
+            }
+            Ok(Self {
+                tree: MeshTree::with_built(Arc::new(mesh), set, build),
+            })
         }
-        let tree = MeshTree::with_built(Arc::new(mesh), set, build);
-        for band in (first..band_count(&key)).step_by(step) {
-            on_band(band, band_numbers(&trace_band(&tree, &key, band)));
+
+        /// How many bands the image `key` (numbers, see [`HeatKey::to_numbers`]) has.
+        pub fn band_count(key: &[f64]) -> Result<usize, String> {
+            Ok(band_count(&HeatKey::from_numbers(key)?))
         }
-        Ok(())
+
+        /// Band `band` of the image `key`: its pixels' costs as numbers, both orders.
+        pub fn trace_band(&self, key: &[f64], band: usize) -> Result<Vec<u32>, String> {
+            let key = HeatKey::from_numbers(key)?;
+            if band >= band_count(&key) {
+                return Err(format!(
+                    "no band {band} in a heat map of {} rows",
+                    key.height
+                ));
+            }
+            Ok(band_numbers(&trace_band(&self.tree, &key, band)))
+        }
     }
 }
 
@@ -604,8 +761,12 @@ mod tests {
         let mesh = Arc::new(accelviz_scene::builtin::teapot());
         let structure = Structure::parse("bvh8:sah-binned").expect("in the catalogue");
         let tree = Arc::new(MeshTree::build(mesh.clone(), structure));
-        let packed = super::super::aside::pack(&tree.build);
-        let triangles = super::super::aside::flat_triangles(&mesh.triangles);
+        // One tracer, as a worker holds: taken in once, traced for every key.
+        let tracer = work::Tracer::new(
+            &super::super::aside::pack(&tree.build),
+            super::super::aside::flat_triangles(&mesh.triangles),
+        )
+        .expect("takes the tree in");
         // 21 rows: the last band is short.
         for (ray_kind, tile) in [(RayKind::Camera, PACKET_TILE), (RayKind::Shadow, 1)] {
             let key = HeatKey {
@@ -628,25 +789,19 @@ mod tests {
                     HeatMap::new(key.width, key.height),
                 ];
                 let mut bands = Vec::new();
+                let numbers = key.to_numbers();
+                let count = work::Tracer::band_count(&numbers).expect("a key");
                 for first in 0..workers {
-                    let numbers = key.to_numbers();
-                    work::trace_bands(
-                        &packed,
-                        triangles,
-                        &numbers,
-                        first,
-                        workers,
-                        &mut |band, costs| {
-                            let traced = band_of_numbers(&key, band, &costs).expect("a whole band");
-                            let rows = band_rows(&key, band);
-                            for (map, out) in aside.iter_mut().zip(&traced) {
-                                map.pixels[rows.start * key.width..rows.end * key.width]
-                                    .copy_from_slice(out);
-                            }
-                            bands.push(band);
-                        },
-                    )
-                    .expect("traces");
+                    for band in (first..count).step_by(workers) {
+                        let costs = tracer.trace_band(&numbers, band).expect("traces");
+                        let traced = band_of_numbers(&key, band, &costs).expect("a whole band");
+                        let rows = band_rows(&key, band);
+                        for (map, out) in aside.iter_mut().zip(&traced) {
+                            map.pixels[rows.start * key.width..rows.end * key.width]
+                                .copy_from_slice(out);
+                        }
+                        bands.push(band);
+                    }
                 }
                 bands.sort_unstable();
                 assert_eq!(bands, (0..band_count(&key)).collect::<Vec<_>>());
@@ -731,7 +886,15 @@ mod tests {
             )
             .build,
         );
-        assert!(work::trace_bands(&tree[..10], &[], &numbers, 0, 1, &mut |_, _| {}).is_err());
-        assert!(work::trace_bands(&tree, &[], &numbers, 0, 1, &mut |_, _| {}).is_err());
+        assert!(work::Tracer::new(&tree[..10], &[]).is_err());
+        assert!(work::Tracer::new(&tree, &[]).is_err());
+        let triangles =
+            super::super::aside::flat_triangles(&accelviz_scene::builtin::teapot().triangles)
+                .to_vec();
+        let tracer = work::Tracer::new(&tree, &triangles).expect("takes the tree in");
+        assert_eq!(work::Tracer::band_count(&numbers), Ok(2));
+        assert!(tracer.trace_band(&numbers, 1).is_ok());
+        assert!(tracer.trace_band(&numbers, 2).is_err());
+        assert!(tracer.trace_band(&numbers[..3], 0).is_err());
     }
 }
