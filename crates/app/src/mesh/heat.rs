@@ -2,9 +2,9 @@
 //! its counting observer, near first and in file order, a band of rows at a time, one ray at
 //! a time or in packets of 8×8 pixels (the core's packet traversal). On the desktop the bands
 //! are shared by worker threads (both cores); in the browser, whose page has one thread, by
-//! Web Workers running the same WASM module on the packed tree (the bunny's 512×512 maps in
-//! 0.5-0.65 s in headless Chromium, against 1.3-1.7 s traced on the page a slice a frame,
-//! which the page still falls back to). Every way calls [`trace_band`]; the maps fill in
+//! a pool of Web Workers running the same WASM module on the packed tree (the bunny's
+//! 512×512 maps in 0.3-0.5 s in headless Chromium, against 1.3-1.7 s traced on the page a
+//! slice a frame, which the page still falls back to). Every way calls [`trace_band`]; the maps fill in
 //! band by band, the view shows them as they grow, and the UI never waits.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
