@@ -673,6 +673,41 @@ pub fn surface_offset(bounds: &Aabb<DVec3>, point: DVec3) -> f64 {
     (1e-5 * radius).max(point.abs().max_element() * 64.0 * f32::EPSILON as f64)
 }
 
+/// A mesh's closest hits in f64 with the watertight test: where secondary rays start from.
+struct ReferenceHits {
+    triangles: accelviz_core::TriangleSet<DVec3>,
+    bvh: accelviz_core::bvh::Bvh<DVec3>,
+    stack: accelviz_core::bvh::TraversalStack<f64>,
+}
+
+impl ReferenceHits {
+    fn new(mesh: &crate::Mesh) -> Self {
+        use accelviz_core::PrimitiveSet;
+        use accelviz_core::bvh::{BinnedSah, Builder};
+        let triangles = accelviz_core::TriangleSet::<DVec3>::from_f64(&mesh.triangles);
+        let bvh = BinnedSah::default().build(
+            &triangles.all_bounds(),
+            &accelviz_core::params::BuildParams::default(),
+        );
+        Self {
+            triangles,
+            bvh,
+            stack: accelviz_core::bvh::TraversalStack::new(),
+        }
+    }
+
+    fn closest(&mut self, ray: &Ray<DVec3>) -> Option<accelviz_core::Hit<f64>> {
+        accelviz_core::bvh::traverse(
+            &self.bvh,
+            &self.triangles,
+            ray,
+            &accelviz_core::TraceOptions::default().with_robust(true),
+            &mut self.stack,
+            &mut accelviz_core::NoObserver,
+        )
+    }
+}
+
 /// Shadow, ambient occlusion or bounce rays: camera rays through seeded random points of
 /// the benchmark camera's image are traced (in f64, watertight) until `count` rays are made
 /// from their hits.
@@ -682,16 +717,9 @@ fn secondary_rays(
     count: usize,
     seed: u64,
 ) -> Result<Vec<RaySpec>, String> {
-    use accelviz_core::bvh::{BinnedSah, Builder, TraversalStack, traverse};
-    use accelviz_core::params::BuildParams;
-    use accelviz_core::{NoObserver, PrimitiveSet, TraceOptions, TriangleSet};
-
     let bounds = mesh.bounds();
-    let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
-    let bvh = BinnedSah::default().build(&triangles.all_bounds(), &BuildParams::default());
+    let mut hits = ReferenceHits::new(mesh);
     let camera = accelviz_core::camera::Camera::framing(&bounds);
-    let options = TraceOptions::default().with_robust(true);
-    let mut stack = TraversalStack::new();
     let mut rng = SplitMix64::new(seed);
     let mut rays = Vec::with_capacity(count);
     // A camera that sees the mesh hits it often; one that sees a sliver may never make
@@ -707,20 +735,13 @@ fn secondary_rays(
         let Ok(primary) = Ray::try_new(origin, direction) else {
             continue;
         };
-        let Some(hit) = traverse(
-            &bvh,
-            &triangles,
-            &primary,
-            &options,
-            &mut stack,
-            &mut NoObserver,
-        ) else {
+        let Some(hit) = hits.closest(&primary) else {
             continue;
         };
         let from_hit = rays_from_hit(
             kind,
             &bounds,
-            triangles.triangles()[hit.primitive as usize],
+            hits.triangles.triangles()[hit.primitive as usize],
             primary.at(hit.t),
             direction,
             &mut rng,
@@ -856,16 +877,9 @@ pub fn rays_from_pixels(
     width: usize,
     height: usize,
 ) -> Result<Vec<RaySpec>, String> {
-    use accelviz_core::bvh::{BinnedSah, Builder, TraversalStack, traverse};
-    use accelviz_core::params::BuildParams;
-    use accelviz_core::{NoObserver, PrimitiveSet, TraceOptions, TriangleSet};
-
     let bounds = mesh.bounds();
-    let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
-    let bvh = BinnedSah::default().build(&triangles.all_bounds(), &BuildParams::default());
+    let mut hits = ReferenceHits::new(mesh);
     let primaries = camera_rays(&bounds, width, height);
-    let options = TraceOptions::default().with_robust(true);
-    let mut stack = TraversalStack::new();
     let mut rays = Vec::new();
     for pixel in pixel_tiles(width, height, PIXEL_TILE, PIXEL_TILE)
         .into_iter()
@@ -874,14 +888,7 @@ pub fn rays_from_pixels(
         let Ok(primary) = primaries[pixel as usize].to_ray::<DVec3>() else {
             continue;
         };
-        if let Some(hit) = traverse(
-            &bvh,
-            &triangles,
-            &primary,
-            &options,
-            &mut stack,
-            &mut NoObserver,
-        ) {
+        if let Some(hit) = hits.closest(&primary) {
             rays.extend(pixel_secondary_specs(
                 kind,
                 mesh,
@@ -1015,10 +1022,6 @@ mod tests {
     /// rays come from the first tile's pixels; a camera with a ray kind asks for them.
     #[test]
     fn rays_from_pixels_are_the_pixels_rays_tile_by_tile() {
-        use accelviz_core::bvh::{BinnedSah, Builder, TraversalStack, traverse};
-        use accelviz_core::params::BuildParams;
-        use accelviz_core::{NoObserver, PrimitiveSet, TraceOptions, TriangleSet};
-
         let mesh = crate::builtin::teapot();
         let (width, height) = (21, 13);
         let source =
@@ -1031,25 +1034,15 @@ mod tests {
         ));
 
         let bounds = mesh.bounds();
-        let triangles = TriangleSet::<DVec3>::from_f64(&mesh.triangles);
-        let bvh = BinnedSah::default().build(&triangles.all_bounds(), &BuildParams::default());
+        let mut hits = ReferenceHits::new(&mesh);
         let primaries = camera_rays(&bounds, width, height);
-        let options = TraceOptions::default().with_robust(true);
-        let mut stack = TraversalStack::new();
         for kind in [RayKind::Shadow, RayKind::Ao, RayKind::Bounce] {
             let made = rays_from_pixels(kind, &mesh, width, height).expect("rays");
             let mut expected = Vec::new();
             for tile in pixel_tiles(width, height, PIXEL_TILE, PIXEL_TILE) {
                 for pixel in tile {
                     let ray = primaries[pixel as usize].to_ray::<DVec3>().expect("a ray");
-                    if let Some(hit) = traverse(
-                        &bvh,
-                        &triangles,
-                        &ray,
-                        &options,
-                        &mut stack,
-                        &mut NoObserver,
-                    ) {
+                    if let Some(hit) = hits.closest(&ray) {
                         expected.extend(pixel_secondary_rays::<DVec3>(
                             kind, &mesh, &bounds, &ray, hit,
                         ));
