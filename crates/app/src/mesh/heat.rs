@@ -4,8 +4,8 @@
 //! are shared by worker threads (both cores); in the browser, whose page has one thread, by
 //! a pool of Web Workers running the same WASM module on the packed tree (the bunny's
 //! 512×512 maps in 0.3-0.5 s in headless Chromium, against 1.3-1.7 s traced on the page a
-//! slice a frame, which the page still falls back to). Every way calls [`trace_band`]; the maps fill in
-//! band by band, the view shows them as they grow, and the UI never waits.
+//! slice a frame, which the page still falls back to). Every way calls [`trace_band`]; the
+//! maps fill in band by band, the view shows them as they grow, and the UI never waits.
 
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
