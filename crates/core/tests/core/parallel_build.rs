@@ -43,19 +43,14 @@ fn assert_same_tree_on_any_threads<V: accelviz_core::Vector>(name: &str, bounds:
     }
 }
 
-/// A small linear congruential generator, so the boxes need no dependency.
+/// `count` small boxes scattered through a cube, from the scene crate's seeded generator.
 fn cloud(count: usize, seed: u64) -> Vec<Aabb<DVec3>> {
-    let mut state = seed;
-    let mut next = move || {
-        state = state
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = accelviz_scene::rng::SplitMix64::new(seed);
     (0..count)
         .map(|_| {
-            let corner = DVec3::new(next(), next(), next()) * 100.0;
-            Aabb::new(corner, corner + DVec3::new(next(), next(), next()))
+            let corner = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) * 100.0;
+            let size = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64());
+            Aabb::new(corner, corner + size)
         })
         .collect()
 }
