@@ -26,13 +26,7 @@ impl KdBuilder for KdMedianSplit {
         params: &BuildParams,
         observer: &mut O,
     ) -> KdTree<V> {
-        let ends = std::cell::RefCell::new(Vec::new());
-        build_by_rule(
-            primitive_bounds,
-            params,
-            observer,
-            |cell, primitives, bounds| median_cut(cell, primitives, bounds, &mut ends.borrow_mut()),
-        )
+        build_by_rule(primitive_bounds, params, observer, median_cut)
     }
 }
 

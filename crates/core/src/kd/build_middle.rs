@@ -23,7 +23,7 @@ impl KdBuilder for KdMiddleSplit {
         params: &BuildParams,
         observer: &mut O,
     ) -> KdTree<V> {
-        build_by_rule(primitive_bounds, params, observer, |cell, _, _| {
+        build_by_rule(primitive_bounds, params, observer, |cell, _, _, _| {
             middle_cut(cell)
         })
     }

@@ -83,6 +83,14 @@ impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
     ) -> ((), ()) {
         ((), ())
     }
+
+    fn fork(&self) -> Self {
+        Splitter {
+            bounds: self.bounds,
+            cost: self.cost,
+            events_per_axis: vec![Vec::new(); V::DIM],
+        }
+    }
 }
 
 impl KdBuilder for KdSah {

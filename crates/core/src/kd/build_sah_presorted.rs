@@ -43,6 +43,9 @@ type EventLists<S> = Vec<Vec<Event<S>>>;
 /// A primitive cut by the plane, with the boxes of its parts below and above (if any).
 type ClippedPrimitive<V> = (u32, Option<Aabb<V>>, Option<Aabb<V>>);
 
+/// The root's events are sorted on several threads from this many primitives.
+const PARALLEL_SORT: usize = 4096;
+
 /// A `side` flag: the primitive's events are replaced by those of its clipped parts.
 const CLIPPED: u8 = 4;
 
@@ -50,7 +53,7 @@ struct Splitter<'a, V: Vector> {
     bounds: &'a [Aabb<V>],
     cost: SahCost,
     /// The primitives, for perfect splits.
-    clip: Option<&'a dyn Clipper<V>>,
+    clip: Option<&'a (dyn Clipper<V> + Sync)>,
     /// Scratch, by primitive: which sides of the current cut it reaches (bit 0 below, bit 1
     /// above), and [`CLIPPED`].
     side: Vec<u8>,
@@ -167,20 +170,32 @@ impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
         observer: &mut O,
     ) -> Self::NodeData {
         // Sort once per axis.
+        let sorted = |axis: usize, scratch: &mut Vec<Event<V::Scalar>>| {
+            let mut events = Vec::with_capacity(2 * primitives.len());
+            for &primitive in primitives {
+                push_events(
+                    &mut events,
+                    primitive,
+                    &self.bounds[primitive as usize],
+                    cell,
+                    axis,
+                );
+            }
+            sort_events(&mut events, scratch);
+            events
+        };
+        if !O::ACTIVE && primitives.len() >= PARALLEL_SORT && crate::parallel::has_threads() {
+            // The axes at once: the one part of the build no fork shares.
+            use rayon::prelude::*;
+            return (0..V::DIM)
+                .into_par_iter()
+                .map(|axis| sorted(axis, &mut Vec::new()))
+                .collect();
+        }
         let mut scratch = Vec::new();
         (0..V::DIM)
             .map(|axis| {
-                let mut events = Vec::with_capacity(2 * primitives.len());
-                for &primitive in primitives {
-                    push_events(
-                        &mut events,
-                        primitive,
-                        &self.bounds[primitive as usize],
-                        cell,
-                        axis,
-                    );
-                }
-                sort_events(&mut events, &mut scratch);
+                let events = sorted(axis, &mut scratch);
                 observer.sorted(axis);
                 events
             })
@@ -354,6 +369,18 @@ impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
     fn discard(&mut self, events: Self::NodeData) {
         self.pool.extend(events);
     }
+
+    fn fork(&self) -> Self {
+        Splitter {
+            bounds: self.bounds,
+            cost: self.cost,
+            clip: self.clip,
+            side: vec![0; self.bounds.len()],
+            clipped: Vec::new(),
+            cut_starts: Vec::new(),
+            pool: Vec::new(),
+        }
+    }
 }
 
 impl KdBuilder for KdSahPresorted {
@@ -404,7 +431,11 @@ impl KdSahPresorted {
 }
 
 impl<'a, V: Vector> Splitter<'a, V> {
-    fn new(bounds: &'a [Aabb<V>], params: &BuildParams, clip: Option<&'a dyn Clipper<V>>) -> Self {
+    fn new(
+        bounds: &'a [Aabb<V>],
+        params: &BuildParams,
+        clip: Option<&'a (dyn Clipper<V> + Sync)>,
+    ) -> Self {
         Self {
             bounds,
             cost: params.cost,

@@ -47,8 +47,9 @@ impl HitTest {
     }
 }
 
-/// An indexed set of primitives that a ray can be tested against.
-pub trait PrimitiveSet<V: Vector> {
+/// An indexed set of primitives that a ray can be tested against. It is plain data, shared by
+/// the threads that build over it and trace it (`Sync`).
+pub trait PrimitiveSet<V: Vector>: Sync {
     /// What a ray precomputes once before testing many primitives.
     type RayData: 'static;
 
