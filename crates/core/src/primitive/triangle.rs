@@ -147,8 +147,7 @@ pub struct TriangleTestValues<S> {
     /// Möller–Trumbore: the determinant `e1 · (d × e2)`; watertight: `U + V + W`.
     pub det: Option<S>,
     /// Möller–Trumbore: the barycentric coordinates `u`, `v` and `u + v` (the hit needs
-    /// `u ≥ 0`, `v ≥ 0`, `u + v ≤ 1`, tested before dividing by `|det|`, so each is its scaled
-    /// value divided once); watertight: the edge functions `U`, `V`, `W` (the hit
+    /// `u ≥ 0`, `v ≥ 0`, `u + v ≤ 1`); watertight: the edge functions `U`, `V`, `W` (the hit
     /// needs no two of opposite signs). `None` where the test stopped before computing it.
     pub coordinates: [Option<S>; 3],
     /// Watertight: an edge function was zero, so all three were computed again in f64.
@@ -193,10 +192,8 @@ impl<S: Real> TriangleTestValues<S> {
     }
 }
 
-/// Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection", with its tests
-/// made on the coordinates scaled by the determinant (as Embree's and pbrt-v4's triangle tests
-/// make them): `t` is divided out only for a ray inside the edges. `values`, if given, is told
-/// what was computed.
+/// Möller & Trumbore 1997, "Fast, Minimum Storage Ray/Triangle Intersection". `values`, if
+/// given, is told what was computed.
 #[inline(always)]
 fn moller_trumbore<V: Vector3>(
     ray: &Ray<V>,
@@ -218,30 +215,25 @@ fn moller_trumbore<V: Vector3>(
     if det == zero {
         return None;
     }
-    // The barycentric coordinates scaled by |det| (flipped where det is negative, which is
-    // exact), so the division is made only for a ray that passes the edges, as the SIMD
-    // block test makes it: u = U / |det|, v = V / |det|.
-    let negative = det < zero;
-    let flip = |value: V::Scalar| if negative { -value } else { value };
-    let abs_det = flip(det);
+    let inv_det = V::Scalar::ONE / det;
     let s = ray.origin - *v0;
-    let scaled_u = flip(s.dot(p));
+    let u = s.dot(p) * inv_det;
     if let Some(values) = values.as_deref_mut() {
-        values.coordinates[0] = Some(scaled_u / abs_det);
+        values.coordinates[0] = Some(u);
     }
-    if scaled_u < zero || scaled_u > abs_det {
+    if u < zero || u > V::Scalar::ONE {
         return None;
     }
     let q = s.cross(edge1);
-    let scaled_v = flip(ray.direction.dot(q));
+    let v = ray.direction.dot(q) * inv_det;
     if let Some(values) = values.as_deref_mut() {
-        values.coordinates[1] = Some(scaled_v / abs_det);
-        values.coordinates[2] = Some((scaled_u + scaled_v) / abs_det);
+        values.coordinates[1] = Some(v);
+        values.coordinates[2] = Some(u + v);
     }
-    if scaled_v < zero || scaled_u + scaled_v > abs_det {
+    if v < zero || u + v > V::Scalar::ONE {
         return None;
     }
-    let t = edge2.dot(q) / det;
+    let t = edge2.dot(q) * inv_det;
     let hit = t >= t_min && t <= t_max;
     if let Some(values) = values {
         values.t = Some(t);

@@ -33,7 +33,6 @@ pub(crate) trait Register: Copy {
     fn ne(self, other: Self) -> Self;
     fn or(self, other: Self) -> Self;
     fn and(self, other: Self) -> Self;
-    fn xor(self, other: Self) -> Self;
     /// `self & !other`.
     fn and_not(self, other: Self) -> Self;
     /// `mask ? self : other`, lane by lane.
@@ -94,9 +93,8 @@ pub(crate) fn children_in_lanes<L: Register, const W: usize>(
 
 /// Möller–Trumbore on the four triangles of `block` in lanes: the portable code's products
 /// and sums in its order (glam's cross and dot, the edges taken from the corners as it takes
-/// them), so the same `t`, and its rejections written as it writes them (the edge functions
-/// scaled by |det|; a NaN `u` or `v` is rejected only through `t`, which is divided out only
-/// when some lane passes the edges). `NaN` where no hit. `L` has four lanes.
+/// them), so the same `t`, and its rejections written as it writes them (a NaN `u` or `v` is
+/// rejected only through `t`). `NaN` where no hit. `L` has four lanes.
 #[inline(always)]
 pub(crate) fn moller_trumbore4<L: Register>(
     block: &TriangleBlock<L::Scalar>,
@@ -128,33 +126,24 @@ pub(crate) fn moller_trumbore4<L: Register>(
     let py = dz.mul(e2x).sub(e2z.mul(dx));
     let pz = dx.mul(e2y).sub(e2x.mul(dy));
     let det = e1x.mul(px).add(e1y.mul(py)).add(e1z.mul(pz));
-    let zero = L::splat(L::Scalar::ZERO);
-    // The edge functions scaled by |det| (each flipped by det's sign bit), so the division
-    // waits until some lane passes them.
-    let sign = det.and(L::splat(-L::Scalar::ZERO));
-    let abs_det = det.xor(sign);
+    let (zero, one) = (L::splat(L::Scalar::ZERO), L::splat(L::Scalar::ONE));
+    let inv_det = one.div(det);
     let sx = L::splat(origin[0]).sub(v0x);
     let sy = L::splat(origin[1]).sub(v0y);
     let sz = L::splat(origin[2]).sub(v0z);
-    let u = sx.mul(px).add(sy.mul(py)).add(sz.mul(pz)).xor(sign);
+    let u = sx.mul(px).add(sy.mul(py)).add(sz.mul(pz)).mul(inv_det);
     // q = s × e1
     let qx = sy.mul(e1z).sub(e1y.mul(sz));
     let qy = sz.mul(e1x).sub(e1z.mul(sx));
     let qz = sx.mul(e1y).sub(e1x.mul(sy));
-    let v = dx.mul(qx).add(dy.mul(qy)).add(dz.mul(qz)).xor(sign);
-    let rejected = u
-        .lt(zero)
-        .or(u.gt(abs_det))
-        .or(v.lt(zero).or(u.add(v).gt(abs_det)));
-    let inside = det.ne(zero).and_not(rejected);
+    let v = dx.mul(qx).add(dy.mul(qy)).add(dz.mul(qz)).mul(inv_det);
+    let t = e2x.mul(qx).add(e2y.mul(qy)).add(e2z.mul(qz)).mul(inv_det);
+    let rejected = u.lt(zero).or(u.gt(one)).or(v.lt(zero).or(u.add(v).gt(one)));
+    let accepted = det
+        .ne(zero)
+        .and(t.ge(L::splat(t_min)).and(t.le(L::splat(t_max))));
     let mut out = [L::Scalar::NAN; 4];
-    // Most blocks a ray reaches it misses in every lane.
-    if inside.bits() == 0 {
-        return out;
-    }
-    let t = e2x.mul(qx).add(e2y.mul(qy)).add(e2z.mul(qz)).div(det);
-    let accepted = inside.and(t.ge(L::splat(t_min)).and(t.le(L::splat(t_max))));
-    t.select(L::splat(L::Scalar::NAN), accepted)
+    t.select(L::splat(L::Scalar::NAN), accepted.and_not(rejected))
         .write_to(&mut out);
     out
 }

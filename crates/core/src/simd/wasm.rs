@@ -169,10 +169,6 @@ impl Register for v128 {
         v128_and(self, other)
     }
     #[inline(always)]
-    fn xor(self, other: Self) -> Self {
-        v128_xor(self, other)
-    }
-    #[inline(always)]
     fn and_not(self, other: Self) -> Self {
         // `v128_andnot(a, b)` is `a & !b`.
         v128_andnot(self, other)

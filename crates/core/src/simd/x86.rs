@@ -259,10 +259,6 @@ impl Register for __m128 {
         unsafe { _mm_and_ps(self, other) }
     }
     #[inline(always)]
-    fn xor(self, other: Self) -> Self {
-        unsafe { _mm_xor_ps(self, other) }
-    }
-    #[inline(always)]
     fn and_not(self, other: Self) -> Self {
         // `_mm_andnot_ps(a, b)` is `!a & b`.
         unsafe { _mm_andnot_ps(other, self) }
@@ -357,10 +353,6 @@ impl Register for __m256 {
         unsafe { _mm256_and_ps(self, other) }
     }
     #[inline(always)]
-    fn xor(self, other: Self) -> Self {
-        unsafe { _mm256_xor_ps(self, other) }
-    }
-    #[inline(always)]
     fn and_not(self, other: Self) -> Self {
         unsafe { _mm256_andnot_ps(other, self) }
     }
@@ -449,10 +441,6 @@ impl Register for __m256d {
     #[inline(always)]
     fn and(self, other: Self) -> Self {
         unsafe { _mm256_and_pd(self, other) }
-    }
-    #[inline(always)]
-    fn xor(self, other: Self) -> Self {
-        unsafe { _mm256_xor_pd(self, other) }
     }
     #[inline(always)]
     fn and_not(self, other: Self) -> Self {
