@@ -452,12 +452,14 @@ fn build_within<V: Vector, S: CellSplitter<V>, O: BuildObserver>(
         .iter()
         .fold(Aabb::empty(), |acc, bounds| acc.union(*bounds));
     let count = context.primitive_bounds.len();
-    if !O::ACTIVE && count >= 2 * PARALLEL_GRAIN && crate::parallel::has_threads() {
-        match build_parallel(context, root_cell, make_splitter()) {
-            Ok(tree) => return Ok(tree),
-            // Over budget, or maybe: the sequential driver says which, in its order.
-            Err(Stop::Exceeded(_) | Stop::Unsure) => {}
-        }
+    // Over budget, or maybe, a parallel build stops: the sequential driver says which, in its
+    // order.
+    if !O::ACTIVE
+        && count >= 2 * PARALLEL_GRAIN
+        && crate::parallel::has_threads()
+        && let Ok(tree) = build_parallel(context, root_cell, make_splitter())
+    {
+        return Ok(tree);
     }
     let mut splitter = make_splitter();
     let all: Vec<u32> = (0..count as u32).collect();

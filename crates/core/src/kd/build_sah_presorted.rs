@@ -371,15 +371,7 @@ impl<V: Vector> CellSplitter<V> for Splitter<'_, V> {
     }
 
     fn fork(&self) -> Self {
-        Splitter {
-            bounds: self.bounds,
-            cost: self.cost,
-            clip: self.clip,
-            side: vec![0; self.bounds.len()],
-            clipped: Vec::new(),
-            cut_starts: Vec::new(),
-            pool: Vec::new(),
-        }
+        Splitter::with_cost(self.bounds, self.cost, self.clip)
     }
 }
 
@@ -436,9 +428,18 @@ impl<'a, V: Vector> Splitter<'a, V> {
         params: &BuildParams,
         clip: Option<&'a (dyn Clipper<V> + Sync)>,
     ) -> Self {
+        Self::with_cost(bounds, params.cost, clip)
+    }
+
+    /// A splitter with empty scratch (a new build's, or a fork's).
+    fn with_cost(
+        bounds: &'a [Aabb<V>],
+        cost: SahCost,
+        clip: Option<&'a (dyn Clipper<V> + Sync)>,
+    ) -> Self {
         Self {
             bounds,
-            cost: params.cost,
+            cost,
             clip,
             side: vec![0; bounds.len()],
             clipped: Vec::new(),
