@@ -68,10 +68,7 @@ impl<V: Vector> SlabRay<V> {
         let mut inv_direction = V::splat(V::Scalar::ZERO);
         let mut negative = [false; 3];
         for axis in 0..V::DIM {
-            let inverse = V::Scalar::ONE / ray.direction[axis];
-            inv_direction[axis] = inverse;
-            // 1/−0 = −∞, so the sign of the reciprocal carries the sign of a zero too.
-            negative[axis] = inverse < V::Scalar::ZERO;
+            (inv_direction[axis], negative[axis]) = reciprocal(ray.direction[axis]);
         }
         let inv_direction_lanes = inv_direction.to_lanes();
         Self {
@@ -82,12 +79,27 @@ impl<V: Vector> SlabRay<V> {
             inv_direction_lanes,
             negative_lanes: inv_direction_lanes.negative(),
             t_min: ray.t_min,
-            far_scale: if robust {
-                V::Scalar::ONE + V::Scalar::TWO * V::Scalar::gamma(3)
-            } else {
-                V::Scalar::ONE
-            },
+            far_scale: far_scale(robust),
         }
+    }
+}
+
+/// A direction component's reciprocal, and whether the ray moves towards −∞ along it.
+#[inline(always)]
+pub(crate) fn reciprocal<S: Real>(direction: S) -> (S, bool) {
+    let inverse = S::ONE / direction;
+    // 1/−0 = −∞, so the sign of the reciprocal carries the sign of a zero too.
+    (inverse, inverse < S::ZERO)
+}
+
+/// The factor every `t_far` is multiplied by: `1` in fast mode, `1 + 2γ(3)` in robust mode
+/// (Ize 2013).
+#[inline(always)]
+pub(crate) fn far_scale<S: Real>(robust: bool) -> S {
+    if robust {
+        S::ONE + S::TWO * S::gamma(3)
+    } else {
+        S::ONE
     }
 }
 
