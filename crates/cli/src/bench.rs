@@ -567,8 +567,11 @@ fn trace_packets<V: Vector3>(
     options: &TraceOptions,
     workers: &Workers,
 ) -> usize {
-    let counts = workers.map(
+    // Tiles of about `TILE` rays, as single rays are taken.
+    let packet_size = ranges.first().map_or(1, |range| range.len().max(1));
+    let counts = workers.map_in_tiles(
         ranges,
+        crate::parallel::TILE / packet_size,
         || {
             let hits = vec![None; accelviz_core::bvh::MAX_PACKET];
             let observers = vec![NoObserver; accelviz_core::bvh::MAX_PACKET];

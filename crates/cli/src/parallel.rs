@@ -36,10 +36,27 @@ impl Workers {
     }
 
     /// `answer(state, item)` for every item, in order; each thread makes its `state` (its
-    /// stacks) once with `init`.
+    /// stacks) once with `init`. A thread takes [`TILE`] items at a time.
     pub fn map<I, S, T>(
         &self,
         items: &[I],
+        init: impl Fn() -> S + Sync + Send,
+        answer: impl Fn(&mut S, &I) -> T + Sync + Send,
+    ) -> Vec<T>
+    where
+        I: Sync,
+        T: Send,
+    {
+        self.map_in_tiles(items, TILE, init, answer)
+    }
+
+    /// [`Workers::map`] with a thread taking `tile` items at a time (a packet of rays is an
+    /// item: a tile of [`TILE`] packets would cut a camera's rays into a handful of pieces,
+    /// and one thread would finish long before the other).
+    pub fn map_in_tiles<I, S, T>(
+        &self,
+        items: &[I],
+        tile: usize,
         init: impl Fn() -> S + Sync + Send,
         answer: impl Fn(&mut S, &I) -> T + Sync + Send,
     ) -> Vec<T>
@@ -55,7 +72,7 @@ impl Workers {
             Some(pool) => pool.install(|| {
                 items
                     .par_iter()
-                    .with_min_len(TILE)
+                    .with_min_len(tile.max(1))
                     .map_init(&init, |state, item| answer(state, item))
                     .collect()
             }),
@@ -106,6 +123,10 @@ mod tests {
             let workers = Workers::new(threads).unwrap_or_else(|_| unreachable!());
             let got = workers.map(&items, || 0u64, |_, item| item * item);
             assert_eq!(got, expected);
+            for tile in [0, 1, 7, 20_000] {
+                let got = workers.map_in_tiles(&items, tile, || 0u64, |_, item| item * item);
+                assert_eq!(got, expected, "tiles of {tile}");
+            }
             assert_eq!(workers.count(&items, || (), |_, item| item % 3 == 0), 3334);
         }
         assert!(Workers::new(0).is_err());
