@@ -77,19 +77,35 @@ impl<S: Real> HitSearch<S> {
                 .intersect(prepared, stored, t_min, self.t_closest);
             observer.primitive_tested(primitive, t_hit);
             let Some(t) = t_hit else { continue };
-            if self
-                .closest
-                .is_none_or(|hit| hit.is_beaten_by(primitive, t))
-            {
-                self.closest = Some(Hit { primitive, t });
-                self.t_closest = t;
-                observer.closest_hit_updated(primitive, t);
-                if self.ends_search(&mut leaf_done) {
-                    return true;
-                }
+            if self.offer(primitive, t, observer, &mut leaf_done) {
+                return true;
             }
         }
         leaf_done
+    }
+
+    /// A hit at `t` (inside the search interval) on `primitive`: the closest from now on if it
+    /// beats the one so far (the least `t`, ties to the lower number, so that every structure
+    /// and every order answers alike). True when the search has its answer (see
+    /// [`HitSearch::ends_search`]).
+    #[inline(always)]
+    pub(crate) fn offer<O: Observer<S>>(
+        &mut self,
+        primitive: u32,
+        t: S,
+        observer: &mut O,
+        leaf_done: &mut bool,
+    ) -> bool {
+        if self
+            .closest
+            .is_none_or(|hit| hit.is_beaten_by(primitive, t))
+        {
+            self.closest = Some(Hit { primitive, t });
+            self.t_closest = t;
+            observer.closest_hit_updated(primitive, t);
+            return self.ends_search(leaf_done);
+        }
+        false
     }
 }
 

@@ -2,11 +2,11 @@
 //! (a camera's tiles). Each ray gets the answer [`traverse_wide`](super::traverse_wide) gives
 //! it alone.
 
-use crate::bvh::wide::{LOWER, UPPER, WideBvh, WideNode};
+use crate::bvh::wide::{LEAF_BLOCK, LOWER, UPPER, WideBvh, WideNode};
 use crate::bvh::wide_traverse::{Pending, RayState, WideStack};
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
-use crate::primitive::LeafPrimitives;
+use crate::primitive::{HitTest, LeafPrimitives, TriangleBlock};
 use crate::query::{Hit, Order, TraceOptions};
 use crate::ray::Ray;
 use crate::simd::{
@@ -36,6 +36,9 @@ pub struct PacketStack<S: Real> {
     entries: Vec<PacketPending<S>>,
     /// For a ray that leaves its packet.
     single: WideStack<S>,
+    /// The packet's rays in lanes, kept from packet to packet (filling the lanes of rays a
+    /// packet does not have cost as much as a small mesh's rays that miss it).
+    lanes: Box<PacketLanes<S>>,
 }
 
 /// Bounds on a packet's rays, axis by axis, for rejecting a box every ray misses with one test
@@ -306,37 +309,45 @@ fn traverse_packet_with<K, V, P, O, const W: usize>(
     // leaf or leaves the packet: on a small mesh most of a camera's rays miss every box, and
     // set them up for nothing (suzanne: 83 % of them).
     let mut states: [Option<RayState<'_, V, P>>; MAX_PACKET] = [const { None }; MAX_PACKET];
-    let mut lanes = PacketLanes {
-        origin: [[V::Scalar::ZERO; MAX_PACKET]; 3],
-        inv_direction: [[V::Scalar::ZERO; MAX_PACKET]; 3],
-        negative: [[false; MAX_PACKET]; 3],
-        t_min: [V::Scalar::ZERO; MAX_PACKET],
-        t_closest: [V::Scalar::NEG_INFINITY; MAX_PACKET],
-        far_scale: V::Scalar::ZERO,
-    };
-    // What `SlabRay::new` prepares, an axis at a time straight into the lanes.
+    let PacketStack {
+        entries,
+        single,
+        lanes,
+    } = stack;
+    // The lanes past the packet's last ray keep an earlier packet's values: every test masks
+    // them off, but the packet's greatest interval end is taken over all of them, so theirs
+    // is −∞.
+    lanes.t_closest[rays.len()..].fill(V::Scalar::NEG_INFINITY);
+    // What `SlabRay::new` prepares, an axis at a time straight into the lanes (zipped, so
+    // that no store is checked against the lanes' length).
     for axis in 0..V::DIM {
-        for (index, ray) in rays.iter().enumerate() {
-            let (inverse, negative) = reciprocal(ray.direction[axis]);
-            lanes.origin[axis][index] = ray.origin[axis];
-            lanes.inv_direction[axis][index] = inverse;
-            lanes.negative[axis][index] = negative;
+        let rows = lanes.origin[axis]
+            .iter_mut()
+            .zip(&mut lanes.direction[axis])
+            .zip(&mut lanes.inv_direction[axis])
+            .zip(&mut lanes.negative[axis]);
+        for ((((origin, direction), inverse), negative), ray) in rows.zip(rays) {
+            *origin = ray.origin[axis];
+            *direction = ray.direction[axis];
+            (*inverse, *negative) = reciprocal(ray.direction[axis]);
         }
     }
     lanes.far_scale = far_scale(options.robust_traversal);
-    for (index, ray) in rays.iter().enumerate() {
-        lanes.t_min[index] = ray.t_min;
+    let interval = lanes.t_min.iter_mut().zip(&mut lanes.t_closest);
+    for ((t_min, t_closest), ray) in interval.zip(rays) {
+        *t_min = ray.t_min;
         // A search starts with the ray's whole interval (`HitSearch::new`).
-        lanes.t_closest[index] = ray.t_max;
+        *t_closest = ray.t_max;
     }
-    let bounds = PacketBounds::new::<V>(&lanes, rays.len());
+    let lanes: &mut PacketLanes<V::Scalar> = lanes;
+    let bounds = PacketBounds::new::<V>(lanes, rays.len());
     // The least and the greatest search-interval end of the packet's rays, kept up to date
     // as leaves shrink them, so that a node costs no loop over the rays when none of them can
     // be culled there (the least), and a box's one test for the whole packet has a bound
     // (the greatest: finished and absent rays hold −∞ or their hit, at most an active ray's).
     let greatest_t_closest = |lanes: &PacketLanes<V::Scalar>| extremes(&lanes.t_closest).1;
     let mut t_closest_least = extremes(&lanes.t_closest[..rays.len()]).0;
-    let mut t_farthest = greatest_t_closest(&lanes);
+    let mut t_farthest = greatest_t_closest(lanes);
     // Set when a leaf shrank some ray's interval: `t_farthest` is then made again before it
     // is next needed (a stale one is larger, so only less tight).
     let mut t_farthest_stale = false;
@@ -347,7 +358,6 @@ fn traverse_packet_with<K, V, P, O, const W: usize>(
         (1u64 << rays.len()) - 1
     };
     let nodes = tree.nodes.as_slice();
-    let PacketStack { entries, single } = stack;
     entries.clear();
     entries.push(PacketPending {
         child: 0,
@@ -418,25 +428,48 @@ fn traverse_packet_with<K, V, P, O, const W: usize>(
         }
         if count > 0 {
             let numbers = tree.leaf_primitives(child, count);
-            for_each_ray(active, |ray| {
-                let state = states[ray]
-                    .get_or_insert_with(|| RayState::new(primitives, &rays[ray], options));
-                let mut search = state.search;
-                let done = state.test_leaf::<K, O>(
-                    &mut search,
-                    primitives,
-                    state.block_ray(),
-                    child,
-                    numbers,
-                    &mut observers[ray],
-                );
-                state.search = search;
-                if done {
-                    searching &= !(1 << ray);
+            // One kernel call tests a triangle against a group of rays, or a ray against a
+            // block of four triangles, for about the same instructions: the leaf is tested
+            // the way that takes fewer (triangle by triangle where its rays crowd a few
+            // groups, as a small mesh's camera rays do; ray by ray where they are scattered).
+            let groups = groups_with(active).count_ones();
+            let by_triangle = count * groups < active.count_ones() * count.div_ceil(4);
+            match primitives.triangle_blocks() {
+                // The fast test, each triangle against the packet's rays a group of lanes at
+                // a time; a ray's state is made only when it hits.
+                Some(blocks) if by_triangle && options.hit_test == HitTest::Fast => {
+                    let (done, least) = test_leaf_by_triangle::<K, V, P, O>(
+                        &blocks[child as usize / LEAF_BLOCK..],
+                        numbers,
+                        active,
+                        lanes,
+                        &mut states,
+                        |ray| RayState::new(primitives, &rays[ray], options),
+                        observers,
+                    );
+                    searching &= !done;
+                    t_closest_least = earlier(t_closest_least, least);
                 }
-                lanes.t_closest[ray] = search.t_closest;
-                t_closest_least = earlier(t_closest_least, search.t_closest);
-            });
+                _ => for_each_ray(active, |ray| {
+                    let state = states[ray]
+                        .get_or_insert_with(|| RayState::new(primitives, &rays[ray], options));
+                    let mut search = state.search;
+                    let done = state.test_leaf::<K, O>(
+                        &mut search,
+                        primitives,
+                        state.block_ray(),
+                        child,
+                        numbers,
+                        &mut observers[ray],
+                    );
+                    state.search = search;
+                    if done {
+                        searching &= !(1 << ray);
+                    }
+                    lanes.t_closest[ray] = search.t_closest;
+                    t_closest_least = earlier(t_closest_least, search.t_closest);
+                }),
+            }
             t_farthest_stale = true;
             continue;
         }
@@ -450,16 +483,13 @@ fn traverse_packet_with<K, V, P, O, const W: usize>(
         }; W];
         let mut used = 0;
         if t_farthest_stale {
-            t_farthest = greatest_t_closest(&lanes);
+            t_farthest = greatest_t_closest(lanes);
             t_farthest_stale = false;
         }
         // One test rejects a box the whole packet misses (no ray's observer hears it).
         let missed = bounds.misses::<V, W>(node, t_farthest);
         // The groups of lanes with an active ray: the others are not tested.
-        let mut groups = 0u64;
-        for group in 0..MAX_PACKET / LANES {
-            groups |= u64::from((active >> (group * LANES)) & ((1 << LANES) - 1) != 0) << group;
-        }
+        let groups = groups_with(active);
         let tested = !u64::from(missed) & ((1 << node.slots_used()) - 1);
         for_each_ray(tested, |slot| {
             let mut slot_rays = 0u64;
@@ -467,7 +497,7 @@ fn traverse_packet_with<K, V, P, O, const W: usize>(
             for_each_ray(groups, |group| {
                 let group_rays = (active >> (group * LANES)) & ((1 << LANES) - 1);
                 let (t_enter, t_exit, hit, group_nearest) =
-                    test_box::<K, V::Scalar, W>(&lanes, node, slot, group, V::DIM, active);
+                    test_box::<K, V::Scalar, W>(lanes, node, slot, group, V::DIM, active);
                 slot_rays |= hit;
                 nearest = earlier(nearest, group_nearest);
                 if O::ACTIVE {
@@ -513,6 +543,81 @@ fn traverse_packet_with<K, V, P, O, const W: usize>(
     }
 }
 
+/// Tests a leaf's triangles (`numbers`, from the first of `blocks` on) against the packet's
+/// rays `active`, each triangle against a group of [`LANES`] rays at a time with the fast
+/// test: each ray's observer hears the triangles in the order a ray alone tests them, and its
+/// search ends where a ray alone would end it. A ray's state is made (`make_state`) when it
+/// first hits. Returns the rays whose search has its answer, and the least interval end.
+#[inline(always)]
+fn test_leaf_by_triangle<'a, K, V, P, O>(
+    blocks: &[TriangleBlock<V::Scalar>],
+    numbers: &[u32],
+    active: u64,
+    lanes: &mut PacketLanes<V::Scalar>,
+    states: &mut [Option<RayState<'a, V, P>>; MAX_PACKET],
+    make_state: impl Fn(usize) -> RayState<'a, V, P>,
+    observers: &mut [O],
+) -> (u64, V::Scalar)
+where
+    K: Kernel,
+    V: Vector,
+    P: LeafPrimitives<V>,
+    O: Observer<V::Scalar>,
+{
+    let mut testing = active;
+    let mut done = 0u64;
+    let mut least = V::Scalar::INFINITY;
+    for (block, block_numbers) in blocks.iter().zip(numbers.chunks(4)) {
+        for (lane, &primitive) in block_numbers.iter().enumerate() {
+            for group in 0..MAX_PACKET / LANES {
+                let first = group * LANES;
+                let group_rays = (testing >> first) & ((1 << LANES) - 1);
+                if group_rays == 0 {
+                    continue;
+                }
+                let (t_hits, hits) = K::triangle_against_rays(block, lane, lanes, first);
+                // Without an observer, only the rays hit have anything to do.
+                let heard = if O::ACTIVE {
+                    group_rays
+                } else {
+                    group_rays & u64::from(hits)
+                };
+                for_each_ray(heard << first, |ray| {
+                    let t = t_hits[ray - first];
+                    let hit = !t.is_nan();
+                    observers[ray].primitive_tested(primitive, hit.then_some(t));
+                    if !hit {
+                        return;
+                    }
+                    let state = states[ray].get_or_insert_with(|| make_state(ray));
+                    let mut leaf_done = false;
+                    if state
+                        .search
+                        .offer(primitive, t, &mut observers[ray], &mut leaf_done)
+                    {
+                        testing &= !(1 << ray);
+                    }
+                    // (A query that ends with the leaf tests the rest of it first.)
+                    done |= u64::from(leaf_done) << ray;
+                    lanes.t_closest[ray] = state.search.t_closest;
+                    least = earlier(least, state.search.t_closest);
+                });
+            }
+        }
+    }
+    (done | (active & !testing), least)
+}
+
+/// The groups of [`LANES`] rays with a ray of `rays` in them, as bits.
+#[inline(always)]
+fn groups_with(rays: u64) -> u64 {
+    let mut groups = 0u64;
+    for group in 0..MAX_PACKET / LANES {
+        groups |= u64::from((rays >> (group * LANES)) & ((1 << LANES) - 1) != 0) << group;
+    }
+    groups
+}
+
 /// Calls `visit` with the number of every set bit of `mask`, lowest first.
 #[inline(always)]
 fn for_each_ray(mut mask: u64, mut visit: impl FnMut(usize)) {
@@ -527,12 +632,14 @@ mod tests {
     use glam::Vec3;
 
     use super::*;
+    use crate::bvh::traverse_wide;
     use crate::bvh::wide_traverse::tests::scattered_triangles;
     use crate::bvh::wide_traverse::{WideStack, WideTrace};
     use crate::bvh::{BinnedSah, Builder, collapse};
     use crate::observer::{Counters, NoObserver};
     use crate::params::BuildParams;
     use crate::primitive::PrimitiveSet;
+    use crate::query::Query;
     use crate::simd::{Isa, run_with};
 
     /// Packets on every instruction set: the same hits as the portable packets, and as each
@@ -553,6 +660,63 @@ mod tests {
             .collect();
         let options = TraceOptions::default();
         let mut stack = PacketStack::default();
+        // Every query and test, traced in packets with and without observers.
+        for options in [
+            options,
+            TraceOptions {
+                query: Query::Any,
+                order: Order::FileOrder,
+                ..options
+            },
+            TraceOptions {
+                hit_test: HitTest::Watertight,
+                robust_traversal: true,
+                ..options
+            },
+        ] {
+            for packet in rays.chunks(64) {
+                let mut hits = vec![None; packet.len()];
+                let mut observed_hits = vec![None; packet.len()];
+                let mut counters = vec![Counters::default(); packet.len()];
+                let mut unobserved = vec![NoObserver; packet.len()];
+                let (stack, tree) = (&mut PacketStack::default(), &eight);
+                traverse_packet(
+                    tree,
+                    &ordered,
+                    packet,
+                    &options,
+                    stack,
+                    &mut unobserved,
+                    &mut hits,
+                );
+                traverse_packet(
+                    tree,
+                    &ordered,
+                    packet,
+                    &options,
+                    stack,
+                    &mut counters,
+                    &mut observed_hits,
+                );
+                assert_eq!(hits, observed_hits, "{options:?}: observed packets");
+                for ((ray, hit), counters) in packet.iter().zip(&hits).zip(&counters) {
+                    let alone = traverse_wide(
+                        &eight,
+                        &ordered,
+                        ray,
+                        &options,
+                        &mut WideStack::default(),
+                        &mut NoObserver,
+                    );
+                    match options.query {
+                        Query::Closest => assert_eq!(*hit, alone, "{options:?}: {ray:?}"),
+                        _ => assert_eq!(hit.is_some(), alone.is_some(), "{options:?}: {ray:?}"),
+                    }
+                    // Each ray's observer heard a test of the triangle it hit.
+                    assert!(hit.is_none() || counters.primitive_tests > 0);
+                }
+            }
+        }
         let alone: Vec<_> = rays
             .iter()
             .map(|ray| {

@@ -516,17 +516,8 @@ impl<S: Real> HitSearch<S> {
                 let hit = !t.is_nan()
                     && (self.t_closest == t_max || still_inside(block, lane, t, self.t_closest));
                 observer.primitive_tested(primitive, hit.then_some(t));
-                if hit
-                    && self
-                        .closest
-                        .is_none_or(|closest| closest.is_beaten_by(primitive, t))
-                {
-                    self.closest = Some(Hit { primitive, t });
-                    self.t_closest = t;
-                    observer.closest_hit_updated(primitive, t);
-                    if self.ends_search(&mut leaf_done) {
-                        return true;
-                    }
+                if hit && self.offer(primitive, t, observer, &mut leaf_done) {
+                    return true;
                 }
             }
         }

@@ -9,7 +9,7 @@
 
 use std::marker::PhantomData;
 
-use crate::math::{OverScalar, Real, Vector};
+use crate::math::{OverScalar, Real, Vector, Vector3};
 use crate::primitive::{HitTest, TriangleBlock, TriangleRay};
 use crate::ray::Ray;
 use crate::slab::{SlabRay, earlier, later};
@@ -95,15 +95,34 @@ pub(crate) struct ChildTests<S: Real, const W: usize> {
     pub(crate) hit_mask: u32,
 }
 
-/// A packet's rays lane by lane, for testing one box against many rays at once.
+/// A packet's rays lane by lane, for testing one box, or one triangle, against many rays at
+/// once.
+#[derive(Clone, Debug)]
 pub(crate) struct PacketLanes<S: Real> {
     pub(crate) origin: [[S; MAX_PACKET]; 3],
+    /// For the triangle tests.
+    pub(crate) direction: [[S; MAX_PACKET]; 3],
     pub(crate) inv_direction: [[S; MAX_PACKET]; 3],
     pub(crate) negative: [[bool; MAX_PACKET]; 3],
     pub(crate) t_min: [S; MAX_PACKET],
     /// Each ray's closest hit so far (its search interval's end).
     pub(crate) t_closest: [S; MAX_PACKET],
     pub(crate) far_scale: S,
+}
+
+impl<S: Real> Default for PacketLanes<S> {
+    /// No rays: every lane's interval is empty (it ends at −∞).
+    fn default() -> Self {
+        Self {
+            origin: [[S::ZERO; MAX_PACKET]; 3],
+            direction: [[S::ZERO; MAX_PACKET]; 3],
+            inv_direction: [[S::ZERO; MAX_PACKET]; 3],
+            negative: [[false; MAX_PACKET]; 3],
+            t_min: [S::ZERO; MAX_PACKET],
+            t_closest: [S::NEG_INFINITY; MAX_PACKET],
+            far_scale: S::ONE,
+        }
+    }
 }
 
 /// One box against a group of [`LANES`] rays of a packet: each ray's interval, clipped to its
@@ -163,6 +182,18 @@ pub(crate) trait Kernel {
         dims: usize,
         active: u32,
     ) -> BoxAgainstRays<S>;
+
+    /// Möller–Trumbore on triangle `lane` of `block` against the rays `first..first + LANES`
+    /// of a packet, each in its own interval (`t_min` to `t_closest`), as the one-triangle
+    /// test computes it: the hit's `t`, `NaN` where there is none, and the rays hit as bits
+    /// (bit `i` for ray `first + i`). The block kernel's test turned around: one triangle in
+    /// every lane and a ray in each, for a packet's leaf.
+    fn triangle_against_rays<S: Real>(
+        block: &TriangleBlock<S>,
+        lane: usize,
+        lanes: &PacketLanes<S>,
+        first: usize,
+    ) -> ([S; LANES], u32);
 }
 
 /// The reference kernels: plain Rust, one lane at a time.
@@ -282,6 +313,36 @@ impl Kernel for Portable {
             entries,
         }
     }
+
+    #[inline(always)]
+    fn triangle_against_rays<S: Real>(
+        block: &TriangleBlock<S>,
+        lane: usize,
+        lanes: &PacketLanes<S>,
+        first: usize,
+    ) -> ([S; LANES], u32) {
+        let t_hits: [S; LANES] = std::array::from_fn(|index| {
+            let ray = first + index;
+            let vector = |rows: &[[S; MAX_PACKET]; 3]| {
+                <S::Vec3 as Vector3>::new(rows[0][ray], rows[1][ray], rows[2][ray])
+            };
+            let (t_min, t_max) = (lanes.t_min[ray], lanes.t_closest[ray]);
+            let ray = Ray {
+                origin: vector(&lanes.origin),
+                direction: vector(&lanes.direction),
+                t_min,
+                t_max,
+            };
+            block
+                .intersect_lane(&TriangleRay::new(&ray, HitTest::Fast), lane, t_min, t_max)
+                .unwrap_or(S::NAN)
+        });
+        let mut hits = 0;
+        for (index, t) in t_hits.iter().enumerate() {
+            hits |= u32::from(!t.is_nan()) << index;
+        }
+        (t_hits, hits)
+    }
 }
 
 /// Asks the processor to bring the `LINES` 64-byte lines from `address` on into its caches,
@@ -332,6 +393,16 @@ impl<'a> OverScalar for BoxArgs<'a> {
     type Of<S: Real> = (&'a PacketLanes<S>, [S; 3], [S; 3]);
 }
 /// See [`ChildrenArgs`].
+pub(crate) struct TriangleRaysArgs<'a>(PhantomData<&'a ()>);
+impl<'a> OverScalar for TriangleRaysArgs<'a> {
+    type Of<S: Real> = (&'a TriangleBlock<S>, &'a PacketLanes<S>);
+}
+/// See [`ChildrenArgs`].
+pub(crate) struct LaneHits;
+impl OverScalar for LaneHits {
+    type Of<S: Real> = ([S; LANES], u32);
+}
+/// See [`ChildrenArgs`].
 pub(crate) struct BoxAgainstRaysOf;
 impl OverScalar for BoxAgainstRaysOf {
     type Of<S: Real> = BoxAgainstRays<S>;
@@ -350,7 +421,9 @@ macro_rules! impl_kernel {
         $watertight:ident,
         $watertight64:ident,
         $box_against_rays:ident,
-        $box_against_rays64:ident
+        $box_against_rays64:ident,
+        $triangle_against_rays:ident,
+        $triangle_against_rays64:ident
     ) => {
         // SAFETY, for every call of the set's functions below: a kernel runs only when
         // `Isa::active` says the machine has its instruction set (see `run_on`).
@@ -436,6 +509,23 @@ macro_rules! impl_kernel {
                     },
                 );
                 tests
+            }
+
+            #[inline(always)]
+            fn triangle_against_rays<S: $crate::math::Real>(
+                block: &$crate::primitive::TriangleBlock<S>,
+                lane: usize,
+                lanes: &$crate::simd::kernel::PacketLanes<S>,
+                first: usize,
+            ) -> ([S; $crate::simd::kernel::LANES], u32) {
+                use $crate::simd::kernel::{LaneHits, TriangleRaysArgs};
+                #[allow(unused_unsafe)]
+                let t_hits = S::by_precision::<TriangleRaysArgs<'_>, LaneHits>(
+                    (block, lanes),
+                    |(block, lanes)| unsafe { $triangle_against_rays(block, lane, lanes, first) },
+                    |(block, lanes)| unsafe { $triangle_against_rays64(block, lane, lanes, first) },
+                );
+                t_hits
             }
         }
     };

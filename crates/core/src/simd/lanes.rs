@@ -148,6 +148,69 @@ pub(crate) fn moller_trumbore4<L: Register>(
     out
 }
 
+/// Möller–Trumbore of triangle `lane` of `block` against the rays `first..first + LANES` of a
+/// packet, `L::COUNT` rays at a time, each in its own interval (`t_min` to `t_closest`):
+/// [`moller_trumbore4`] with the roles of the lanes swapped (the triangle's corners in every
+/// lane, a ray in each), its products and sums in the same order, so the same `t` bit for
+/// bit. `NaN` where no hit; the rays hit as bits.
+#[inline(always)]
+pub(crate) fn moller_trumbore_rays<L: Register>(
+    block: &TriangleBlock<L::Scalar>,
+    lane: usize,
+    lanes: &PacketLanes<L::Scalar>,
+    first: usize,
+) -> ([L::Scalar; LANES], u32) {
+    let [v0, v1, v2] = &block.corners;
+    let corner = |rows: &[[L::Scalar; 4]; 3], axis: usize| L::splat(rows[axis][lane]);
+    let (v0x, v0y, v0z) = (corner(v0, 0), corner(v0, 1), corner(v0, 2));
+    let e1x = corner(v1, 0).sub(v0x);
+    let e1y = corner(v1, 1).sub(v0y);
+    let e1z = corner(v1, 2).sub(v0z);
+    let e2x = corner(v2, 0).sub(v0x);
+    let e2y = corner(v2, 1).sub(v0y);
+    let e2z = corner(v2, 2).sub(v0z);
+    let (zero, one) = (L::splat(L::Scalar::ZERO), L::splat(L::Scalar::ONE));
+    let mut out = [L::Scalar::NAN; LANES];
+    let mut hits = 0;
+    for start in (0..LANES).step_by(L::COUNT) {
+        let rays = first + start..first + LANES;
+        let (dx, dy, dz) = (
+            L::from_slice(&lanes.direction[0][rays.clone()]),
+            L::from_slice(&lanes.direction[1][rays.clone()]),
+            L::from_slice(&lanes.direction[2][rays.clone()]),
+        );
+        // p = d × e2
+        let px = dy.mul(e2z).sub(e2y.mul(dz));
+        let py = dz.mul(e2x).sub(e2z.mul(dx));
+        let pz = dx.mul(e2y).sub(e2x.mul(dy));
+        let det = e1x.mul(px).add(e1y.mul(py)).add(e1z.mul(pz));
+        let inv_det = one.div(det);
+        let sx = L::from_slice(&lanes.origin[0][rays.clone()]).sub(v0x);
+        let sy = L::from_slice(&lanes.origin[1][rays.clone()]).sub(v0y);
+        let sz = L::from_slice(&lanes.origin[2][rays.clone()]).sub(v0z);
+        let u = sx.mul(px).add(sy.mul(py)).add(sz.mul(pz)).mul(inv_det);
+        // q = s × e1
+        let qx = sy.mul(e1z).sub(e1y.mul(sz));
+        let qy = sz.mul(e1x).sub(e1z.mul(sx));
+        let qz = sx.mul(e1y).sub(e1x.mul(sy));
+        let v = dx.mul(qx).add(dy.mul(qy)).add(dz.mul(qz)).mul(inv_det);
+        let t = e2x.mul(qx).add(e2y.mul(qy)).add(e2z.mul(qz)).mul(inv_det);
+        let rejected = u.lt(zero).or(u.gt(one)).or(v.lt(zero).or(u.add(v).gt(one)));
+        let (t_min, t_max) = (
+            L::from_slice(&lanes.t_min[rays.clone()]),
+            L::from_slice(&lanes.t_closest[rays]),
+        );
+        let accepted = det
+            .ne(zero)
+            .and(t.ge(t_min).and(t.le(t_max)))
+            .and_not(rejected);
+        t.select(L::splat(L::Scalar::NAN), accepted)
+            .write_to(&mut out[start..]);
+        hits |= accepted.bits() << start;
+    }
+    (out, hits)
+}
+
 /// Woop, Benthin & Wald's watertight test (see the one-triangle `watertight` in
 /// `primitive::triangle`) on the four triangles of `block` in lanes, with the portable code's
 /// operations in its order, so the same `t`. Where an edge function is exactly zero in some

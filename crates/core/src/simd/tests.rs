@@ -182,12 +182,8 @@ proptest! {
         let active = u32::from(active);
         let robust = rays[0].1;
         let mut lanes = PacketLanes {
-            origin: [[0.0; MAX_PACKET]; 3],
-            inv_direction: [[0.0; MAX_PACKET]; 3],
-            negative: [[false; MAX_PACKET]; 3],
-            t_min: [0.0; MAX_PACKET],
-            t_closest: [0.0; MAX_PACKET],
             far_scale: SlabRay::new(&rays[0].0, robust).far_scale,
+            ..PacketLanes::default()
         };
         for (index, (ray, _, t_max)) in rays.iter().enumerate() {
             let slab_ray = SlabRay::new(ray, robust);
@@ -219,6 +215,115 @@ proptest! {
             prop_assert_eq!(bits(&got.entries), bits(&want.entries), "{:?}", isa);
         }
     }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig {
+        cases: 1000,
+        failure_persistence: None,
+        ..ProptestConfig::default()
+    })]
+
+    #[test]
+    fn every_packet_triangle_kernel_computes_the_block_kernels_hits(
+        rays in prop::collection::vec(ray(), LANES * 2),
+        corners in prop::collection::vec([vec3(), vec3(), vec3()], 4),
+        lane in 0usize..4,
+        aims in prop::collection::vec((0.0..1.0f32, 0.0..1.0f32), LANES * 2),
+        group in 0usize..2,
+    ) {
+        // Half the rays aim inside, or at the edges of, the triangle tested.
+        let [v0, v1, v2] = corners[lane];
+        let rays: Vec<(Ray<Vec3>, f32)> = rays
+            .iter()
+            .zip(&aims)
+            .enumerate()
+            .map(|(index, ((ray, _, t_max), &(a, b)))| {
+                let target = v0 + (v1 - v0) * a + (v2 - v0) * (b * (1.0 - a));
+                let aimed = Ray::try_new(ray.origin, target - ray.origin).unwrap_or(*ray);
+                (if index % 2 == 0 { aimed } else { *ray }, *t_max)
+            })
+            .collect();
+        let block = TriangleBlock::pack(&corners)[0];
+        same_packet_hits(&block, lane, &packet_lanes(&rays), group * LANES)?;
+        let wide_corners: Vec<[DVec3; 3]> =
+            corners.iter().map(|corner| corner.map(Vec3::as_dvec3)).collect();
+        let wide_rays: Vec<(Ray<DVec3>, f64)> = rays
+            .iter()
+            .map(|(ray, t_max)| {
+                let ray = Ray {
+                    origin: ray.origin.as_dvec3(),
+                    direction: ray.direction.as_dvec3(),
+                    t_min: f64::from(ray.t_min),
+                    t_max: f64::from(ray.t_max),
+                };
+                (ray, f64::from(*t_max))
+            })
+            .collect();
+        let block = TriangleBlock::pack(&wide_corners)[0];
+        same_packet_hits(&block, lane, &packet_lanes(&wide_rays), group * LANES)?;
+    }
+}
+
+/// A packet's lanes holding `rays`, each searching up to its `t_max`.
+fn packet_lanes<V: crate::math::Vector3>(rays: &[(Ray<V>, V::Scalar)]) -> PacketLanes<V::Scalar> {
+    let mut lanes = PacketLanes::default();
+    for (index, (ray, t_max)) in rays.iter().enumerate() {
+        for axis in 0..3 {
+            lanes.origin[axis][index] = ray.origin[axis];
+            lanes.direction[axis][index] = ray.direction[axis];
+        }
+        lanes.t_min[index] = ray.t_min;
+        lanes.t_closest[index] = *t_max;
+    }
+    lanes
+}
+
+/// The portable packet triangle test is the block kernel's lane `lane`, ray by ray (itself the
+/// one-triangle test), and every instruction set's gives its `t` bit for bit and its hits.
+fn same_packet_hits<S: Real>(
+    block: &TriangleBlock<S>,
+    lane: usize,
+    lanes: &PacketLanes<S>,
+    first: usize,
+) -> Result<(), TestCaseError> {
+    use crate::math::Vector3;
+    let (want, want_hits) = Portable::triangle_against_rays(block, lane, lanes, first);
+    for (index, &t) in want.iter().enumerate() {
+        let ray = first + index;
+        let vector = |rows: &[[S; MAX_PACKET]; 3]| {
+            <S::Vec3 as Vector3>::new(rows[0][ray], rows[1][ray], rows[2][ray])
+        };
+        let block_t = Portable::moller_trumbore(
+            block,
+            vector(&lanes.origin),
+            vector(&lanes.direction),
+            lanes.t_min[ray],
+            lanes.t_closest[ray],
+        )[lane];
+        prop_assert_eq!(bits(&[t]), bits(&[block_t]), "ray {}", ray);
+        prop_assert_eq!(want_hits >> index & 1 == 1, !t.is_nan(), "ray {}", ray);
+    }
+    for isa in Isa::ALL.into_iter().filter(|isa| isa.is_available()) {
+        let (got, got_hits) = match isa {
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx2 => {
+                <crate::simd::x86::Avx2 as Kernel>::triangle_against_rays(block, lane, lanes, first)
+            }
+            #[cfg(target_arch = "x86_64")]
+            Isa::Avx512 => <crate::simd::x86::Avx512 as Kernel>::triangle_against_rays(
+                block, lane, lanes, first,
+            ),
+            #[cfg(all(target_arch = "wasm32", target_feature = "simd128"))]
+            Isa::Simd128 => <crate::simd::wasm::Simd128 as Kernel>::triangle_against_rays(
+                block, lane, lanes, first,
+            ),
+            _ => Portable::triangle_against_rays(block, lane, lanes, first),
+        };
+        prop_assert_eq!(bits(&got), bits(&want), "{:?}", isa);
+        prop_assert_eq!(got_hits, want_hits, "{:?}", isa);
+    }
+    Ok(())
 }
 
 /// `planes` in f64 (the same boxes: f32 widens exactly).

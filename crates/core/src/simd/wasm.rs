@@ -7,10 +7,11 @@ use glam::{DVec3, Vec3};
 
 use crate::primitive::{TriangleBlock, TriangleRay};
 use crate::simd::kernel::{
-    BoxAgainstRays, ChildTests, Kernel, NodeLanes, PacketLanes, Planes, Portable, impl_kernel,
+    BoxAgainstRays, ChildTests, Kernel, LANES, NodeLanes, PacketLanes, Planes, Portable,
+    impl_kernel,
 };
 use crate::simd::lanes::{
-    Register, box_in_lanes, children_in_lanes, moller_trumbore4, watertight4,
+    Register, box_in_lanes, children_in_lanes, moller_trumbore_rays, moller_trumbore4, watertight4,
 };
 
 /// WebAssembly `simd128` kernels: four lanes; eight children are two groups of four.
@@ -25,7 +26,9 @@ impl_kernel!(
     watertight_simd128,
     watertight64_simd128,
     box_against_rays_simd128,
-    box_against_rays64_simd128
+    box_against_rays64_simd128,
+    triangle_against_rays_simd128,
+    triangle_against_rays64_simd128
 );
 
 pub(super) fn children_simd128<const W: usize>(
@@ -66,7 +69,25 @@ pub(super) fn box_against_rays_simd128(
     box_in_lanes::<v128>(lanes, lower, upper, first, dims, active)
 }
 
+pub(super) fn triangle_against_rays_simd128(
+    block: &TriangleBlock<f32>,
+    lane: usize,
+    lanes: &PacketLanes<f32>,
+    first: usize,
+) -> ([f32; LANES], u32) {
+    moller_trumbore_rays::<v128>(block, lane, lanes, first)
+}
+
 // f64 has no lanes of its own here (two per `simd128` register): the portable code.
+
+pub(super) fn triangle_against_rays64_simd128(
+    block: &TriangleBlock<f64>,
+    lane: usize,
+    lanes: &PacketLanes<f64>,
+    first: usize,
+) -> ([f64; LANES], u32) {
+    Portable::triangle_against_rays(block, lane, lanes, first)
+}
 
 pub(super) fn box_against_rays64_simd128(
     lanes: &PacketLanes<f64>,

@@ -8,10 +8,10 @@ use glam::{DVec3, Vec3};
 use crate::primitive::{TriangleBlock, TriangleRay};
 use crate::simd::KernelJob;
 use crate::simd::kernel::{
-    BoxAgainstRays, ChildTests, NodeLanes, PacketLanes, Planes, impl_kernel,
+    BoxAgainstRays, ChildTests, LANES, NodeLanes, PacketLanes, Planes, impl_kernel,
 };
 use crate::simd::lanes::{
-    Register, box_in_lanes, children_in_lanes, moller_trumbore4, watertight4,
+    Register, box_in_lanes, children_in_lanes, moller_trumbore_rays, moller_trumbore4, watertight4,
 };
 
 /// AVX2 + FMA kernels (FMA is not used: it would round differently from the portable
@@ -29,7 +29,9 @@ impl_kernel!(
     watertight_avx2,
     watertight64_avx2,
     box_against_rays_avx2,
-    box_against_rays64_avx2
+    box_against_rays64_avx2,
+    triangle_against_rays_avx2,
+    triangle_against_rays64_avx2
 );
 impl_kernel!(
     Avx512,
@@ -40,7 +42,9 @@ impl_kernel!(
     watertight_avx512,
     watertight64_avx512,
     box_against_rays_avx512,
-    box_against_rays64_avx512
+    box_against_rays64_avx512,
+    triangle_against_rays_avx512,
+    triangle_against_rays64_avx512
 );
 
 /// Work over the kernels (a traversal) compiled for one instruction set, with that set's
@@ -70,6 +74,8 @@ macro_rules! kernels {
         $watertight64:ident,
         $box_against_rays:ident,
         $box_against_rays64:ident,
+        $triangle_against_rays:ident,
+        $triangle_against_rays64:ident,
         $features:literal
     ) => {
         #[inline]
@@ -167,6 +173,28 @@ macro_rules! kernels {
         ) -> BoxAgainstRays<f64> {
             box_in_lanes::<__m256d>(lanes, lower, upper, first, dims, active)
         }
+
+        #[inline]
+        #[target_feature(enable = $features)]
+        pub(super) fn $triangle_against_rays(
+            block: &TriangleBlock<f32>,
+            lane: usize,
+            lanes: &PacketLanes<f32>,
+            first: usize,
+        ) -> ([f32; LANES], u32) {
+            moller_trumbore_rays::<__m256>(block, lane, lanes, first)
+        }
+
+        #[inline]
+        #[target_feature(enable = $features)]
+        pub(super) fn $triangle_against_rays64(
+            block: &TriangleBlock<f64>,
+            lane: usize,
+            lanes: &PacketLanes<f64>,
+            first: usize,
+        ) -> ([f64; LANES], u32) {
+            moller_trumbore_rays::<__m256d>(block, lane, lanes, first)
+        }
     };
 }
 
@@ -179,6 +207,8 @@ kernels!(
     watertight64_avx2,
     box_against_rays_avx2,
     box_against_rays64_avx2,
+    triangle_against_rays_avx2,
+    triangle_against_rays64_avx2,
     "avx2,fma"
 );
 kernels!(
@@ -190,6 +220,8 @@ kernels!(
     watertight64_avx512,
     box_against_rays_avx512,
     box_against_rays64_avx512,
+    triangle_against_rays_avx512,
+    triangle_against_rays64_avx512,
     "avx2,fma,avx512f,avx512vl"
 );
 
