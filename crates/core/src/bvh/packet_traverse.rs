@@ -428,16 +428,13 @@ fn traverse_packet_with<K, V, P, O, const W: usize>(
         }
         if count > 0 {
             let numbers = tree.leaf_primitives(child, count);
-            // One kernel call tests a triangle against a group of rays, or a ray against a
-            // block of four triangles, for about the same instructions: the leaf is tested
-            // the way that takes fewer (triangle by triangle where its rays crowd a few
-            // groups, as a small mesh's camera rays do; ray by ray where they are scattered).
-            let groups = groups_with(active).count_ones();
-            let by_triangle = count * groups < active.count_ones() * count.div_ceil(4);
             match primitives.triangle_blocks() {
                 // The fast test, each triangle against the packet's rays a group of lanes at
-                // a time; a ray's state is made only when it hits.
-                Some(blocks) if by_triangle && options.hit_test == HitTest::Fast => {
+                // a time, where that takes fewer tests; a ray's state is made only when it
+                // hits.
+                Some(blocks)
+                    if options.hit_test == HitTest::Fast && fewer_by_triangle(active, count) =>
+                {
                     let (done, least) = test_leaf_by_triangle::<K, V, P, O>(
                         &blocks[child as usize / LEAF_BLOCK..],
                         numbers,
@@ -606,6 +603,15 @@ where
         }
     }
     (done | (active & !testing), least)
+}
+
+/// Whether a leaf of `count` triangles takes fewer kernel calls tested triangle by triangle
+/// against the groups of `rays` than ray by ray against its blocks of four. One call of
+/// either kind costs about the same instructions, so the rays crowding a few groups (a small
+/// mesh's camera rays) choose the first, rays scattered over the groups the second.
+#[inline(always)]
+fn fewer_by_triangle(rays: u64, count: u32) -> bool {
+    count * groups_with(rays).count_ones() < rays.count_ones() * count.div_ceil(4)
 }
 
 /// The groups of [`LANES`] rays with a ray of `rays` in them, as bits.

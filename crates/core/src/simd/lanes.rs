@@ -6,7 +6,9 @@
 
 use crate::math::{Real, Vector};
 use crate::primitive::{TriangleBlock, TriangleRay};
-use crate::simd::kernel::{BoxAgainstRays, ChildTests, LANES, NodeLanes, PacketLanes, Planes};
+use crate::simd::kernel::{
+    BoxAgainstRays, ChildTests, LANES, MAX_PACKET, NodeLanes, PacketLanes, Planes,
+};
 
 /// A register of f32 or f64 lanes and the operations the kernels need. Masks are lanes of all
 /// ones or all zeros. An implementation executes its instruction set's instructions: its
@@ -91,10 +93,48 @@ pub(crate) fn children_in_lanes<L: Register, const W: usize>(
     tests
 }
 
-/// Möller–Trumbore on the four triangles of `block` in lanes: the portable code's products
-/// and sums in its order (glam's cross and dot, the edges taken from the corners as it takes
-/// them), so the same `t`, and its rejections written as it writes them (a NaN `u` or `v` is
-/// rejected only through `t`). `NaN` where no hit. `L` has four lanes.
+/// Möller–Trumbore (Möller & Trumbore 1997) lane by lane: each lane's triangle (corner `v0`,
+/// edges `e1` and `e2`) against its ray, within `t_min`..`t_max`. The portable code's products
+/// and sums in its order (glam's cross and dot), so the same `t`, and its rejections written as
+/// it writes them (a NaN `u` or `v` is rejected only through `t`). Returns `t` and the mask of
+/// the lanes hit.
+#[inline(always)]
+fn moller_trumbore_in_lanes<L: Register>(
+    v0: [L; 3],
+    e1: [L; 3],
+    e2: [L; 3],
+    origin: [L; 3],
+    direction: [L; 3],
+    t_min: L,
+    t_max: L,
+) -> (L, L) {
+    let ([e1x, e1y, e1z], [e2x, e2y, e2z]) = (e1, e2);
+    let [dx, dy, dz] = direction;
+    // p = d × e2
+    let px = dy.mul(e2z).sub(e2y.mul(dz));
+    let py = dz.mul(e2x).sub(e2z.mul(dx));
+    let pz = dx.mul(e2y).sub(e2x.mul(dy));
+    let det = e1x.mul(px).add(e1y.mul(py)).add(e1z.mul(pz));
+    let (zero, one) = (L::splat(L::Scalar::ZERO), L::splat(L::Scalar::ONE));
+    let inv_det = one.div(det);
+    let sx = origin[0].sub(v0[0]);
+    let sy = origin[1].sub(v0[1]);
+    let sz = origin[2].sub(v0[2]);
+    let u = sx.mul(px).add(sy.mul(py)).add(sz.mul(pz)).mul(inv_det);
+    // q = s × e1
+    let qx = sy.mul(e1z).sub(e1y.mul(sz));
+    let qy = sz.mul(e1x).sub(e1z.mul(sx));
+    let qz = sx.mul(e1y).sub(e1x.mul(sy));
+    let v = dx.mul(qx).add(dy.mul(qy)).add(dz.mul(qz)).mul(inv_det);
+    let t = e2x.mul(qx).add(e2y.mul(qy)).add(e2z.mul(qz)).mul(inv_det);
+    let rejected = u.lt(zero).or(u.gt(one)).or(v.lt(zero).or(u.add(v).gt(one)));
+    let accepted = det.ne(zero).and(t.ge(t_min).and(t.le(t_max)));
+    (t, accepted.and_not(rejected))
+}
+
+/// [`moller_trumbore_in_lanes`] on the four triangles of `block`, a triangle in each lane,
+/// against one ray (the edges taken from the corners as the portable code takes them). `NaN`
+/// where no hit. `L` has four lanes.
 #[inline(always)]
 pub(crate) fn moller_trumbore4<L: Register>(
     block: &TriangleBlock<L::Scalar>,
@@ -105,54 +145,38 @@ pub(crate) fn moller_trumbore4<L: Register>(
 ) -> [L::Scalar; 4] {
     // (Plain loads: `array::map` here is not always inlined.)
     let [v0, v1, v2] = &block.corners;
-    let (v0x, v0y, v0z) = (
+    let v0 = [
         L::from_slice(&v0[0]),
         L::from_slice(&v0[1]),
         L::from_slice(&v0[2]),
+    ];
+    let edge = |to: &[[L::Scalar; 4]; 3], axis: usize| L::from_slice(&to[axis]).sub(v0[axis]);
+    let (t, hit) = moller_trumbore_in_lanes(
+        v0,
+        [edge(v1, 0), edge(v1, 1), edge(v1, 2)],
+        [edge(v2, 0), edge(v2, 1), edge(v2, 2)],
+        [
+            L::splat(origin[0]),
+            L::splat(origin[1]),
+            L::splat(origin[2]),
+        ],
+        [
+            L::splat(direction[0]),
+            L::splat(direction[1]),
+            L::splat(direction[2]),
+        ],
+        L::splat(t_min),
+        L::splat(t_max),
     );
-    let e1x = L::from_slice(&v1[0]).sub(v0x);
-    let e1y = L::from_slice(&v1[1]).sub(v0y);
-    let e1z = L::from_slice(&v1[2]).sub(v0z);
-    let e2x = L::from_slice(&v2[0]).sub(v0x);
-    let e2y = L::from_slice(&v2[1]).sub(v0y);
-    let e2z = L::from_slice(&v2[2]).sub(v0z);
-    let (dx, dy, dz) = (
-        L::splat(direction[0]),
-        L::splat(direction[1]),
-        L::splat(direction[2]),
-    );
-    // p = d × e2
-    let px = dy.mul(e2z).sub(e2y.mul(dz));
-    let py = dz.mul(e2x).sub(e2z.mul(dx));
-    let pz = dx.mul(e2y).sub(e2x.mul(dy));
-    let det = e1x.mul(px).add(e1y.mul(py)).add(e1z.mul(pz));
-    let (zero, one) = (L::splat(L::Scalar::ZERO), L::splat(L::Scalar::ONE));
-    let inv_det = one.div(det);
-    let sx = L::splat(origin[0]).sub(v0x);
-    let sy = L::splat(origin[1]).sub(v0y);
-    let sz = L::splat(origin[2]).sub(v0z);
-    let u = sx.mul(px).add(sy.mul(py)).add(sz.mul(pz)).mul(inv_det);
-    // q = s × e1
-    let qx = sy.mul(e1z).sub(e1y.mul(sz));
-    let qy = sz.mul(e1x).sub(e1z.mul(sx));
-    let qz = sx.mul(e1y).sub(e1x.mul(sy));
-    let v = dx.mul(qx).add(dy.mul(qy)).add(dz.mul(qz)).mul(inv_det);
-    let t = e2x.mul(qx).add(e2y.mul(qy)).add(e2z.mul(qz)).mul(inv_det);
-    let rejected = u.lt(zero).or(u.gt(one)).or(v.lt(zero).or(u.add(v).gt(one)));
-    let accepted = det
-        .ne(zero)
-        .and(t.ge(L::splat(t_min)).and(t.le(L::splat(t_max))));
     let mut out = [L::Scalar::NAN; 4];
-    t.select(L::splat(L::Scalar::NAN), accepted.and_not(rejected))
-        .write_to(&mut out);
+    t.select(L::splat(L::Scalar::NAN), hit).write_to(&mut out);
     out
 }
 
-/// Möller–Trumbore of triangle `lane` of `block` against the rays `first..first + LANES` of a
-/// packet, `L::COUNT` rays at a time, each in its own interval (`t_min` to `t_closest`):
-/// [`moller_trumbore4`] with the roles of the lanes swapped (the triangle's corners in every
-/// lane, a ray in each), its products and sums in the same order, so the same `t` bit for
-/// bit. `NaN` where no hit; the rays hit as bits.
+/// [`moller_trumbore_in_lanes`] on triangle `lane` of `block`, in every lane, against the rays
+/// `first..first + LANES` of a packet, `L::COUNT` rays at a time, each in its own interval
+/// (`t_min` to `t_closest`): the block kernel's test with the lanes' roles swapped, so the same
+/// `t` bit for bit. `NaN` where no hit; the rays hit as bits.
 #[inline(always)]
 pub(crate) fn moller_trumbore_rays<L: Register>(
     block: &TriangleBlock<L::Scalar>,
@@ -162,51 +186,37 @@ pub(crate) fn moller_trumbore_rays<L: Register>(
 ) -> ([L::Scalar; LANES], u32) {
     let [v0, v1, v2] = &block.corners;
     let corner = |rows: &[[L::Scalar; 4]; 3], axis: usize| L::splat(rows[axis][lane]);
-    let (v0x, v0y, v0z) = (corner(v0, 0), corner(v0, 1), corner(v0, 2));
-    let e1x = corner(v1, 0).sub(v0x);
-    let e1y = corner(v1, 1).sub(v0y);
-    let e1z = corner(v1, 2).sub(v0z);
-    let e2x = corner(v2, 0).sub(v0x);
-    let e2y = corner(v2, 1).sub(v0y);
-    let e2z = corner(v2, 2).sub(v0z);
-    let (zero, one) = (L::splat(L::Scalar::ZERO), L::splat(L::Scalar::ONE));
+    let v0 = [corner(v0, 0), corner(v0, 1), corner(v0, 2)];
+    let edge = |to: &[[L::Scalar; 4]; 3], axis: usize| corner(to, axis).sub(v0[axis]);
+    let e1 = [edge(v1, 0), edge(v1, 1), edge(v1, 2)];
+    let e2 = [edge(v2, 0), edge(v2, 1), edge(v2, 2)];
     let mut out = [L::Scalar::NAN; LANES];
     let mut hits = 0;
     for start in (0..LANES).step_by(L::COUNT) {
         let rays = first + start..first + LANES;
-        let (dx, dy, dz) = (
-            L::from_slice(&lanes.direction[0][rays.clone()]),
-            L::from_slice(&lanes.direction[1][rays.clone()]),
-            L::from_slice(&lanes.direction[2][rays.clone()]),
-        );
-        // p = d × e2
-        let px = dy.mul(e2z).sub(e2y.mul(dz));
-        let py = dz.mul(e2x).sub(e2z.mul(dx));
-        let pz = dx.mul(e2y).sub(e2x.mul(dy));
-        let det = e1x.mul(px).add(e1y.mul(py)).add(e1z.mul(pz));
-        let inv_det = one.div(det);
-        let sx = L::from_slice(&lanes.origin[0][rays.clone()]).sub(v0x);
-        let sy = L::from_slice(&lanes.origin[1][rays.clone()]).sub(v0y);
-        let sz = L::from_slice(&lanes.origin[2][rays.clone()]).sub(v0z);
-        let u = sx.mul(px).add(sy.mul(py)).add(sz.mul(pz)).mul(inv_det);
-        // q = s × e1
-        let qx = sy.mul(e1z).sub(e1y.mul(sz));
-        let qy = sz.mul(e1x).sub(e1z.mul(sx));
-        let qz = sx.mul(e1y).sub(e1x.mul(sy));
-        let v = dx.mul(qx).add(dy.mul(qy)).add(dz.mul(qz)).mul(inv_det);
-        let t = e2x.mul(qx).add(e2y.mul(qy)).add(e2z.mul(qz)).mul(inv_det);
-        let rejected = u.lt(zero).or(u.gt(one)).or(v.lt(zero).or(u.add(v).gt(one)));
-        let (t_min, t_max) = (
+        let row = |rows: &[[L::Scalar; MAX_PACKET]; 3], axis: usize| {
+            L::from_slice(&rows[axis][rays.clone()])
+        };
+        let (t, hit) = moller_trumbore_in_lanes(
+            v0,
+            e1,
+            e2,
+            [
+                row(&lanes.origin, 0),
+                row(&lanes.origin, 1),
+                row(&lanes.origin, 2),
+            ],
+            [
+                row(&lanes.direction, 0),
+                row(&lanes.direction, 1),
+                row(&lanes.direction, 2),
+            ],
             L::from_slice(&lanes.t_min[rays.clone()]),
-            L::from_slice(&lanes.t_closest[rays]),
+            L::from_slice(&lanes.t_closest[rays.clone()]),
         );
-        let accepted = det
-            .ne(zero)
-            .and(t.ge(t_min).and(t.le(t_max)))
-            .and_not(rejected);
-        t.select(L::splat(L::Scalar::NAN), accepted)
+        t.select(L::splat(L::Scalar::NAN), hit)
             .write_to(&mut out[start..]);
-        hits |= accepted.bits() << start;
+        hits |= hit.bits() << start;
     }
     (out, hits)
 }
