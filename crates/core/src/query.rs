@@ -30,14 +30,17 @@ pub enum Query {
     /// Any hit; traversal stops at the first.
     Any,
     /// The lecture's kD-tree pseudo-code's rule: the far side of a split is searched only
-    /// `If(no intersection)` in the near side. So the search ends after the first leaf whose
-    /// part of the ray holds the closest hit found so far (a hit beyond a leaf's cell, on a
-    /// primitive reaching past its plane, ends it in the cell where it lies); sides still
-    /// waiting are not visited. Near first through cells that do not overlap (a kD-tree),
-    /// that is the closest hit; in file order it need not be (the lecture's quiz). A BVH
-    /// leaf's part of the ray is its box's, and boxes overlap, so there even near first may
-    /// stop at a hit that is not the closest; so may a kD ray lying in a split plane, which
-    /// meets both sides all along. The trivial loop tests everything: the closest hit.
+    /// `If(no intersection)` in the near side, and a leaf's objects are intersected with the
+    /// ray clipped to its cell. So a kD-tree's or an octree's leaf counts only the hits in its
+    /// own part of the ray (one beyond the cell, on a primitive reaching past the plane, is no
+    /// intersection there, and counts in the cell where it lies), the first leaf with one ends
+    /// the search, and sides still waiting are not visited. Near first through cells that do
+    /// not overlap, that is the closest hit; in file order it need not be (the lecture's
+    /// quiz). A BVH leaf's part of the ray is its box's, and boxes overlap, so there even
+    /// near first may stop at a hit that is not the closest; so may a kD ray lying in a split
+    /// plane, which meets both sides all along. A grid walks its cells along the ray, and
+    /// this is its own rule: the closest hit. The trivial loop tests everything: the closest
+    /// hit.
     FirstInCell,
 }
 

@@ -301,6 +301,25 @@ pub(crate) fn clear_steps(steps: &[Step<f64>]) -> bool {
     true
 }
 
+/// True when no hit a cell's leaf finds lies within a hair of the cell's part of the ray: under
+/// the pseudo-code's rule, which tests a leaf against the ray clipped to its cell, whether
+/// such a hit counts there would turn on the last bit of a division.
+pub(crate) fn clear_cell_hits(steps: &[Step<f64>]) -> bool {
+    let mut cell = None;
+    steps.iter().all(|step| match *step {
+        Step::CellEntered { t_near, t_far, .. } => {
+            cell = Some((t_near, t_far));
+            true
+        }
+        Step::PrimitiveTested {
+            t_hit: Some(t_hit), ..
+        } => cell.is_none_or(|(t_near, t_far): (f64, f64)| {
+            (t_hit - t_near).abs() >= 0.01 && (t_hit - t_far).abs() >= 0.01
+        }),
+        _ => true,
+    })
+}
+
 /// How near a ray may pass a kD cell's corner (where a split line ends) and still be drawn: a
 /// few pixels of the quiz figure at its default size (the scene's 23 units across about
 /// 700 pixels). Nearer, which child the ray enters first turns on a sliver the figure cannot

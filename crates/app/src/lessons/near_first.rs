@@ -2,12 +2,14 @@
 //! file order?" The slide asks it of the kD-tree traversal; the lesson shows it on a kD-tree
 //! and on a BVH of the same scene, each traced near side first and in file order: four panes
 //! stepping in lockstep through the one traversal of each kind (`Order::NearFirst` against
-//! `Order::FileOrder`). Everything shown part-way is the state at that step: the counters are
-//! the core's, replayed; the closest hit is the closest so far. The answers stay hidden until
-//! asked for.
+//! `Order::FileOrder`), under the slide's own rule by default (`Query::FirstInCell`: the far
+//! side only `If(no intersection)`, each leaf against the ray clipped to its cell), or culling
+//! by the closest hit (`Query::Closest`). Everything shown part-way is the state at that step:
+//! the counters are the core's, replayed; the closest hit is the closest so far. The answers
+//! stay hidden until asked for.
 
 use accelviz_core::format::{count, number};
-use accelviz_core::{Counters, Family, Order, SplitRule, Structure};
+use accelviz_core::{Counters, Family, Order, Query, SplitRule, Structure, TraceOptions};
 use accelviz_scene::document::Scene2d;
 use egui::{Color32, RichText, Vec2};
 use glam::DVec2;
@@ -18,7 +20,7 @@ use crate::editor::Editing;
 use crate::lesson::Lesson;
 use crate::lesson_file::LessonText;
 use crate::stage::{SceneTree, Stage, request_over_shapes};
-use crate::trace::{Trace, TraceState, describe_step, options_in};
+use crate::trace::{Trace, TraceState, describe_step};
 use crate::views::scene_view::{building_note, draw_ray, draw_tested_shapes, t_hint_ui};
 use crate::views::tree_view::{TreeLook, draw_tree};
 
@@ -31,15 +33,35 @@ pub const ORDERS: [(Order, &str); 2] = [
 /// The two structures, in row order: the slide's kD-tree, then a BVH.
 pub const FAMILIES: [Family; 2] = [Family::Kd, Family::Bvh];
 
+/// The rules the panes can follow: the slide's pseudo-code, and the variant that culls by the
+/// closest hit. Its query, its name in a shared link, its label, and what it does.
+pub const RULES: [(Query, &str, &str, &str); 2] = [
+    (
+        Query::FirstInCell,
+        "slide",
+        "the slide's: stop at the first intersection",
+        "The pseudo-code as the slide writes it: a leaf's shapes are tested against the ray clipped to its cell, and the far side is searched only `If(no intersection)` in the near side. The first leaf with an intersection ends the search.",
+    ),
+    (
+        Query::Closest,
+        "cull",
+        "cull by the closest hit",
+        "A variant: every side is searched, unless it starts beyond the closest hit found so far. Both orders then find the closest hit; file order pays in work.",
+    ),
+];
+
+/// The key of the rule in a shared link.
+const RULE: &str = "rule";
+
 /// The quiz's questions and answers.
 const QUESTIONS: [(&str, &str); 2] = [
     (
         "Why first do the near side?",
-        "The first hit found near the origin is a cut-off: every cell or box that starts beyond it cannot hold anything nearer and is skipped without being opened. Searching the near side first finds the closest hit as early as the tree allows, so the most is skipped. (A kD-tree can even stop at the first leaf with a hit inside its cell.)",
+        "Along the ray the near side's part comes first, so a hit found there lies before anything on the far side. With the slide's `If(no intersection)` the search then ends and the far side is never opened: through a kD-tree's cells, which do not overlap, near first finds the closest hit and does the least work. (Culling by the closest hit instead, every cell or box starting beyond the hit is skipped unopened, and near first finds it earliest, so the most is skipped.)",
     ),
     (
         "What happens if we just traverse in file order?",
-        "The order in memory has nothing to do with the ray: file order opens the far side first whenever the ray runs against it. With the slide's `If(no intersection)`, a hit there ends the search, so file order can return a hit that is not the closest (the quiz shows one). These panes cull by the closest hit instead: every waiting side is still searched unless it starts beyond the hit, so both orders find the same hit, and file order pays for it in wasted work. Near first never depends on luck.",
+        "The order in memory has nothing to do with the ray: file order opens the far side first whenever the ray runs against it. With the slide's `If(no intersection)`, a hit there ends the search, so file order can return a hit that is not the closest: the kD file-order pane shows whether it does on this ray. Culling by the closest hit instead (the rule switch above the counters), every waiting side is still searched unless it starts beyond the hit, so both orders find the same hit and file order pays for it in wasted work. Near first never depends on luck. (A BVH's boxes overlap, so under the slide's rule even near first may stop at a hit that is not the closest.)",
     ),
 ];
 
@@ -60,7 +82,9 @@ pub struct NearFirstLesson {
     /// The kD-tree and the BVH, in [`FAMILIES`] order.
     trees: Derived<(u64, ()), [SceneTree; 2]>,
     /// By structure, then by order.
-    traces: Cached<(u64, u64), [[Trace; 2]; 2]>,
+    traces: Cached<(u64, u64, Query), [[Trace; 2]; 2]>,
+    /// The rule the panes follow ([`RULES`]).
+    rule: Query,
     /// Which answers have been asked for.
     revealed: [bool; 2],
 }
@@ -72,7 +96,27 @@ impl NearFirstLesson {
             stage: Stage::new(text, Editing::ALL),
             trees: Derived::default(),
             traces: Cached::default(),
+            rule: RULES[0].0,
             revealed: [false; 2],
+        }
+    }
+
+    /// The rule the panes follow.
+    pub fn rule(&self) -> Query {
+        self.rule
+    }
+
+    /// Makes the panes follow `rule` (one of [`RULES`]).
+    pub fn set_rule(&mut self, rule: Query) {
+        self.rule = rule;
+    }
+
+    /// What the panes trace with: `order`, under the lesson's rule.
+    pub fn options(&self, order: Order) -> TraceOptions {
+        TraceOptions {
+            order,
+            query: self.rule,
+            ..TraceOptions::default()
         }
     }
 
@@ -187,17 +231,18 @@ impl Lesson for NearFirstLesson {
         let Some(trees) = self.trees.get().cloned() else {
             return;
         };
-        let traces = self
-            .traces
-            .get_or_make((self.trees.generation(), scene.revision), || {
-                let ray = scene.ray().ok();
-                [0, 1].map(|structure| {
-                    ORDERS.map(|(order, _)| match &ray {
-                        Some(ray) => Trace::of_tree(&trees[structure], ray, &options_in(order)),
-                        None => Trace::default(),
+        let options = ORDERS.map(|(order, _)| self.options(order));
+        let traces =
+            self.traces
+                .get_or_make((self.trees.generation(), scene.revision, self.rule), || {
+                    let ray = scene.ray().ok();
+                    [0, 1].map(|structure| {
+                        options.map(|options| match &ray {
+                            Some(ray) => Trace::of_tree(&trees[structure], ray, &options),
+                            None => Trace::default(),
+                        })
                     })
-                })
-            });
+                });
         let frames = traces
             .iter()
             .flatten()
@@ -225,6 +270,26 @@ impl Lesson for NearFirstLesson {
         ))
     }
 
+    fn share(&self) -> Vec<(String, String)> {
+        let name = RULES
+            .iter()
+            .find(|(rule, ..)| *rule == self.rule)
+            .map_or("slide", |(_, name, ..)| name);
+        vec![(RULE.into(), name.into())]
+    }
+
+    fn restore(&mut self, key: &str, value: &str) -> Result<(), String> {
+        if key != RULE {
+            return Err(format!("this lesson keeps no '{key}'"));
+        }
+        let (rule, ..) = RULES
+            .iter()
+            .find(|(_, name, ..)| *name == value)
+            .ok_or_else(|| format!("rule '{value}' is not one of slide, cull"))?;
+        self.rule = *rule;
+        Ok(())
+    }
+
     /// A generated scene gets a ray from beyond its top right corner towards the lower left:
     /// against the order the builders store children in (below the plane, or the lower
     /// centroids, first), so file order meets the far side first and the lesson's point shows.
@@ -247,6 +312,13 @@ impl Lesson for NearFirstLesson {
             return;
         };
         let frame = self.stage.timeline.shown;
+        ui.horizontal_wrapped(|ui| {
+            ui.label("Rule:");
+            for (rule, _, label, what) in RULES {
+                ui.selectable_value(&mut self.rule, rule, label)
+                    .on_hover_text(what);
+            }
+        });
         ui.heading("Counters so far");
         // A table keeps its columns: in a narrow panel (the app scaled up) it scrolls
         // sideways rather than widen the panel.
@@ -301,16 +373,7 @@ impl Lesson for NearFirstLesson {
                     });
             });
         if traces.iter().flatten().all(|trace| trace.state(frame).done) {
-            let total = |structure: usize, order: usize| {
-                accelviz_core::counters_of(&traces[structure][order].steps).nodes_visited
-            };
-            ui.label(format!(
-                "Done. Nodes visited, near first against file order: kD-tree {} against {}, BVH {} against {}.",
-                total(0, 0),
-                total(0, 1),
-                total(1, 0),
-                total(1, 1)
-            ));
+            ui.label(done_summary(traces));
         }
         ui.separator();
         ui.heading("Quiz");
@@ -370,4 +433,34 @@ impl Lesson for NearFirstLesson {
             self.stage.scene.draw_footer(canvas);
         }
     }
+}
+
+/// What the four traversals did, once all are done: the work near first against file order,
+/// and whether file order returned the closest hit.
+fn done_summary(traces: &[[Trace; 2]; 2]) -> String {
+    let mut lines = Vec::new();
+    for (structure, family) in ["kD-tree", "BVH"].into_iter().enumerate() {
+        let [near, file] = &traces[structure];
+        let nodes = |trace: &Trace| accelviz_core::counters_of(&trace.steps).nodes_visited;
+        let hit = |trace: &Trace| crate::trace::closest_so_far(&trace.steps);
+        let named = |hit: Option<(u32, f64)>| match hit {
+            Some((primitive, t)) => format!("#{primitive} at t = {}", number(t)),
+            None => "no hit".to_owned(),
+        };
+        let returned = if hit(near) == hit(file) {
+            format!("both return {}", named(hit(near)))
+        } else {
+            format!(
+                "near first returns {}, file order {}",
+                named(hit(near)),
+                named(hit(file))
+            )
+        };
+        lines.push(format!(
+            "{family}: {} nodes near first against {} in file order; {returned}.",
+            nodes(near),
+            nodes(file)
+        ));
+    }
+    format!("Done. {}", lines.join(" "))
 }

@@ -16,8 +16,8 @@ use accelviz_app::lessons::near_first::{FAMILIES, NearFirstLesson, ORDERS};
 use accelviz_app::lessons::trivial::TrivialLoop;
 use accelviz_app::stage::{build_params, with_settings};
 use accelviz_core::{
-    BuildRecorder, Built, NoBuildObserver, Recorder, SplitRule, Step, Structure, TraceOptions,
-    TraversalStacks, brute_force, counters_of,
+    BuildRecorder, Built, NoBuildObserver, Query, Recorder, SplitRule, Step, Structure,
+    TraceOptions, TraversalStacks, brute_force, counters_of,
 };
 use accelviz_scene::document::{GeneratorEntry, LayoutEntry};
 use egui_kittest::kittest::Queryable;
@@ -268,10 +268,8 @@ fn near_first_panes_show_the_cores_counters_and_no_answer_ahead_of_time() {
         harness.run();
         for (structure, family) in FAMILIES.iter().enumerate() {
             for (order, (order_kind, name)) in ORDERS.iter().enumerate() {
-                let options = TraceOptions {
-                    order: *order_kind,
-                    ..TraceOptions::default()
-                };
+                let options = harness.state().options(*order_kind);
+                assert_eq!(options.query, Query::FirstInCell, "the slide's rule first");
                 let core = core_steps(
                     harness.state(),
                     Structure::lecture(*family, SplitRule::Sah),
@@ -301,9 +299,33 @@ fn near_first_panes_show_the_cores_counters_and_no_answer_ahead_of_time() {
             }
         }
     }
-    // At the end, near first did less than file order on both structures.
+    // At the end, under the slide's rule, the kD-tree near first returns the closest hit and
+    // file order a farther one: the lecture's answer, on the lesson's own ray.
+    let closest = |lesson: &NearFirstLesson, structure: usize, order: usize| {
+        let trace = lesson.trace(structure, order).expect("a pane");
+        accelviz_app::trace::closest_so_far(&trace.steps).expect("a hit")
+    };
+    let (near, file) = (
+        closest(harness.state(), 0, 0),
+        closest(harness.state(), 0, 1),
+    );
+    assert!(
+        near.1 < file.1,
+        "kD near first {near:?}, file order {file:?}"
+    );
+    harness.get_by_label("cull by the closest hit").click();
+    harness.run();
+    assert_eq!(harness.state().rule(), Query::Closest);
+    harness.state_mut().stage_mut().timeline.shown = harness.state().stage().timeline.len;
+    harness.run();
+    // Culling, both orders find the same hit, and near first did less on both structures.
     let counters = harness.state().pane_counters().expect("counters");
     for (structure, family) in FAMILIES.iter().enumerate() {
+        assert_eq!(
+            closest(harness.state(), structure, 0),
+            closest(harness.state(), structure, 1),
+            "{family:?}"
+        );
         assert!(
             counters[structure][0].nodes_visited < counters[structure][1].nodes_visited,
             "{family:?}: near first visits fewer nodes on the lesson's ray: {counters:?}"
@@ -350,12 +372,18 @@ fn near_first_generated_scenes_make_the_point() {
         let timeline = &mut harness.state_mut().stage_mut().timeline;
         timeline.shown = timeline.len;
         harness.run();
+        // Under the slide's rule file order either works more or returns a farther hit.
         let counters = harness.state().pane_counters().expect("counters");
         for (structure, family) in FAMILIES.iter().enumerate() {
             let [near, file] = counters[structure];
+            let hit = |order: usize| {
+                let trace = harness.state().trace(structure, order).expect("a pane");
+                accelviz_app::trace::closest_so_far(&trace.steps).map_or(f64::INFINITY, |hit| hit.1)
+            };
             assert!(
                 near.nodes_visited + near.primitive_tests
-                    < file.nodes_visited + file.primitive_tests,
+                    < file.nodes_visited + file.primitive_tests
+                    || hit(0) < hit(1),
                 "seed {seed}, {family:?}: near first {near:?} against file order {file:?}"
             );
         }

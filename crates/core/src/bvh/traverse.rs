@@ -6,7 +6,7 @@ use crate::observer::Observer;
 use crate::primitive::{LeafPrimitives, PrimitiveSet};
 use crate::query::{Hit, Order, TraceOptions};
 use crate::ray::Ray;
-use crate::search::HitSearch;
+use crate::search::{HitSearch, NoMemory};
 use crate::slab::{SlabRay, slab_clip};
 
 /// Reusable traversal stack: make one per thread and pass it to every [`traverse`] call, so
@@ -78,7 +78,7 @@ where
                 ray.t_min,
                 first,
                 numbers,
-                |_| false,
+                &mut NoMemory,
                 observer,
             ) {
                 return search.closest;

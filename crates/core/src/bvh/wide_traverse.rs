@@ -12,7 +12,7 @@ use crate::observer::Observer;
 use crate::primitive::{HitTest, LeafPrimitives, PrimitiveSet, TriangleBlock, TriangleRay};
 use crate::query::{Hit, Order, TraceOptions};
 use crate::ray::Ray;
-use crate::search::HitSearch;
+use crate::search::{HitSearch, NoMemory};
 use crate::simd::{
     ChildTests, Kernel, KernelJob, NodeLanes, prefetch_lines, run_with_active_kernels,
 };
@@ -326,7 +326,7 @@ impl<'a, V: Vector, P: LeafPrimitives<V>> RayState<'a, V, P> {
             self.ray.t_min,
             first as usize,
             numbers,
-            |_| false,
+            &mut NoMemory,
             observer,
         )
     }

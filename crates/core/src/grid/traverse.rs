@@ -23,7 +23,7 @@ use crate::grid::tree::{CellStore, Grid};
 use crate::math::{Real, Vector};
 use crate::observer::Observer;
 use crate::primitive::{LeafPrimitives, PrimitiveSet};
-use crate::query::{Hit, TraceOptions};
+use crate::query::{Hit, Query, TraceOptions};
 use crate::ray::Ray;
 use crate::search::{CellSearch, HitSearch, Mailbox};
 
@@ -52,16 +52,21 @@ where
         t_enter,
         t_exit,
         primitive_ray,
-        search,
+        mut search,
     } = CellSearch::enter(&cells.bounds, primitives, ray, options, observer)?;
+    // The walk meets cells in the ray's order and ends at the first whose part holds the
+    // closest hit so far: the pseudo-code's rule is its own, and its cells search for the
+    // closest hit (one found beyond its cell is kept, and ends the walk where it lies).
+    if search.query == Query::FirstInCell {
+        search.query = Query::Closest;
+    }
     let mut walk = Walk {
         grid,
         primitives,
         primitive_ray,
         t_min: ray.t_min,
         search,
-        mailbox: Mailbox::default(),
-        mailboxing: options.mailboxing,
+        mailbox: Mailbox::new(options.mailboxing),
         twins: 0,
     };
     let origin = ray.origin.to_array3();
@@ -216,8 +221,7 @@ struct Walk<'a, V: Vector, C: CellStore, P: LeafPrimitives<V>> {
     primitive_ray: <P::Set as PrimitiveSet<V>>::RayData,
     t_min: V::Scalar,
     search: HitSearch<V::Scalar>,
-    mailbox: Mailbox,
-    mailboxing: bool,
+    mailbox: Mailbox<V::Scalar>,
     /// Axes along which the ray lies in a plane between cells (robust mode): every cell
     /// visited is visited with its twin below that plane too.
     twins: u32,
@@ -277,14 +281,13 @@ impl<V: Vector, C: CellStore, P: LeafPrimitives<V>> Walk<'_, V, C, P> {
             return false;
         }
         observer.cell_entered(node, t_near, t_far);
-        let (mailbox, mailboxing) = (&mut self.mailbox, self.mailboxing);
         self.search.test_leaf(
             self.primitives,
             &self.primitive_ray,
             self.t_min,
             lookup.first as usize,
             lookup.primitives,
-            |primitive| mailboxing && !mailbox.post(primitive),
+            &mut self.mailbox,
             observer,
         )
     }

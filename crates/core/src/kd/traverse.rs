@@ -9,13 +9,14 @@
 //!     if (no intersection) rayFar = clip ray to far side;  intersectKDTree(rayFar, farChild)
 //! ```
 //!
-//! "No intersection" means none nearer than where the far part starts: a primitive that
-//! straddles the plane can be hit beyond the near cell, and that hit must not end the search.
 //! By default a pending far side is culled when it starts beyond the closest hit so far, so
-//! the answer is the closest hit in either order (file order does more work);
-//! [`Query::FirstInCell`] instead ends the search at the first leaf with a hit in its own
-//! part of the ray, as the pseudo-code reads, and in file order that hit need not be the
-//! closest.
+//! the answer is the closest hit in either order (file order does more work), and a far side
+//! the ray never reaches is dropped at once. [`Query::FirstInCell`] is the pseudo-code as it
+//! reads: each leaf's objects are intersected with the ray clipped to the leaf's cell (a hit
+//! beyond the cell, on a primitive reaching past the plane, is no intersection there; it is
+//! one in the cell where it lies), the first leaf with an intersection ends the search, and a
+//! side's fate is decided when the recursion comes to it (an empty side is dropped after the
+//! side before it is done). Near first that is the closest hit; in file order it need not be.
 
 use crate::kd::tree::KdTree;
 use crate::math::{Real, Vector};
@@ -70,13 +71,20 @@ where
     }
     let entries = &mut stack.entries;
     entries.clear();
-    let mut mailbox = Mailbox::default();
+    let mut mailbox = Mailbox::new(options.mailboxing);
     let origins = ray.origin.to_array3();
     let directions = ray.direction.to_array3();
     let inverse_directions = slab_ray.inv_direction.to_array3();
     let negative = slab_ray.negative;
     let mut current = Some((0u32, t_enter, t_exit));
+    let pseudo_code = options.query == Query::FirstInCell;
     while let Some((node_index, t_near, t_far)) = current.take().or_else(|| entries.pop()) {
+        // The pseudo-code's `if empty(ray) return`, for a side the ray does not reach, once
+        // the side before it is done.
+        if pseudo_code && t_near > t_far {
+            observer.cell_missed(node_index);
+            continue;
+        }
         // The part of the ray in this cell starts beyond the closest hit: nothing here is nearer.
         if t_near > search.t_closest {
             observer.node_culled(node_index, t_near, search.t_closest);
@@ -85,29 +93,20 @@ where
         observer.cell_entered(node_index, t_near, t_far);
         let node = &tree.nodes[node_index as usize];
         if node.is_leaf() {
-            // Test the leaf's primitives (once per ray with the mailbox).
-            let numbers = tree.leaf_primitives(node);
-            let first = node.first as usize;
-            let skip = |primitive| options.mailboxing && !mailbox.post(primitive);
+            // Test the leaf's primitives (once per ray with the mailbox). Under the
+            // pseudo-code's rule, against the ray clipped to the cell: an intersection there
+            // ends the search (`If(no intersection)`: every side still waiting is the far side
+            // of a split whose near side now holds one).
+            search.clip_to_cell(t_near, t_far);
             if search.test_leaf(
                 primitives,
                 &primitive_ray,
                 ray.t_min,
-                first,
-                numbers,
-                skip,
+                node.first as usize,
+                tree.leaf_primitives(node),
+                &mut mailbox,
                 observer,
             ) {
-                return search.closest;
-            }
-            // The pseudo-code's `If(no intersection)`: a hit in this cell's part of the ray
-            // ends the search; every side still waiting is the far side of a split whose near
-            // side now holds an intersection. (A hit beyond the cell, on a primitive reaching
-            // past the plane, is kept and ends the search in the cell it lies in.)
-            if options.query == Query::FirstInCell
-                && search.closest.is_some()
-                && search.t_closest <= t_far
-            {
                 return search.closest;
             }
             continue;
@@ -161,33 +160,45 @@ where
         // roundoff (Ize 2013's bound, as for the root box): where the ray leaves through a
         // corner shared with another plane, a primitive touching this plane from the far side
         // is then still visited.
-        current = if t_plane > t_far * slab_ray.far_scale {
-            // It leaves the cell before reaching the plane (or never reaches it): the first
-            // side only; its part on the second side is empty.
-            observer.cell_missed(second);
-            Some((first, t_near, t_far))
-        } else if t_plane * slab_ray.far_scale < t_near {
-            // It crossed the plane before entering the cell (or moves away from it): the
-            // second side only; its part on the first side is empty.
-            observer.cell_missed(first);
-            Some((second, t_near, t_far))
-        } else {
-            // Both parts: visit one now, keep the other for when this subtree is done. Both
-            // include the crossing point, where a primitive touching the plane from one side
-            // only is met. File order visits the side below the plane first.
-            let first_part = (first, t_near, t_plane.max(t_near));
-            let second_part = (second, t_plane.min(t_far), t_far);
-            let (now, later) = if options.order == Order::FileOrder && first != below {
-                (second_part, first_part)
-            } else {
-                (first_part, second_part)
-            };
-            entries.push(later);
-            if O::ACTIVE {
-                observer.stack_depth(entries.len());
+        let (first_part, second_part) = if t_plane > t_far * slab_ray.far_scale {
+            // It leaves the cell before reaching the plane (or never reaches it): its part on
+            // the second side is empty. Dropped at once, but by the pseudo-code, which comes to
+            // it (empty) once the first side is done.
+            if !pseudo_code {
+                observer.cell_missed(second);
+                current = Some((first, t_near, t_far));
+                continue;
             }
-            Some(now)
+            ((first, t_near, t_far), (second, t_plane, t_far))
+        } else if t_plane * slab_ray.far_scale < t_near {
+            // It crossed the plane before entering the cell (or moves away from it): its part
+            // on the first side is empty.
+            if !pseudo_code {
+                observer.cell_missed(first);
+                current = Some((second, t_near, t_far));
+                continue;
+            }
+            ((first, t_near, t_plane), (second, t_near, t_far))
+        } else {
+            // Both parts. Both include the crossing point, where a primitive touching the
+            // plane from one side only is met.
+            (
+                (first, t_near, t_plane.max(t_near)),
+                (second, t_plane.min(t_far), t_far),
+            )
         };
+        // Visit one now, keep the other for when this subtree is done. File order visits the
+        // side below the plane first.
+        let (now, later) = if options.order == Order::FileOrder && first != below {
+            (second_part, first_part)
+        } else {
+            (first_part, second_part)
+        };
+        entries.push(later);
+        if O::ACTIVE {
+            observer.stack_depth(entries.len());
+        }
+        current = Some(now);
     }
-    search.closest
+    search.finish(observer)
 }

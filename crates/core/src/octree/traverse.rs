@@ -15,7 +15,7 @@ use crate::math::{Real, Vector};
 use crate::observer::Observer;
 use crate::octree::tree::{Octree, child_count};
 use crate::primitive::LeafPrimitives;
-use crate::query::{Hit, Order, Query, TraceOptions};
+use crate::query::{Hit, Order, TraceOptions};
 use crate::ray::Ray;
 use crate::search::{CellSearch, Mailbox};
 
@@ -56,7 +56,7 @@ where
     if tree.nodes.is_empty() {
         return None;
     }
-    let mut mailbox = Mailbox::default();
+    let mut mailbox = Mailbox::new(options.mailboxing);
     let origin = ray.origin.to_array3();
     let inverse = slab_ray.inv_direction.to_array3();
     let negative = slab_ray.negative;
@@ -76,26 +76,19 @@ where
         observer.cell_entered(node_index, t_near, t_far);
         let node = &tree.nodes[node_index as usize];
         if node.is_leaf() {
-            // Test the leaf's primitives (once per ray with the mailbox).
-            let numbers = tree.leaf_primitives(node);
-            let skip = |primitive| options.mailboxing && !mailbox.post(primitive);
+            // Test the leaf's primitives (once per ray with the mailbox). Under the
+            // pseudo-code's rule, against the ray clipped to the cell: an intersection there
+            // ends the search.
+            search.clip_to_cell(t_near, t_far);
             if search.test_leaf(
                 primitives,
                 &primitive_ray,
                 ray.t_min,
                 node.first as usize,
-                numbers,
-                skip,
+                tree.leaf_primitives(node),
+                &mut mailbox,
                 observer,
             ) {
-                return search.closest;
-            }
-            // The pseudo-code's `If(no intersection)`: a hit in this cell's part of the ray
-            // ends the search.
-            if options.query == Query::FirstInCell
-                && search.closest.is_some()
-                && search.t_closest <= t_far
-            {
                 return search.closest;
             }
             continue;
@@ -180,7 +173,7 @@ where
             t_to,
         ));
     }
-    search.closest
+    search.finish(observer)
 }
 
 /// Child `child`'s box within `[low, high]` cut at `middle` (what

@@ -12,8 +12,8 @@ use serde_json::json;
 use super::Draft;
 use super::first_hit::{scene_and_ray, shape_name, shape_options};
 use crate::generate::{
-    Gen, Level, build, clear_steps, entered, final_hit, grazes_a_corner, num, record, record_query,
-    traversal_question,
+    Gen, Level, build, clear_cell_hits, clear_steps, entered, final_hit, grazes_a_corner, num,
+    record, record_query, traversal_question,
 };
 use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node_label};
 
@@ -82,6 +82,8 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     if ![&near_steps, &file_steps, &culled_steps]
         .iter()
         .all(|steps| clear_steps(steps))
+        || !clear_cell_hits(&near_steps)
+        || !clear_cell_hits(&file_steps)
     {
         return None;
     }
@@ -119,6 +121,33 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             } => Some((node, t_near, t_far)),
             _ => None,
         })?;
+    // Where file order tested the closest shape but the ray meets it outside that cell's part
+    // (the clipped ray holds no intersection there): said, so that "never reached" is not
+    // read as "never tested".
+    let mut cell = None;
+    let tested_outside = file_steps.iter().find_map(|step| match *step {
+        Step::CellEntered {
+            node,
+            t_near,
+            t_far,
+        } => {
+            cell = Some((node, t_near, t_far));
+            None
+        }
+        Step::PrimitiveTested {
+            primitive,
+            t_hit: Some(_),
+        } if primitive == closest => cell,
+        _ => None,
+    });
+    let tested_outside = tested_outside.map_or_else(String::new, |(node, t_near, t_far)| {
+        format!(
+            " (cell {} lists it too, but the hit lies outside that cell's part of the ray, t in [{}, {}])",
+            node_label(&built.facts, node),
+            num(t_near),
+            num(t_far)
+        )
+    });
     let options = shape_options(&shapes);
     let asks = vec![
         Ask {
@@ -144,7 +173,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                 correct: stopped_at as usize,
             },
             explanation: format!(
-                "File order enters {} and stops in cell {}: the ray's part there, t in [{}, {}], meets {} at t = {}, and the search ends. The closest hit is {} at t = {}, in a cell it never reached; near first enters {} and returns it.",
+                "File order enters {} and stops in cell {}: the ray's part there, t in [{}, {}], meets {} at t = {}, and the search ends. The closest hit is {} at t = {}, in a cell it never reached{tested_outside}; near first enters {} and returns it.",
                 list(&file),
                 node_label(facts, stop_cell),
                 num(stop_near),
@@ -215,6 +244,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             "file_order_visited": file,
             "culled_file_order": CULLED[0],
             "culled_file_order_visited": culled,
+            "file_order_stops": {"cell": stop_cell, "part": [stop_near, stop_far], "t": t_stopped},
         }),
     })
 }

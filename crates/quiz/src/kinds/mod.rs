@@ -119,13 +119,15 @@ pub(crate) struct Draft {
 }
 
 impl Draft {
-    /// A question on a near-first, closest-hit traversal of `built` over `shapes` by `ray`:
+    /// A question on a near-first traversal of `built` over `shapes` by `ray` under `query`:
     /// the figure shows the recorded `steps`; the answer holds the nodes entered, the shape
     /// hit, and the steps' own answers under `key`.
+    #[allow(clippy::too_many_arguments)]
     pub(crate) fn near_first_traversal(
         prompt: &str,
         (shapes, ray): (ShapeSet<DVec2>, Ray<DVec2>),
         built: Built<DVec2>,
+        query: Query,
         steps: Vec<Step<f64>>,
         asks: Vec<Ask>,
         (key, per_step): (&str, Value),
@@ -138,7 +140,7 @@ impl Draft {
             TreeFigure {
                 built,
                 order: Order::NearFirst,
-                query: Query::Closest,
+                query,
                 steps,
                 reveal_as_reached: false,
             },

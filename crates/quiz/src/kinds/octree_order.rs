@@ -4,7 +4,7 @@
 //! into the child across that line. The steps are the core's octree traversal (a quadtree in
 //! 2D), recorded.
 
-use accelviz_core::{Order, Step, Structure};
+use accelviz_core::{Order, Query, Step, Structure};
 use serde_json::json;
 
 use super::Draft;
@@ -190,6 +190,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         "A quadtree over the shapes: each cell cut at its middle into four, numbered by their sides (bit 0: x above the middle, bit 1: y above). The ray visits the children it passes front to back.",
         (shapes, ray),
         built,
+        Query::Closest,
         steps,
         asks,
         ("orders", json!(answers)),

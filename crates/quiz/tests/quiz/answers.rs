@@ -6,7 +6,7 @@
 
 #![allow(clippy::unwrap_used)] // Test code: a failed unwrap is a failed test.
 
-use accelviz_quiz::{Expected, Figure, KINDS, Level, generate};
+use accelviz_quiz::{Ask, Expected, Figure, KINDS, Level, generate};
 use serde_json::Value;
 
 const SEEDS_PER_LEVEL: u64 = 250;
@@ -169,34 +169,90 @@ fn traverse_bvh(
     (visited, hit)
 }
 
-/// The lecture's kD traversal, recursive, culling a side that starts beyond the closest hit:
-/// cells entered in order, the hit, and per interior cell entered (cell, near child, whether
-/// the far child was entered). In file order the child below the plane is searched first.
-/// With the pseudo-code's `If(no intersection)` rule, a leaf whose part of the ray holds the
-/// closest hit so far ends the walk.
+/// What becomes of a cell's far child.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum FarChild {
+    /// Searched with its part of the ray.
+    Searched,
+    /// The pseudo-code came to it, and its part of the ray is empty (`if empty(ray) return`);
+    /// or, culling, it was dropped as empty at once.
+    Empty,
+    /// The pseudo-code never came to it: the near child gave an intersection. Culling: it
+    /// started beyond the closest hit.
+    NotSearched,
+}
+
+impl FarChild {
+    fn name(self) -> &'static str {
+        match self {
+            FarChild::Searched => "searched",
+            FarChild::Empty => "empty",
+            FarChild::NotSearched => "not searched",
+        }
+    }
+}
+
+/// A kD traversal over the question's JSON, written here from the lecture's slide
+/// ("Traversing a kD-tree") as it reads, recursively:
+///
+/// ```text
+/// intersect(ray, node): if empty(ray) return
+///   if leaf(node): intersect node's objects with ray   (ray: clipped to the node's cell)
+///   else: rayNear = clip ray to near side; intersect(rayNear, nearChild)
+///         if (no intersection): rayFar = clip ray to far side; intersect(rayFar, farChild)
+/// ```
+///
+/// The near side is the one the ray meets first, or in file order the side below the plane.
+/// With `culling`, the variant instead: no `If(no intersection)`, every side searched unless
+/// it starts beyond the closest hit so far, and a leaf keeps every hit it finds. Records the
+/// cells entered in order, the hit, and per interior cell entered (cell, the child searched
+/// first, what became of the other).
 struct KdWalk<'a> {
     nodes: &'a [Value],
     shapes: &'a [Value],
     ray: Ray,
     near_first: bool,
-    first_in_cell: bool,
-    stopped: bool,
+    culling: bool,
     visited: Vec<u64>,
     hit: Option<(u64, f64)>,
-    cells: Vec<(u64, u64, bool)>,
+    cells: Vec<(u64, u64, FarChild)>,
 }
 
-impl KdWalk<'_> {
-    fn visit(&mut self, node: u64, t_near: f64, t_far: f64) -> bool {
-        if self.stopped || t_near > self.hit.map_or(f64::INFINITY, |(_, t)| t) {
-            return false;
+impl<'a> KdWalk<'a> {
+    fn new(question: &'a Value, near_first: bool, culling: bool) -> Self {
+        Self {
+            nodes: question["nodes"].as_array().unwrap(),
+            shapes: question["shapes"].as_array().unwrap(),
+            ray: ray_of(question),
+            near_first,
+            culling,
+            visited: Vec::new(),
+            hit: None,
+            cells: Vec::new(),
+        }
+    }
+
+    /// The closest hit so far.
+    fn t_hit(&self) -> f64 {
+        self.hit.map_or(f64::INFINITY, |(_, t)| t)
+    }
+
+    fn intersect(&mut self, node: u64, t_near: f64, t_far: f64) {
+        if t_near > t_far || (self.culling && t_near > self.t_hit()) {
+            return;
         }
         self.visited.push(node);
         let entry = &self.nodes[node as usize];
         if let Some(leaf) = entry.get("shapes") {
-            closest(self.shapes, &indices(leaf), &self.ray, &mut self.hit);
-            self.stopped = self.first_in_cell && self.hit.is_some_and(|(_, t)| t <= t_far);
-            return true;
+            for shape in indices(leaf) {
+                if let Some(t) = shape_hit(&self.shapes[shape as usize], &self.ray)
+                    && (self.culling || (t_near..=t_far).contains(&t))
+                    && t < self.t_hit()
+                {
+                    self.hit = Some((shape, t));
+                }
+            }
+            return;
         }
         let axis = entry["axis"].as_u64().expect("an axis") as usize;
         let split = entry["split"].as_f64().expect("a split");
@@ -204,50 +260,61 @@ impl KdWalk<'_> {
             panic!("two children")
         };
         let (origin, direction) = (self.ray.origin[axis], self.ray.direction[axis]);
-        let (near, far) = if direction < 0.0 {
-            (above, below)
-        } else {
-            (below, above)
-        };
         if origin == split {
-            let (near, far) = if direction <= 0.0 {
+            // The ray starts in the plane: both sides, the one it moves into all along, the
+            // other at its start only (the core's convention; no question asks about it).
+            let (into, other) = if direction <= 0.0 {
                 (below, above)
             } else {
                 (above, below)
             };
-            self.visit(near, t_near, t_far);
-            self.visit(far, t_near, t_near);
-            return true;
-        }
-        let t_plane = (split - origin) / direction;
-        if t_plane > t_far {
-            self.visit(near, t_near, t_far);
-            self.cells.push((node, near, false));
-        } else if t_plane < t_near {
-            self.visit(far, t_near, t_far);
-        } else {
-            let at = self.cells.len();
-            self.cells.push((node, near, false));
-            let near_part = (t_near, t_plane.max(t_near));
-            let far_part = (t_plane.min(t_far), t_far);
-            if self.near_first || near == below {
-                self.visit(near, near_part.0, near_part.1);
-                let entered = self.visit(far, far_part.0, far_part.1);
-                self.cells[at].2 = entered;
+            let other_end = if direction == 0.0 { t_far } else { t_near };
+            if self.culling || direction == 0.0 {
+                self.intersect(into, t_near, t_far);
+                self.intersect(other, t_near, other_end);
             } else {
-                self.visit(far, far_part.0, far_part.1);
-                self.visit(near, near_part.0, near_part.1);
+                self.intersect(other, t_near, other_end);
+                if self.hit.is_none() {
+                    self.intersect(into, t_near, t_far);
+                }
             }
+            return;
         }
-        true
+        // The side the ray meets first (by the sign of 1/d, so that −0 moves down).
+        let (first, second) = if (1.0 / direction) < 0.0 {
+            (above, below)
+        } else {
+            (below, above)
+        };
+        let t_plane = (split - origin) / direction;
+        let first_part = (t_near, t_far.min(t_plane));
+        let second_part = (t_near.max(t_plane), t_far);
+        let ((near, near_part), (far, far_part)) = if self.near_first || first == below {
+            ((first, first_part), (second, second_part))
+        } else {
+            ((second, second_part), (first, first_part))
+        };
+        let at = self.cells.len();
+        self.cells.push((node, near, FarChild::NotSearched));
+        self.intersect(near, near_part.0, near_part.1);
+        if !self.culling && self.hit.is_some() {
+            return;
+        }
+        let fate = if far_part.0 > far_part.1 {
+            FarChild::Empty
+        } else if self.culling && far_part.0 > self.t_hit() {
+            FarChild::NotSearched
+        } else {
+            FarChild::Searched
+        };
+        self.cells[at].2 = fate;
+        self.intersect(far, far_part.0, far_part.1);
     }
 
     /// The walk done, from the root cell.
     fn walked(mut self) -> Self {
         let (t_near, t_far) = root_part(self.nodes, &self.ray);
-        if t_near <= t_far {
-            self.visit(0, t_near, t_far);
-        }
+        self.intersect(0, t_near, t_far);
         self
     }
 }
@@ -268,24 +335,13 @@ fn root_part(nodes: &[Value], ray: &Ray) -> (f64, f64) {
 fn check_lecture(question: &Value) {
     let structure = question["structure"].as_str().unwrap();
     assert!(structure.starts_with("kd:"), "{question}");
-    let nodes = question["nodes"].as_array().unwrap();
     let shapes = question["shapes"].as_array().unwrap();
     let ray = ray_of(question);
-    let walk = |near_first, first_in_cell| {
-        KdWalk {
-            nodes,
-            shapes,
-            ray,
-            near_first,
-            first_in_cell,
-            stopped: false,
-            visited: Vec::new(),
-            hit: None,
-            cells: Vec::new(),
-        }
-        .walked()
-    };
-    let (near, file, culled) = (walk(true, true), walk(false, true), walk(false, false));
+    let (near, file, culled) = (
+        KdWalk::new(question, true, false).walked(),
+        KdWalk::new(question, false, false).walked(),
+        KdWalk::new(question, false, true).walked(),
+    );
     let mut everything = None;
     closest(
         shapes,
@@ -326,6 +382,15 @@ fn check_lecture(question: &Value) {
         culled.visited,
         "{question}"
     );
+    // The explanation's cell and part: where file order stops, and the hit lies in it.
+    let stop = &answer["file_order_stops"];
+    assert_eq!(stop["cell"].as_u64(), file.visited.last().copied());
+    let [t_near, t_far] = numbers(&stop["part"])[..] else {
+        panic!("a part: {question}")
+    };
+    let t_stop = file.hit.unwrap().1;
+    assert!(close(stop["t"].as_f64().unwrap(), t_stop), "{question}");
+    assert!(t_near <= t_stop && t_stop <= t_far, "{question}");
 }
 
 fn check_slab(question: &Value) {
@@ -450,22 +515,11 @@ fn check_near_vs_file(question: &Value) {
     }
 }
 
-fn check_kd_traversal(question: &Value) {
-    let nodes = question["nodes"].as_array().unwrap();
-    let shapes = question["shapes"].as_array().unwrap();
-    let ray = ray_of(question);
-    let walk = KdWalk {
-        nodes,
-        shapes,
-        ray,
-        near_first: true,
-        first_in_cell: false,
-        stopped: false,
-        visited: Vec::new(),
-        hit: None,
-        cells: Vec::new(),
-    }
-    .walked();
+/// The kD traversal question against the pseudo-code near first: cells entered, the hit, and
+/// per cell asked about, its near child and what became of its far child, with the reason
+/// the model answer gives being the one the pseudo-code acts on.
+fn check_kd_traversal(question: &Value, asks: &[Ask]) {
+    let walk = KdWalk::new(question, true, false).walked();
     let answer = &question["answer"];
     assert_eq!(indices(&answer["visited"]), walk.visited, "{question}");
     assert_eq!(
@@ -475,17 +529,42 @@ fn check_kd_traversal(question: &Value) {
     );
     let cells = answer["cells"].as_array().unwrap();
     assert!(!cells.is_empty());
+    let mut asked = 0;
     for cell in cells {
         let node = cell["node"].as_u64().unwrap();
         let found = walk.cells.iter().find(|(at, ..)| *at == node);
-        let (_, near, far_visited) = found.unwrap_or_else(|| panic!("cell {node}: {question}"));
+        let (_, near, far) = found.unwrap_or_else(|| panic!("cell {node}: {question}"));
         assert_eq!(cell["near"].as_u64(), Some(*near), "{question}");
-        assert_eq!(
-            cell["far_visited"].as_bool(),
-            Some(*far_visited),
-            "{question}"
-        );
+        assert_eq!(cell["far"].as_str(), Some(far.name()), "{question}");
+        let Some(reason) = cell.get("reason").and_then(Value::as_str) else {
+            continue;
+        };
+        asked += 1;
+        // The model answer says what the pseudo-code did, and only it is true.
+        let says = |text: &str| match text {
+            _ if text.contains("gave no hit, and") => Some(FarChild::Searched),
+            _ if text.contains("gave no hit, but") => Some(FarChild::Empty),
+            _ if text.contains("gave a hit") => Some(FarChild::NotSearched),
+            _ => None,
+        };
+        assert_eq!(says(reason), Some(*far), "{reason}: {question}");
+        let ask = asks
+            .iter()
+            .find(|ask| {
+                matches!(&ask.expected, Expected::Choice { options, correct }
+                    if options[*correct].label == reason && ask.prompt.starts_with("Is the far child"))
+            })
+            .unwrap_or_else(|| panic!("no step asks {reason}: {question}"));
+        let Expected::Choice { options, correct } = &ask.expected else {
+            unreachable!()
+        };
+        for (index, option) in options.iter().enumerate() {
+            if index != *correct {
+                assert_ne!(says(&option.label), Some(*far), "{question}");
+            }
+        }
     }
+    assert!(asked > 0, "{question}");
 }
 
 /// The perimeter of the box around `members`' boxes.
@@ -953,7 +1032,10 @@ fn every_kind_is_right_for_hundreds_of_seeds() {
                     "visit-order" => check_visit_order(&question),
                     "near-vs-file" => check_near_vs_file(&question),
                     "lecture" => check_lecture(&question),
-                    "kd-traversal" => check_kd_traversal(&question),
+                    "kd-traversal" => {
+                        let made = generate(entry.name, seed, level).unwrap();
+                        check_kd_traversal(&question, &made.asks)
+                    }
                     "sah-split" => check_sah_split(&question),
                     "leaf-or-split" => check_leaf_or_split(&question),
                     "build" => check_build(&question),
