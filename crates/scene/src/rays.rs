@@ -327,7 +327,7 @@ pub enum RaySource {
         /// Pixels down.
         height: usize,
     },
-    /// About this many rays of a kind ([`RayKind::rays`]: aimed rays, every k-th; shadow,
+    /// About this many rays of a kind ([`RayKind::rays`]: aimed rays, a random sample; shadow,
     /// ambient occlusion or bounce rays) from this seed.
     Kind {
         /// Which.
@@ -505,8 +505,14 @@ pub fn pixel_tiles(
     tiles
 }
 
+/// How many rays [`surface_aim_rays`] aims at each triangle: at each of its three corners, at
+/// the midpoint of the edge from it and at a random point on that edge, an oblique ray and
+/// one along an axis.
+pub const AIMED_PER_TRIANGLE: usize = 18;
+
 /// Rays from outside a mesh aimed exactly at each triangle corner, at the midpoint of each edge
-/// and at a random point on each edge: where a ray test that is not watertight lets rays slip between neighbours.
+/// and at a random point on each edge: where a ray test that is not watertight lets rays slip
+/// between neighbours. [`AIMED_PER_TRIANGLE`] a triangle, in the order of [`SurfaceAim::ray`].
 ///
 /// Meant for closed meshes that are star-shaped around their box's centre (spheres, cubes):
 /// each ray comes from a distance `2r` off the surface, from a seeded random direction within
@@ -515,36 +521,104 @@ pub fn pixel_tiles(
 /// The oblique rays' direction is `target − origin`, so the aim point is at `t = 1`; each
 /// target also gets a ray along the coordinate axis nearest its radial direction.
 pub fn surface_aim_rays(triangles: &[[[f64; 3]; 3]], seed: u64) -> Vec<RaySpec> {
-    let bounds = Aabb::from_points(triangles.iter().flatten().map(|&c| DVec3::from_array(c)));
-    let (center, radius) = bounding_sphere_of_box(&bounds);
-    let radius = 2.0 * radius;
-    let mut rng = SplitMix64::new(seed);
-    let mut rays = Vec::with_capacity(triangles.len() * 18);
-    for triangle in triangles {
-        for corner in 0..3 {
-            let a = DVec3::from_array(triangle[corner]);
-            let b = DVec3::from_array(triangle[(corner + 1) % 3]);
-            let along = rng.next_f64();
-            for target in [a, (a + b) * 0.5, a + (b - a) * along] {
-                let radial = (target - center).normalize_or(DVec3::Z);
-                let approach = (radial + DVec3::from_array(rng.unit_vector()) * 0.5).normalize();
-                // An oblique ray, and one along the axis nearest the radial direction: the
-                // second keeps the target's other two coordinates exactly, so at a corner the
-                // edge functions are exactly zero, the case a watertight test must get right.
-                let axis = radial.abs().max_position();
-                let mut along_axis = DVec3::ZERO;
-                along_axis[axis] = radial[axis].signum();
-                let oblique_origin = target + approach * radius;
-                for (origin, direction) in [
-                    (oblique_origin, target - oblique_origin),
-                    (target + along_axis * radius, -along_axis),
-                ] {
-                    rays.push(RaySpec::generated(origin, direction));
-                }
-            }
+    let aim = SurfaceAim::new(triangles, seed);
+    (0..aim.len()).map(|index| aim.ray(index)).collect()
+}
+
+/// `count` of [`surface_aim_rays`]'s rays (all of them if there are no more), each as likely
+/// as any other: a seeded uniform sample without replacement, in their order (Knuth's
+/// selection sampling, TAOCP vol. 2, 3.4.2, Algorithm S). A share of them, taken every k-th,
+/// would follow their pattern of 18 a triangle (an even step takes only the oblique rays),
+/// and a leak rate would move with the count; a random sample's rate is the whole set's,
+/// within its sampling error. Only the rays drawn are made.
+pub fn surface_aim_sample(triangles: &[[[f64; 3]; 3]], count: usize, seed: u64) -> Vec<RaySpec> {
+    let aim = SurfaceAim::new(triangles, seed);
+    let total = aim.len();
+    if count >= total {
+        return (0..total).map(|index| aim.ray(index)).collect();
+    }
+    // Each ray in turn is taken with probability (still wanted) / (still left): exactly
+    // `count` taken, every subset equally likely.
+    let mut rng = SplitMix64::new(seed ^ 0x5a4d_706c_6520_6169);
+    let mut rays = Vec::with_capacity(count);
+    for index in 0..total {
+        let (wanted, left) = (count - rays.len(), total - index);
+        if wanted == 0 {
+            break;
+        }
+        if (rng.next_f64() * left as f64) < wanted as f64 {
+            rays.push(aim.ray(index));
         }
     }
     rays
+}
+
+/// Where [`surface_aim_rays`] aims, ray by ray: each made alone from its number.
+pub struct SurfaceAim<'a> {
+    triangles: &'a [[[f64; 3]; 3]],
+    center: DVec3,
+    /// How far off the surface the rays start.
+    distance: f64,
+    seed: u64,
+}
+
+impl<'a> SurfaceAim<'a> {
+    /// The aims at `triangles`, from `seed`.
+    pub fn new(triangles: &'a [[[f64; 3]; 3]], seed: u64) -> Self {
+        let bounds = Aabb::from_points(triangles.iter().flatten().map(|&c| DVec3::from_array(c)));
+        let (center, radius) = bounding_sphere_of_box(&bounds);
+        Self {
+            triangles,
+            center,
+            distance: 2.0 * radius,
+            seed,
+        }
+    }
+
+    /// How many rays: [`AIMED_PER_TRIANGLE`] a triangle.
+    pub fn len(&self) -> usize {
+        self.triangles.len() * AIMED_PER_TRIANGLE
+    }
+
+    /// Whether there are none.
+    pub fn is_empty(&self) -> bool {
+        self.triangles.is_empty()
+    }
+
+    /// Ray `index`: triangle `index / 18`; then its corner, the target on the edge from
+    /// that corner (the corner, the edge's midpoint, a random point on it), and the ray
+    /// (oblique, along an axis). A corner's random draws are its own, from the seed.
+    pub fn ray(&self, index: usize) -> RaySpec {
+        let (triangle, within) = (index / AIMED_PER_TRIANGLE, index % AIMED_PER_TRIANGLE);
+        let (corner, target_kind, along_an_axis) = (within / 6, (within / 2) % 3, within % 2 == 1);
+        let triangle_corners = &self.triangles[triangle];
+        let a = DVec3::from_array(triangle_corners[corner]);
+        let b = DVec3::from_array(triangle_corners[(corner + 1) % 3]);
+        // The corner's draws, in a fixed order: where the random target lies along the edge,
+        // then each target's approach.
+        let mut rng = SplitMix64::for_item(self.seed, (triangle * 3 + corner) as u64);
+        let along = rng.next_f64();
+        let mut approach_noise = [[0.0; 3]; 3];
+        for noise in &mut approach_noise {
+            *noise = rng.unit_vector();
+        }
+        let target = [a, (a + b) * 0.5, a + (b - a) * along][target_kind];
+        let radial = (target - self.center).normalize_or(DVec3::Z);
+        if along_an_axis {
+            // Along the axis nearest the radial direction: it keeps the target's other two
+            // coordinates exactly, so at a corner the edge functions are exactly zero, the
+            // case a watertight test must get right.
+            let axis = radial.abs().max_position();
+            let mut along_axis = DVec3::ZERO;
+            along_axis[axis] = radial[axis].signum();
+            RaySpec::generated(target + along_axis * self.distance, -along_axis)
+        } else {
+            let noise = DVec3::from_array(approach_noise[target_kind]);
+            let approach = (radial + noise * 0.5).normalize();
+            let origin = target + approach * self.distance;
+            RaySpec::generated(origin, target - origin)
+        }
+    }
 }
 
 /// The kinds of rays accelviz makes, from a seed, the same on every machine: what a renderer
@@ -624,9 +698,9 @@ impl RayKind {
     }
 
     /// `count` rays of this kind for `mesh` from `seed` (a camera's are its `camera` image
-    /// if given, else about `count` pixels; aimed rays are every k-th of all of them, to make
-    /// about `count`). Fails only when the camera sees too little of the mesh to start
-    /// secondary rays from.
+    /// if given, else about `count` pixels; aimed rays are a random sample of `count` of the
+    /// mesh's [`AIMED_PER_TRIANGLE`] a triangle, or all of them if there are fewer). Fails
+    /// only when the camera sees too little of the mesh to start secondary rays from.
     pub fn rays(
         self,
         mesh: &crate::Mesh,
@@ -640,11 +714,7 @@ impl RayKind {
                 let (width, height) = camera.unwrap_or_else(|| square_image(count));
                 camera_rays(&mesh.bounds(), width, height)
             }
-            RayKind::Aimed => {
-                let all = surface_aim_rays(&mesh.triangles, seed);
-                let stride = all.len().div_ceil(count.max(1)).max(1);
-                all.into_iter().step_by(stride).collect()
-            }
+            RayKind::Aimed => surface_aim_sample(&mesh.triangles, count, seed),
             RayKind::Shadow | RayKind::Ao | RayKind::Bounce => {
                 secondary_rays(self, mesh, count, seed)?
             }

@@ -13,6 +13,15 @@ impl SplitMix64 {
         Self { state: seed }
     }
 
+    /// A generator for item `index` of a list made from `seed`, independent of its
+    /// neighbours' (seeded by SplitMix64's mix of the seed and the index, not by a shifted
+    /// stream, which would repeat its neighbours' draws one place along): so an item can be
+    /// made alone, the same as when the whole list is made.
+    pub fn for_item(seed: u64, index: u64) -> Self {
+        let mut mixer = Self::new(seed ^ index.wrapping_mul(0xd1b5_4a32_d192_ed03));
+        Self::new(mixer.next_u64())
+    }
+
     /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
         self.state = self.state.wrapping_add(0x9e37_79b9_7f4a_7c15);

@@ -31,9 +31,8 @@ fn every_kind_makes_the_same_rays_from_the_same_seed() {
             kind.name()
         );
         let expected = match kind {
-            // A camera's image of about 500 pixels: 23 × 22; aimed rays are every k-th.
+            // A camera's image of about 500 pixels: 23 × 22.
             RayKind::Camera => 506,
-            RayKind::Aimed => rays.len(),
             _ => 500,
         };
         assert_eq!(rays.len(), expected, "{}", kind.name());
