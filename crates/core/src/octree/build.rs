@@ -6,7 +6,7 @@
 use crate::aabb::Aabb;
 use crate::build_observer::{BuildObserver, LeafReason};
 use crate::facts::Children;
-use crate::math::Vector;
+use crate::math::{Real, Vector};
 use crate::octree::tree::{Octree, OctreeLimits, OctreeNode, child_cell, child_count, middle};
 use crate::params::BuildParams;
 use crate::primitive::PrimitiveSet;
@@ -52,6 +52,29 @@ pub fn build<V: Vector, P: PrimitiveSet<V>, O: BuildObserver>(
     }
 }
 
+/// The root cell around primitives whose box is `bounds`: that box, but along an axis it does
+/// not span (a flat mesh, every triangle in one plane) it reaches from the primitives' plane
+/// up by the box's largest side. Cut at the box's own middle, such an axis would cut through
+/// every primitive at every level and list each in both halves, doubling the lists a level
+/// (a flat CAD mesh: 646 against a kD-tree's 30 in SAH cost, a build 100 times slower);
+/// with the cell reaching up, each middle along it lies above the primitives, which all go
+/// below: the tree cuts only the axes the primitives span (a quadtree in their plane), and
+/// the children above hold nothing.
+pub fn root_cell<V: Vector>(bounds: &Aabb<V>) -> Aabb<V> {
+    if bounds.is_empty() {
+        return *bounds;
+    }
+    let extent = bounds.extent();
+    let largest = (0..V::DIM).fold(V::Scalar::ZERO, |a, axis| a.max(extent[axis]));
+    let mut high = bounds.max;
+    for axis in 0..V::DIM {
+        if extent[axis] == V::Scalar::ZERO {
+            high[axis] += largest;
+        }
+    }
+    Aabb::new(bounds.min, high)
+}
+
 /// One build with `depth_limit`; `None` once it passes the (nodes, references) budget (a
 /// build of depth 0, one leaf, always fits).
 fn build_within<V: Vector, P: PrimitiveSet<V>, O: BuildObserver>(
@@ -62,9 +85,11 @@ fn build_within<V: Vector, P: PrimitiveSet<V>, O: BuildObserver>(
     observer: &mut O,
 ) -> Option<Octree<V>> {
     let primitive_bounds = primitives.all_bounds();
-    let bounds = primitive_bounds
-        .iter()
-        .fold(Aabb::empty(), |acc, bounds| acc.union(*bounds));
+    let bounds = root_cell(
+        &primitive_bounds
+            .iter()
+            .fold(Aabb::empty(), |acc, bounds| acc.union(*bounds)),
+    );
     let children = child_count::<V>();
     let mut nodes = vec![OctreeNode { first: 0, count: 0 }];
     let mut primitive_indices = Vec::new();

@@ -107,3 +107,71 @@ fn a_ray_passes_the_quadrants_it_crosses_front_to_back_or_by_number() {
         (vec![1, 3], vec![0, 2])
     );
 }
+
+/// A mesh in one plane (every triangle at z = 0, as a flat CAD part): the octree cuts only the
+/// axes its triangles span, so it is a quadtree in their plane, within a small factor of the
+/// kD-tree's SAH cost and of its references (cut at the box's middle along z, every level listed
+/// every triangle in both halves: 20 times the kD-tree's cost), and still finds brute force's
+/// hits.
+#[test]
+fn an_octree_over_a_flat_mesh_cuts_only_the_axes_the_mesh_spans() {
+    use accelviz_core::sah::SahCost;
+    use accelviz_core::{NoObserver, TriangleSet, brute_force};
+    use glam::Vec3;
+    // 40 × 40 squares of two triangles each in z = 0, and a ray through every square.
+    let mut triangles = Vec::new();
+    for row in 0..40 {
+        for column in 0..40 {
+            let (x, y) = (column as f64, row as f64);
+            triangles.push([[x, y, 0.0], [x + 1.0, y, 0.0], [x, y + 1.0, 0.0]]);
+            triangles.push([
+                [x + 1.0, y, 0.0],
+                [x + 1.0, y + 1.0, 0.0],
+                [x, y + 1.0, 0.0],
+            ]);
+        }
+    }
+    let triangles = TriangleSet::<Vec3>::from_f64(&triangles);
+    let params = BuildParams::default();
+    let cost = SahCost::default();
+    let stats = |name: &str| {
+        let structure = Structure::parse(name).unwrap();
+        let tree = structure.build(&triangles, &params);
+        structure.validate(&tree, &triangles).unwrap();
+        (tree.stats(&cost), tree)
+    };
+    let (octree, tree) = stats("octree");
+    let (kd, _) = stats("kd:sah");
+    println!(
+        "octree: SAH {:.2}, references {}; kD-tree: SAH {:.2}, references {}",
+        octree.sah_cost, octree.primitive_references, kd.sah_cost, kd.primitive_references
+    );
+    assert!(
+        octree.sah_cost < 3.0 * kd.sah_cost,
+        "octree SAH cost {} against the kD-tree's {}",
+        octree.sah_cost,
+        kd.sah_cost
+    );
+    assert!(
+        octree.primitive_references < 8 * kd.primitive_references.max(3200),
+        "octree references {} against the kD-tree's {}",
+        octree.primitive_references,
+        kd.primitive_references
+    );
+    let mut stacks = TraversalStacks::default();
+    for row in 0..40 {
+        for column in 0..40 {
+            let target = Vec3::new(column as f32 + 0.3, row as f32 + 0.6, 0.0);
+            for origin in [Vec3::new(20.0, 20.0, 10.0), Vec3::new(-3.0, 45.0, -7.0)] {
+                let ray = Ray::try_new(origin, target - origin).unwrap();
+                let options = TraceOptions::default();
+                let got = tree.trace(&triangles, &ray, &options, &mut stacks, &mut NoObserver);
+                let expected = brute_force(&triangles, &ray, &options, &mut NoObserver);
+                assert_eq!(
+                    got.map(|hit| hit.primitive),
+                    expected.map(|hit| hit.primitive)
+                );
+            }
+        }
+    }
+}
