@@ -174,6 +174,9 @@ pub struct Touch {
     t_tolerance: f64,
     /// How wide the margins around its edges are, sideways to the ray.
     band: f64,
+    /// The edges the ray passes within a margin of: bit `i` for the edge opposite corner `i`
+    /// (two bits: near the corner between them).
+    near_edges: u8,
 }
 
 /// What the surface is at the reference's closest point.
@@ -231,6 +234,10 @@ pub struct ReferenceScene {
     bvh: Bvh<DVec3>,
     /// How far the boxes were widened.
     box_pad: f64,
+    /// Per triangle, where the mesh is open: its edges no other triangle shares (bit `i`:
+    /// the edge opposite corner `i`), and its corners on such an edge of any triangle (bit
+    /// `3 + j`: corner `j`). A ray through those points grazes the surface's rim.
+    open: Vec<u8>,
 }
 
 /// The triangles, tested with margins.
@@ -271,6 +278,7 @@ impl ReferenceScene {
             })
             .collect();
         let bvh = BinnedSah::default().build(&bounds, &BuildParams::default());
+        let open = open_features(&triangles);
         Self {
             triangles: Margins {
                 triangles,
@@ -278,6 +286,24 @@ impl ReferenceScene {
             },
             bvh,
             box_pad,
+            open,
+        }
+    }
+
+    /// Whether `touch` lies on the mesh's rim: within a margin of an edge no other triangle
+    /// shares, or of a corner on such an edge.
+    fn on_rim(&self, touch: &Touch) -> bool {
+        let open = self.open[touch.primitive as usize];
+        match touch.near_edges.count_ones() {
+            0 => false,
+            // On one edge.
+            1 => open & touch.near_edges != 0,
+            // Near a corner: the one the two edges share (the corner no near edge is
+            // opposite), or every corner where all three are near (a sliver).
+            _ => (0..3).any(|corner| {
+                let others = 0b111 & !(1 << corner);
+                touch.near_edges & others == others && open & (1 << (3 + corner)) != 0
+            }),
         }
     }
 
@@ -381,7 +407,10 @@ impl ReferenceScene {
         }
         let region: Vec<u32> = in_front.iter().map(|touch| touch.primitive).collect();
         let at_end = in_front.iter().any(|touch| touch.at_interval_end);
-        let point = if !at_end && self.goes_through(&ray, &in_front) {
+        // On the rim of an open mesh the surface does not go on, whatever the moved rays
+        // meet (a vertex whose triangles cover 242° of its neighbourhood can hold all four).
+        let on_rim = in_front.iter().any(|touch| self.on_rim(touch));
+        let point = if !at_end && !on_rim && self.goes_through(&ray, &in_front) {
             SurfacePoint::Crossing
         } else {
             SurfacePoint::Graze
@@ -500,6 +529,47 @@ impl ReferenceScene {
     pub fn outcome<V: Vector3>(&self, ray: &Ray<V>, got: Option<u32>, query: Query) -> Outcome {
         self.classify(ray, self.reference(ray).as_ref(), got, query)
     }
+}
+
+/// Where each triangle lies on the mesh's rim ([`ReferenceScene::open`]): its corners welded
+/// by exact position, an edge open when no other triangle has the same two corners.
+fn open_features(triangles: &[[DVec3; 3]]) -> Vec<u8> {
+    use std::collections::{HashMap, HashSet};
+    let key = |corner: DVec3| corner.to_array().map(f64::to_bits);
+    // Edge opposite corner `i`: from corner `i + 1` to corner `i + 2`.
+    let edge = |corners: &[DVec3; 3], opposite: usize| {
+        let (a, b) = (
+            key(corners[(opposite + 1) % 3]),
+            key(corners[(opposite + 2) % 3]),
+        );
+        if a <= b { (a, b) } else { (b, a) }
+    };
+    let mut uses: HashMap<([u64; 3], [u64; 3]), u32> = HashMap::new();
+    for corners in triangles {
+        for opposite in 0..3 {
+            *uses.entry(edge(corners, opposite)).or_default() += 1;
+        }
+    }
+    let rim_corners: HashSet<[u64; 3]> = uses
+        .iter()
+        .filter(|(_, count)| **count == 1)
+        .flat_map(|((a, b), _)| [*a, *b])
+        .collect();
+    triangles
+        .iter()
+        .map(|corners| {
+            let mut open = 0u8;
+            for index in 0..3 {
+                if uses[&edge(corners, index)] == 1 {
+                    open |= 1 << index;
+                }
+                if rim_corners.contains(&key(corners[index])) {
+                    open |= 1 << (3 + index);
+                }
+            }
+            open
+        })
+        .collect()
 }
 
 fn widen<V: Vector3>(ray: &Ray<V>) -> Ray<DVec3> {
@@ -639,6 +709,12 @@ impl Margins {
             at_interval_end,
             t_tolerance,
             band,
+            near_edges: functions
+                .iter()
+                .zip(&margins)
+                .enumerate()
+                .filter(|(_, (value, margin))| value.abs() <= **margin)
+                .fold(0, |mask, (edge, _)| mask | 1 << edge),
         })
     }
 }
