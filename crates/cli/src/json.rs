@@ -36,8 +36,7 @@ impl JsonObject {
 
     /// A string field (the value must need no escaping beyond quotes and backslashes).
     pub fn string(mut self, key: &str, value: &str) -> Self {
-        let escaped = value.replace('\\', "\\\\").replace('"', "\\\"");
-        let _ = write!(self.key(key), "\"{escaped}\"");
+        self.key(key).push_str(&string(value));
         self
     }
 
@@ -61,6 +60,12 @@ impl JsonObject {
         self.text.push('}');
         self.text
     }
+}
+
+/// A string as JSON (it must need no escaping beyond quotes and backslashes).
+pub fn string(value: &str) -> String {
+    let escaped = value.replace('\\', "\\\\").replace('"', "\\\"");
+    format!("\"{escaped}\"")
 }
 
 /// A number as JSON.

@@ -3,7 +3,7 @@
 //! ([`accelviz_core::outcome`]); a table (Markdown, CSV, JSON), two SVG plots, and an example
 //! ray of each outcome.
 
-use accelviz_core::break_even::{Contender, Crossover, Fastest, plotted, reported};
+use accelviz_core::break_even::{BreakEven, plotted};
 use accelviz_core::outcome::{Outcome, Reference};
 use accelviz_core::params::BuildParams;
 use accelviz_core::quality::{NodeEntries, SahCheck};
@@ -222,7 +222,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     if let Some(dir) = &args.examples {
         write_examples(dir, &rows, &heading)?;
     }
-    let break_even = BreakEven::of(&rows);
+    let break_even = BreakEvenReport::of(&rows);
     // The SAH's chances against these rays', for the binned SAH's BVH and the kD SAH tree.
     let checks: Vec<(String, SahCheck)> = ["bvh:sah-binned:16", "kd:sah"]
         .iter()
@@ -484,97 +484,119 @@ fn markdown(rows: &[TradeRow], heading: &str, params: &BuildParams) -> String {
 }
 
 /// Which structure is fastest overall (its build, then every ray) for each number of rays,
-/// with the default switches (near first, f32, fast test): the rows' own figures.
-struct BreakEven {
-    contenders: Vec<Contender>,
-    fastest: Vec<Fastest>,
-    crossovers: Vec<Crossover>,
-}
+/// with the default switches (near first, f32, fast test): the core's break-even of the rows'
+/// own figures, written out.
+struct BreakEvenReport(BreakEven);
 
-impl BreakEven {
+impl BreakEvenReport {
     fn of(rows: &[TradeRow]) -> Self {
         let (contenders, _) = contenders(rows);
-        let (fastest, crossovers) = reported(&contenders);
-        Self {
-            contenders,
-            fastest,
-            crossovers,
-        }
+        Self(BreakEven::of(contenders))
     }
 
     fn name(&self, index: usize) -> &str {
-        &self.contenders[index].name
+        self.0.name(index)
     }
 
     fn markdown(&self) -> String {
         let mut out = String::from(
-            "\nBreak-even: the total time of a build and N rays (build ms + N / (Mrays/s · 1000)), near first, f32, fast test; the fastest structure for each N and how much slower the next is.\n\n| rays | fastest | total ms | next fastest | slower by |\n|---:|---|---:|---|---:|\n",
+            "\nBreak-even: the total time of a build and N rays (build ms + N / (Mrays/s · 1000)), near first, f32, fast test; the fastest structure for each N by the medians, how much slower the next is, and the structures whose rounds' ranges overlap the fastest's (then no winner is clear).\n\n| rays | fastest | total ms | next fastest | slower by | within the spread |\n|---:|---|---:|---|---:|---|\n",
         );
-        for row in &self.fastest {
+        for row in &self.0.fastest {
             let (next, ratio) = row.runner_up.map_or(("", String::new()), |(next, ratio)| {
                 (self.name(next), format!("{ratio:.2}×"))
             });
+            let tied: Vec<&str> = row
+                .within_spread
+                .iter()
+                .map(|&index| self.name(index))
+                .collect();
+            let fastest = if row.is_clear() {
+                self.name(row.fastest).to_owned()
+            } else {
+                format!(
+                    "no clear winner ({} by the medians)",
+                    self.name(row.fastest)
+                )
+            };
             out.push_str(&format!(
-                "| {:.0e} | {} | {:.1} | {next} | {ratio} |\n",
+                "| {:.0e} | {fastest} | {:.1} | {next} | {ratio} | {} |\n",
                 row.rays,
-                self.name(row.fastest),
-                row.total_ms
+                row.total_ms,
+                tied.join(", ")
             ));
         }
-        if !self.crossovers.is_empty() {
-            out.push_str("\nCrossovers: ");
-            let said: Vec<String> = self
-                .crossovers
-                .iter()
-                .map(|crossing| {
-                    format!(
-                        "{} gives way to {} at {:.3e} rays",
-                        self.name(crossing.from),
-                        self.name(crossing.to),
-                        crossing.rays
-                    )
-                })
-                .collect();
-            out.push_str(&said.join("; "));
-            out.push_str(".\n");
+        let verdict = self.0.verdict();
+        if !verdict.is_empty() {
+            out.push('\n');
+            out.push_str(&verdict.join(" "));
+            out.push('\n');
         }
         out
     }
 
-    /// `{"break_even": [{"rays", "fastest", "total_ms"}, ...], "crossovers": [...]}`.
+    /// `{"break_even": [{"rays", "fastest", "clear", "within_spread", "total_ms"}, ...],
+    /// "crossovers": [{"rays", "from", "to", "clear_between"}], "verdict": [...]}`.
     fn json(&self) -> String {
         let rows: Vec<String> = self
+            .0
             .fastest
             .iter()
             .map(|row| {
+                let tied: Vec<String> = row
+                    .within_spread
+                    .iter()
+                    .map(|&index| crate::json::string(self.name(index)))
+                    .collect();
                 JsonObject::new()
                     .number("rays", row.rays)
                     .string("fastest", self.name(row.fastest))
+                    .boolean("clear", row.is_clear())
+                    .raw("within_spread", &format!("[{}]", tied.join(",")))
                     .number("total_ms", row.total_ms)
                     .finish()
             })
             .collect();
         let crossings: Vec<String> = self
+            .0
             .crossovers
             .iter()
             .map(|crossing| {
+                let clear = crossing.clear_between.map_or_else(
+                    || "null".to_owned(),
+                    |(low, high)| {
+                        format!(
+                            "[{},{}]",
+                            crate::json::number(low),
+                            crate::json::number(high)
+                        )
+                    },
+                );
                 JsonObject::new()
                     .number("rays", crossing.rays)
                     .string("from", self.name(crossing.from))
                     .string("to", self.name(crossing.to))
+                    .raw("clear_between", &clear)
                     .finish()
             })
+            .collect();
+        let verdict: Vec<String> = self
+            .0
+            .verdict()
+            .iter()
+            .map(|s| crate::json::string(s))
             .collect();
         JsonObject::new()
             .raw("break_even", &format!("[{}]", rows.join(",")))
             .raw("crossovers", &format!("[{}]", crossings.join(",")))
+            .raw("verdict", &format!("[{}]", verdict.join(",")))
             .finish()
     }
 
     /// Total time against rays: the structures fastest somewhere, and the lecture's three
-    /// rules' BVHs for comparison, with the crossovers marked.
+    /// rules' BVHs for comparison, with the crossovers the rounds tell apart marked.
     fn plot(&self, mesh: &str) -> Lines {
-        let shown = plotted(&self.contenders, &self.fastest, &self.crossovers);
+        let shown = plotted(&self.0);
         let samples: Vec<f64> = (0..=60)
             .map(|step| 10f64.powf(3.0 + 0.1 * step as f64))
             .collect();
@@ -585,7 +607,7 @@ impl BreakEven {
             lines: shown
                 .iter()
                 .map(|&index| {
-                    let contender = &self.contenders[index];
+                    let contender = &self.0.contenders[index];
                     let points = samples
                         .iter()
                         .map(|&rays| (rays, contender.total_ms(rays)))
@@ -594,8 +616,10 @@ impl BreakEven {
                 })
                 .collect(),
             marks: self
+                .0
                 .crossovers
                 .iter()
+                .filter(|crossing| crossing.clear_between.is_some())
                 .map(|crossing| {
                     (
                         crossing.rays,

@@ -321,6 +321,8 @@ pub struct TradeRow {
     pub build_ms: f64,
     /// The build times' spread, percent of their median.
     pub build_spread_percent: f64,
+    /// The fastest and the slowest build, milliseconds.
+    pub build_range_ms: (f64, f64),
     /// The tree's SAH cost.
     pub sah_cost: f64,
     /// End-point overlap (BVHs only, [`crate::quality::epo`]).
@@ -335,6 +337,8 @@ pub struct TradeRow {
     pub mrays_per_s: f64,
     /// Half the range of the trace times, percent of their median.
     pub trace_spread_percent: f64,
+    /// One ray's traversal in the fastest and the slowest round, milliseconds.
+    pub ms_per_ray_range: (f64, f64),
     /// Every ray's outcome.
     pub outcomes: OutcomeCounts,
     /// The first ray of each outcome, as in [`Evaluation::examples`].
@@ -380,6 +384,7 @@ impl TradeRow {
             switches,
             build_ms: builds.median(),
             build_spread_percent: builds.spread_percent(),
+            build_range_ms: (builds.min(), builds.max()),
             sah_cost: evaluation.stats.sah_cost,
             epo: quality.epo,
             bytes: quality.footprint.bytes,
@@ -387,6 +392,7 @@ impl TradeRow {
             primitives_per_ray: evaluation.counters.primitive_tests as f64 / count,
             mrays_per_s: count / (traces.median().max(1e-9) * 1e3),
             trace_spread_percent: traces.spread_percent(),
+            ms_per_ray_range: (traces.min() / count, traces.max() / count),
             outcomes: evaluation.outcomes,
             examples: evaluation.examples,
         }
@@ -405,12 +411,15 @@ impl TradeRow {
         1.0 / (self.mrays_per_s * 1e3)
     }
 
-    /// The row as a contender of the break-even ([`crate::break_even`]).
+    /// The row as a contender of the break-even ([`crate::break_even`]), with its rounds'
+    /// ranges.
     pub fn contender(&self) -> Contender {
         Contender {
             name: self.structure.name(),
             build_ms: self.build_ms,
             ms_per_ray: self.ms_per_ray(),
+            build_range_ms: self.build_range_ms,
+            ms_per_ray_range: self.ms_per_ray_range,
         }
     }
 

@@ -679,9 +679,10 @@ impl TradeLesson {
     }
 
     fn break_even_ui(ui: &mut egui::Ui, result: &TradeResult) {
+        let break_even = &result.break_even;
         ui.label(RichText::new("Which structure should this scene get?").strong());
         ui.label(
-            RichText::new("A build and N rays, near first, f32, fast: the fastest in all.").weak(),
+            RichText::new("A build and N rays, near first, f32, fast: the fastest in all, where the rounds' ranges tell it.").weak(),
         );
         egui::Grid::new("break even").striped(true).show(ui, |ui| {
             ui.label(RichText::new("rays").strong());
@@ -690,14 +691,28 @@ impl TradeLesson {
             ui.label(RichText::new("next").strong())
                 .on_hover_text("How much slower the next fastest is (its name on hover)");
             ui.end_row();
-            for fastest in &result.fastest {
+            for fastest in &break_even.fastest {
                 ui.label(count(fastest.rays as usize));
-                ui.label(&result.contenders[fastest.fastest].name);
+                let name = break_even.name(fastest.fastest);
+                if fastest.is_clear() {
+                    ui.label(name);
+                } else {
+                    let tied: Vec<&str> = fastest
+                        .within_spread
+                        .iter()
+                        .map(|&index| break_even.name(index))
+                        .collect();
+                    ui.label(RichText::new("no clear winner").italics())
+                        .on_hover_text(format!(
+                            "{name} by the medians, but the rounds' ranges of {} overlap its own",
+                            tied.join(", ")
+                        ));
+                }
                 ui.label(format!("{} ms", number(fastest.total_ms)));
                 match fastest.runner_up {
                     Some((next, ratio)) => {
                         ui.label(format!("{ratio:.2}×"))
-                            .on_hover_text(&result.contenders[next].name);
+                            .on_hover_text(break_even.name(next));
                     }
                     None => {
                         ui.label("-");
@@ -706,13 +721,8 @@ impl TradeLesson {
                 ui.end_row();
             }
         });
-        for crossing in &result.crossovers {
-            ui.label(format!(
-                "{} gives way to {} at {} rays",
-                result.contenders[crossing.from].name,
-                result.contenders[crossing.to].name,
-                number(crossing.rays)
-            ));
+        for sentence in break_even.verdict() {
+            ui.label(sentence);
         }
     }
 }
@@ -835,7 +845,8 @@ fn scatter_ui(
 /// Total time against rays, log-log: the structures fastest somewhere and the lecture's
 /// three rules' BVHs, with the crossovers marked.
 fn total_vs_rays_ui(ui: &mut egui::Ui, height: f32, result: &TradeResult) -> egui::Response {
-    let shown = plotted(&result.contenders, &result.fastest, &result.crossovers);
+    let break_even = &result.break_even;
+    let shown = plotted(break_even);
     let colors = [
         palette::HIT,
         palette::RAY,
@@ -860,7 +871,7 @@ fn total_vs_rays_ui(ui: &mut egui::Ui, height: f32, result: &TradeResult) -> egu
         .allow_scroll(false)
         .show(ui, |plot| {
             for (slot, &index) in shown.iter().enumerate() {
-                let contender = &result.contenders[index];
+                let contender = &break_even.contenders[index];
                 let points: Vec<[f64; 2]> = (0..=60)
                     .map(|step| {
                         let rays = 10f64.powf(3.0 + 0.1 * step as f64);
@@ -873,13 +884,17 @@ fn total_vs_rays_ui(ui: &mut egui::Ui, height: f32, result: &TradeResult) -> egu
                         .width(2.0),
                 );
             }
-            for crossing in &result.crossovers {
+            // Only the crossovers the rounds' ranges tell apart.
+            for crossing in &break_even.crossovers {
+                if crossing.clear_between.is_none() {
+                    continue;
+                }
                 plot.vline(
                     VLine::new(
                         format!(
                             "{} gives way to {} at {}",
-                            result.contenders[crossing.from].name,
-                            result.contenders[crossing.to].name,
+                            break_even.name(crossing.from),
+                            break_even.name(crossing.to),
                             number(crossing.rays)
                         ),
                         crossing.rays.log10(),

@@ -6,7 +6,7 @@
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
-use accelviz_core::break_even::{Contender, Crossover, Fastest, reported};
+use accelviz_core::break_even::BreakEven;
 use accelviz_core::params::BuildParams;
 use accelviz_core::trade::{Lab, TradeRow, contenders};
 use accelviz_core::{Query, Ray, Structure};
@@ -46,14 +46,11 @@ pub struct TradeResult {
     pub params: BuildParams,
     /// Every row, structure by structure, each in the switches' order.
     pub rows: Vec<TradeRow>,
-    /// The break-even's contenders (the rows with the base switches) and their rows.
-    pub contenders: Vec<Contender>,
-    /// Each contender's row in `rows`.
+    /// The break-even of the rows with the base switches: which is fastest for how many
+    /// rays, as far as the rounds' spread tells.
+    pub break_even: BreakEven,
+    /// Each of its contenders' row in `rows`.
     pub contender_rows: Vec<usize>,
-    /// The fastest contender at each of [`accelviz_core::break_even::REPORTED_RAYS`].
-    pub fastest: Vec<Fastest>,
-    /// Where the fastest contender changes, 10³ to 10⁹ rays.
-    pub crossovers: Vec<Crossover>,
     /// How long the whole measurement took, milliseconds.
     pub millis: f64,
 }
@@ -88,8 +85,9 @@ fn clock(steady: bool, start: Instant) -> impl Fn() -> f64 {
 impl TradeResult {
     /// The result with `rows` instead (their break-even made again from their own figures).
     pub fn with_rows(mut self, rows: Vec<TradeRow>) -> Self {
-        (self.contenders, self.contender_rows) = contenders(&rows);
-        (self.fastest, self.crossovers) = reported(&self.contenders);
+        let (contenders, contender_rows) = contenders(&rows);
+        self.break_even = BreakEven::of(contenders);
+        self.contender_rows = contender_rows;
         self.rows = rows;
         self
     }
@@ -109,10 +107,8 @@ impl TradeResult {
             query: source.query,
             params: *lab.params(),
             rows: Vec::new(),
-            contenders: Vec::new(),
+            break_even: BreakEven::of(Vec::new()),
             contender_rows: Vec::new(),
-            fastest: Vec::new(),
-            crossovers: Vec::new(),
             millis,
         };
         Some(measured.with_rows(lab.rows()?))
