@@ -3,16 +3,19 @@
 // (crates/app/src/mesh/heat.rs). It runs the same WASM module as the page (the page sends its
 // compiled module along).
 //
-// A read or a build has a worker of its own, stopped when the job is done or cancelled:
+// A read, a build or a measurement has a worker of its own, stopped when the job is done or
+// cancelled:
 //   {job: "read", name, bytes: Uint8Array}            -> {progress: per mille}..., {done: Float64Array}
 //   {job: "build", structure, triangles: Float64Array} -> {done: Uint8Array}
+//   {job: "trade", triangles: Float64Array, rays: Float64Array, query, rounds}
+//       -> {tasks, of, doing}..., {done: Uint8Array}   (the trade lab, off the page's frames)
 // Heat maps have a pool of workers that live as long as the page and keep the last tree:
 //   {job: "heat-tree", tree: Uint8Array, triangles: Float64Array}   (kept; no answer)
 //   {job: "heat-bands", id, key: Float64Array, first, step}
 //       -> {part: Uint32Array, at: band, id}..., {done, id}; a newer job or
 //   {job: "heat-cancel"} stops it between two bands.
 // and {problem: text, id} when a job fails.
-import init, { read_obj_aside, build_tree_aside, HeatTracer } from './pkg/accelviz.js';
+import init, { read_obj_aside, build_tree_aside, measure_trade_aside, HeatTracer } from './pkg/accelviz.js';
 
 let ready = null;
 let heatTracer = null;
@@ -60,6 +63,9 @@ self.onmessage = async ({ data }) => {
       done = read_obj_aside(data.name, data.bytes, (permille) => self.postMessage({ progress: permille }));
     } else if (data.job === 'build') {
       done = build_tree_aside(data.triangles, data.structure);
+    } else if (data.job === 'trade') {
+      done = measure_trade_aside(data.triangles, data.rays, data.query, data.rounds,
+        (tasks, of, doing) => self.postMessage({ tasks, of, doing }));
     } else {
       throw new Error(`unknown job ${data.job}`);
     }

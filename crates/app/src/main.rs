@@ -173,6 +173,34 @@ pub fn build_tree_aside(triangles: &[f64], structure: &str) -> Result<Vec<u8>, S
     accelviz_app::mesh::aside::work::build(triangles, structure)
 }
 
+/// For `web/worker.js`: the trade lab's measurement of `triangles` (nine numbers each) with
+/// `rays` (eight numbers each) for `query` (`closest` or `any`) over `rounds` rounds, calling
+/// `progress` with (tasks done, tasks in all, the task next) after each task; the rows packed.
+#[cfg(target_arch = "wasm32")]
+#[wasm_bindgen::prelude::wasm_bindgen]
+pub fn measure_trade_aside(
+    triangles: &[f64],
+    rays: &[f64],
+    query: &str,
+    rounds: u32,
+    progress: &js_sys::Function,
+) -> Result<Vec<u8>, String> {
+    accelviz_app::mesh::trade::work::measure(
+        triangles,
+        rays,
+        query,
+        rounds as usize,
+        &|done, total, doing| {
+            let _ = progress.call3(
+                &wasm_bindgen::JsValue::NULL,
+                &(done as f64).into(),
+                &(total as f64).into(),
+                &doing.into(),
+            );
+        },
+    )
+}
+
 /// For `web/worker.js`: a heat map's tree, taken in once (packed, over its triangles, nine
 /// numbers each), then traced a band at a time for any camera (see
 /// `accelviz_app::mesh::heat::work`).

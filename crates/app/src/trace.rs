@@ -10,7 +10,7 @@
 
 use accelviz_core::format::{counted, number};
 use accelviz_core::{
-    Counters, Hit, LeafPrimitives, Order, Ray, Recorder, ShapeSet, Step, TraceOptions,
+    Counters, Hit, LeafPrimitives, Order, Ray, Real, Recorder, ShapeSet, Step, TraceOptions,
     TraversalStacks, Tree, Vector, brute_force, counters_of,
 };
 use glam::DVec2;
@@ -93,6 +93,29 @@ impl Trace {
                 &mut TraversalStacks::default(),
                 recorder,
             )
+        })
+    }
+
+    /// [`Trace::of`] a traversal in any precision (a trade row's f32), heard in f64 through
+    /// [`Widened`](accelviz_core::observer::Widened): every step, its numbers exactly.
+    pub fn of_any_precision<V: Vector>(
+        tree: &Tree<V>,
+        primitives: &impl LeafPrimitives<V>,
+        ray: &Ray<V>,
+        options: &TraceOptions,
+    ) -> Self {
+        Self::record(|recorder| {
+            tree.trace(
+                primitives,
+                ray,
+                options,
+                &mut TraversalStacks::default(),
+                &mut accelviz_core::observer::Widened(recorder),
+            )
+            .map(|hit| Hit {
+                primitive: hit.primitive,
+                t: hit.t.to_f64(),
+            })
         })
     }
 

@@ -222,7 +222,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     if let Some(dir) = &args.examples {
         write_examples(dir, &rows, &heading)?;
     }
-    let break_even = BreakEvenReport::of(&rows);
+    let break_even = BreakEvenReport::of(&rows, repeat);
     // The SAH's chances against these rays', for the binned SAH's BVH and the kD SAH tree.
     let checks: Vec<(String, SahCheck)> = ["bvh:sah-binned:16", "kd:sah"]
         .iter()
@@ -480,6 +480,12 @@ fn markdown(rows: &[TradeRow], heading: &str, params: &BuildParams) -> String {
     for row in rows {
         out.push_str(&format!("| {} |\n", cells(row, params).join(" | ")));
     }
+    let summary = accelviz_core::trade_summary::summary(rows);
+    if !summary.is_empty() {
+        out.push('\n');
+        out.push_str(&summary.join(" "));
+        out.push('\n');
+    }
     out
 }
 
@@ -489,9 +495,9 @@ fn markdown(rows: &[TradeRow], heading: &str, params: &BuildParams) -> String {
 struct BreakEvenReport(BreakEven);
 
 impl BreakEvenReport {
-    fn of(rows: &[TradeRow]) -> Self {
+    fn of(rows: &[TradeRow], rounds: usize) -> Self {
         let (contenders, _) = contenders(rows);
-        Self(BreakEven::of(contenders))
+        Self(BreakEven::of(contenders, rounds))
     }
 
     fn name(&self, index: usize) -> &str {

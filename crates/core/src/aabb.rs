@@ -91,6 +91,11 @@ impl<V: Vector> Aabb<V> {
         }
     }
 
+    /// The same box in another precision `W` (see [`Vector::converted`]).
+    pub fn converted<W: Vector>(&self) -> Aabb<W> {
+        Aabb::new(self.min.converted(), self.max.converted())
+    }
+
     /// `max − min` (negative on the empty box).
     #[inline]
     pub fn extent(&self) -> V {

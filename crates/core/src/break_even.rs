@@ -111,21 +111,36 @@ pub struct BreakEven {
     pub fastest: Vec<Fastest>,
     /// The crossovers of the medians' lower envelope between the first and the last.
     pub crossovers: Vec<Crossover>,
+    /// How many rounds each contender was timed in: with one, the rounds' spread is unknown
+    /// and nothing is clear.
+    pub rounds: usize,
 }
 
 impl BreakEven {
-    /// The break-even of `contenders`.
-    pub fn of(contenders: Vec<Contender>) -> Self {
-        let fastest = fastest_at(&contenders, &REPORTED_RAYS);
-        let crossovers = crossovers(
+    /// The break-even of `contenders`, each timed in `rounds` rounds. With fewer than two the
+    /// ranges say nothing of the spread: no winner and no crossover is clear.
+    pub fn of(contenders: Vec<Contender>, rounds: usize) -> Self {
+        let mut fastest = fastest_at(&contenders, &REPORTED_RAYS);
+        let mut crossovers = crossovers(
             &contenders,
             REPORTED_RAYS[0],
             REPORTED_RAYS[REPORTED_RAYS.len() - 1],
         );
+        if rounds < 2 {
+            for row in &mut fastest {
+                row.within_spread = (0..contenders.len())
+                    .filter(|&index| index != row.fastest)
+                    .collect();
+            }
+            for crossing in &mut crossovers {
+                crossing.clear_between = None;
+            }
+        }
         Self {
             contenders,
             fastest,
             crossovers,
+            rounds,
         }
     }
 
@@ -137,6 +152,9 @@ impl BreakEven {
     /// The verdict in sentences, each from the numbers: the clear crossovers (where the
     /// change lies), and what the spread leaves open.
     pub fn verdict(&self) -> Vec<String> {
+        if self.rounds < 2 {
+            return vec!["Timed in one round, the rounds' spread is unknown: no structure is named fastest. Measure with more rounds.".to_owned()];
+        }
         let mut said = Vec::new();
         for crossing in &self.crossovers {
             if let Some((low, high)) = crossing.clear_between {
@@ -384,10 +402,13 @@ mod tests {
     #[test]
     fn overlapping_ranges_name_no_winner() {
         // Medians 5 % apart, rounds ±20 %: the medians' order is noise.
-        let break_even = BreakEven::of(vec![
-            spread("a", 1.0, 1.00e-3, 0.2),
-            spread("b", 1.05, 1.05e-3, 0.2),
-        ]);
+        let break_even = BreakEven::of(
+            vec![
+                spread("a", 1.0, 1.00e-3, 0.2),
+                spread("b", 1.05, 1.05e-3, 0.2),
+            ],
+            3,
+        );
         assert!(break_even.fastest.iter().all(|f| !f.is_clear()));
         assert!(
             break_even
@@ -409,10 +430,11 @@ mod tests {
         // quick: 10 ms + 1 µs a ray, good: 100 ms + 0.5 µs, each ±5 %: their medians cross
         // at 180,000 rays; quick is clearly faster until (95 − 10.5) / (1.05e-3 − 0.475e-3)
         // ≈ 147,000 rays, good from (105 − 9.5) / (0.95e-3 − 0.525e-3) ≈ 224,700 on.
-        let break_even = BreakEven::of(vec![
+        let contenders = vec![
             spread("quick", 10.0, 1e-3, 0.05),
             spread("good", 100.0, 5e-4, 0.05),
-        ]);
+        ];
+        let break_even = BreakEven::of(contenders.clone(), 3);
         let crossing = &break_even.crossovers[0];
         let (low, high) = crossing.clear_between.expect("clear");
         assert!((low - 84.5 / 0.575e-3).abs() < 1e-6, "{low}");
@@ -426,5 +448,11 @@ mod tests {
         // At 10⁵ rays quick's slowest total, 10.5 + 105 = 115.5 ms, lies below good's
         // fastest, 95 + 47.5 = 142.5 ms: a clear winner.
         assert!(break_even.fastest[2].is_clear());
+        // Timed once, the same figures name nothing.
+        let once = BreakEven::of(contenders, 1);
+        assert!(once.fastest.iter().all(|f| !f.is_clear()));
+        assert!(once.crossovers.iter().all(|c| c.clear_between.is_none()));
+        assert_eq!(once.verdict().len(), 1);
+        assert!(once.verdict()[0].contains("one round"));
     }
 }

@@ -257,6 +257,13 @@ pub trait Vector:
         out
     }
 
+    /// The same point in another precision `W` of the same dimension: exact when `W`'s
+    /// scalar holds every value of this one's (f32 to f64), rounded to nearest otherwise.
+    #[inline]
+    fn converted<W: Vector>(self) -> W {
+        W::from_f64_slice(&self.to_f64_array()[..Self::DIM])
+    }
+
     /// The components as f64, padded with zeros to three (for printing and JSON).
     #[inline]
     fn to_f64_array(self) -> [f64; 3] {

@@ -435,3 +435,66 @@ impl<S: Real, A: Observer<S>, B: Observer<S>> Observer<S> for (A, B) {
         self.1.children_ordered(node, tested, order);
     }
 }
+
+/// Hears a traversal in any precision and tells `O`, an f64 observer, every step with its
+/// numbers widened to f64 (exactly): so one recorder serves a traversal in f32, as a trade
+/// row traced it, and one in f64.
+pub struct Widened<'a, O>(pub &'a mut O);
+
+impl<S: Real, O: Observer<f64>> Observer<S> for Widened<'_, O> {
+    const ACTIVE: bool = O::ACTIVE;
+    #[inline(always)]
+    fn box_tested(&mut self, node: u32, t_enter: S, t_exit: S, hit: bool) {
+        self.0
+            .box_tested(node, t_enter.to_f64(), t_exit.to_f64(), hit);
+    }
+    #[inline(always)]
+    fn node_entered(&mut self, node: u32) {
+        self.0.node_entered(node);
+    }
+    #[inline(always)]
+    fn cell_entered(&mut self, node: u32, t_near: S, t_far: S) {
+        self.0.cell_entered(node, t_near.to_f64(), t_far.to_f64());
+    }
+    #[inline(always)]
+    fn cell_missed(&mut self, node: u32) {
+        self.0.cell_missed(node);
+    }
+    #[inline(always)]
+    fn cell_skipped(&mut self, node: u32, t_near: S, t_far: S) {
+        self.0.cell_skipped(node, t_near.to_f64(), t_far.to_f64());
+    }
+    #[inline(always)]
+    fn grid_stepped(&mut self, axis: usize, t_next: [S; 3]) {
+        self.0.grid_stepped(axis, t_next.map(S::to_f64));
+    }
+    #[inline(always)]
+    fn cell_looked_up(&mut self, node: u32, probes: u32) {
+        self.0.cell_looked_up(node, probes);
+    }
+    #[inline(always)]
+    fn node_culled(&mut self, node: u32, t_enter: S, t_closest: S) {
+        self.0
+            .node_culled(node, t_enter.to_f64(), t_closest.to_f64());
+    }
+    #[inline(always)]
+    fn primitive_tested(&mut self, primitive: u32, t_hit: Option<S>) {
+        self.0.primitive_tested(primitive, t_hit.map(S::to_f64));
+    }
+    #[inline(always)]
+    fn closest_hit_updated(&mut self, primitive: u32, t: S) {
+        self.0.closest_hit_updated(primitive, t.to_f64());
+    }
+    #[inline(always)]
+    fn primitive_skipped(&mut self, primitive: u32) {
+        self.0.primitive_skipped(primitive);
+    }
+    #[inline(always)]
+    fn stack_depth(&mut self, waiting: usize) {
+        self.0.stack_depth(waiting);
+    }
+    #[inline(always)]
+    fn children_ordered(&mut self, node: u32, tested: u32, order: &[u32]) {
+        self.0.children_ordered(node, tested, order);
+    }
+}

@@ -121,6 +121,16 @@ impl OutcomeCounts {
         self.counts[outcome.index()] += 1;
     }
 
+    /// The counts of [`Outcome::ALL`], in its order.
+    pub fn from_counts(counts: [u64; 6]) -> Self {
+        Self { counts }
+    }
+
+    /// Each outcome's count, in [`Outcome::ALL`]'s order.
+    pub fn counts(&self) -> [u64; 6] {
+        self.counts
+    }
+
     /// Rays with `outcome`.
     pub fn count(&self, outcome: Outcome) -> u64 {
         self.counts[outcome.index()]

@@ -696,6 +696,20 @@ pub struct TraversalStacks<S: Real> {
 }
 
 impl<V: Vector> Tree<V> {
+    /// The same tree in another precision `W`, node for node (exact from f32 to f64; see
+    /// [`Vector::converted`]).
+    pub fn converted<W: Vector>(&self) -> Tree<W> {
+        match self {
+            Tree::Bvh(bvh) => Tree::Bvh(bvh.converted()),
+            Tree::Bvh4(wide) => Tree::Bvh4(wide.converted()),
+            Tree::Bvh8(wide) => Tree::Bvh8(wide.converted()),
+            Tree::Kd(tree) => Tree::Kd(tree.converted()),
+            Tree::Grid(grid) => Tree::Grid(grid.converted()),
+            Tree::HashedGrid(grid) => Tree::HashedGrid(grid.converted()),
+            Tree::Octree(tree) => Tree::Octree(tree.converted()),
+        }
+    }
+
     /// A binary BVH as it is, or collapsed to `width` children per node.
     pub fn from_binary(binary: Bvh<V>, width: Width, cost: &crate::sah::SahCost) -> Self {
         match width {
@@ -913,6 +927,19 @@ pub struct Built<V: Vector> {
 }
 
 impl<V: Vector> Built<V> {
+    /// The same tree in another precision `W`, node for node, with the same leaf reasons
+    /// (exact from f32 to f64; see [`Vector::converted`]): a tree built in f32, as a trade
+    /// row built it, drawn by a view that works in f64.
+    pub fn converted<W: Vector>(&self) -> Built<W> {
+        let tree = self.tree.converted();
+        let facts = TreeFacts::with_leaf_reasons(&tree, self.facts.leaf_reasons.clone());
+        Built {
+            structure: self.structure,
+            tree,
+            facts,
+        }
+    }
+
     /// Builds `structure` over `primitives` and gathers its facts; `observer` is told about
     /// the build too (pass [`NoBuildObserver`] unless you record it).
     pub fn new<P: PrimitiveSet<V>, O: BuildObserver>(

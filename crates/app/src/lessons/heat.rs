@@ -55,7 +55,7 @@ pub struct HeatLesson {
     pub view: View3d,
     /// The structure traced.
     pub structure: Structure,
-    tree: Derived<(u64, Structure), MeshTree>,
+    tree: Derived<crate::mesh::scene::TreeKey, MeshTree>,
     /// Which count the maps show.
     pub counter: Counter,
     /// Whether the camera's rays are traced in packets of 8×8 pixels.
@@ -737,7 +737,10 @@ impl Lesson for HeatLesson {
             ui,
             &mut self.stage.scene,
             &mut self.tree,
-            &mut self.structure,
+            (
+                &mut self.structure,
+                &mut accelviz_core::trade::Precision::F64,
+            ),
         );
         let Some(tree) = self.tree.get().cloned() else {
             ui.label("Building…");

@@ -11,6 +11,7 @@ use std::sync::Arc;
 use accelviz_core::camera::{Camera, bounding_sphere_of_box};
 use accelviz_core::format::{count, number, point_at_scale};
 use accelviz_core::params::BuildParams;
+use accelviz_core::trade::Precision;
 use accelviz_core::{Aabb, CATALOGUE, Family, Order, Ray, Step, Structure, Width, slab_record};
 use egui::{Color32, RichText};
 use glam::DVec3;
@@ -74,6 +75,12 @@ fn explain_in<V: accelviz_core::Vector3>(
 /// The share key of the clicked pixel.
 const PIXEL: &str = "pixel";
 
+/// The key of the precision in a shared link (kept when it is f32).
+const PRECISION: &str = "precision";
+
+/// The key of the triangle test in a shared link (kept when it is the watertight one).
+const TEST: &str = "test";
+
 /// Trees up to this many nodes open with every depth shown.
 const SMALL_TREE_NODES: usize = 63;
 
@@ -110,10 +117,13 @@ pub struct MeshTreeLesson {
     pub view: View3d,
     /// The structure built.
     pub structure: Structure,
-    tree: Derived<(u64, Structure), MeshTree>,
+    tree: Derived<crate::mesh::scene::TreeKey, MeshTree>,
     /// The clicked ray's traversal order.
     pub order: Order,
     picked: Option<PickedRay>,
+    /// The precision the tree is built and the ray traced in: f64, or f32 as the trade lab's
+    /// f32 rows (and the CLI by default) trace it.
+    pub precision: Precision,
     /// Whether the traversal uses the watertight triangle test and the conservative slab test
     /// (else Möller–Trumbore and the plain one).
     pub watertight: bool,
@@ -163,6 +173,7 @@ impl MeshTreeLesson {
             tree: Derived::default(),
             order: Order::NearFirst,
             picked: None,
+            precision: Precision::F64,
             watertight: false,
             examined: None,
             trace: Cached::default(),
@@ -437,6 +448,18 @@ impl MeshTreeLesson {
                     self.stage.timeline.rewind();
                 }
             }
+            for precision in [Precision::F32, Precision::F64] {
+                if ui
+                    .selectable_label(self.precision == precision, precision.name())
+                    .on_hover_text(
+                        "The precision the structure is built in and the ray traced in (f32: as the CLI and the trade lab's f32 rows)",
+                    )
+                    .clicked()
+                {
+                    self.precision = precision;
+                    self.stage.timeline.rewind();
+                }
+            }
             if ui
                 .checkbox(&mut self.watertight, "watertight")
                 .on_hover_text(
@@ -633,10 +656,12 @@ impl MeshTreeLesson {
         if ui
             .button("copy as a ray-file line")
             .on_hover_text(format!(
-                "{line}\n\nSaved as ray.txt, the same ray and hit from the command line:\naccelviz-cli query --mesh {} --accel {} --precision f64 --order {} --rays ray.txt",
+                "{line}\n\nSaved as ray.txt, the same ray and hit from the command line:\naccelviz-cli query --mesh {} --accel {} --precision {} --order {}{} --rays ray.txt",
                 tree.mesh.name,
                 self.structure.name(),
+                tree.precision.name(),
                 self.order.name(),
+                if self.watertight { " --robust" } else { "" },
             ))
             .clicked()
         {
@@ -668,8 +693,9 @@ impl MeshTreeLesson {
         );
         ui.label(examined.outcome.about());
         ui.label(format!(
-            "The ray is as {} rounded it. The steps are traced in f64 with the {} test; below, each triangle they test, by that test in f32 and in f64.",
+            "The ray is as {} rounded it. The steps are traced in {}, the tree built in it, with the {} test, as the row traced them; below, each triangle they test, by that test in f32 and in f64.",
             switches.precision.name(),
+            tree.precision.name(),
             switches.test_name()
         ));
         let mut tested: Vec<u32> = Vec::new();
@@ -768,6 +794,13 @@ impl Lesson for MeshTreeLesson {
         let mut values =
             crate::share::mesh_view_values(&self.stage.scene, &self.structure, &self.view.orbit);
         values.push(crate::share::order_value(self.order));
+        // The trade lab's switches, where they are not the lesson's own defaults.
+        if self.precision != Precision::F64 {
+            values.push((PRECISION.to_owned(), self.precision.name().to_owned()));
+        }
+        if self.watertight {
+            values.push((TEST.to_owned(), "watertight".to_owned()));
+        }
         if let Some(pixel) = self.picked.and_then(|picked| picked.pixel) {
             values.push((PIXEL.to_owned(), pixel.to_text()));
         }
@@ -785,6 +818,21 @@ impl Lesson for MeshTreeLesson {
                 self.order = crate::share::parse_order(value)?;
                 Ok(())
             }
+            PRECISION => {
+                self.precision = [Precision::F32, Precision::F64]
+                    .into_iter()
+                    .find(|precision| precision.name() == value)
+                    .ok_or_else(|| format!("precision '{value}' is not f32 or f64"))?;
+                Ok(())
+            }
+            TEST => {
+                self.watertight = match value {
+                    "watertight" => true,
+                    "fast" => false,
+                    _ => return Err(format!("test '{value}' is not fast or watertight")),
+                };
+                Ok(())
+            }
             _ => {
                 let (scene, structure) = (&mut self.stage.scene, &mut self.structure);
                 crate::share::restore_mesh_view(scene, structure, &mut self.view.orbit, key, value)
@@ -800,7 +848,7 @@ impl Lesson for MeshTreeLesson {
         }
         self.stage
             .scene
-            .request_tree(&mut self.tree, self.structure);
+            .request_tree_in(&mut self.tree, self.structure, self.precision);
         let Some(tree) = self.tree.get().cloned() else {
             return;
         };
@@ -838,12 +886,7 @@ impl Lesson for MeshTreeLesson {
                 ..options_in(order)
             }
             .with_robust(watertight);
-            Trace::of(
-                &tree.build.built.tree,
-                &tree.triangles,
-                &picked.ray,
-                &options,
-            )
+            tree.trace(&picked.ray, &options)
         });
         self.stage.timeline.set_len(trace.frames());
     }
@@ -859,6 +902,7 @@ impl Lesson for MeshTreeLesson {
             scene.name = request.mesh_name.clone();
         }
         self.structure = request.structure;
+        self.precision = request.switches.precision;
         self.order = request.switches.order;
         self.watertight = request.switches.watertight;
         self.examined = Some(Examined {
@@ -920,7 +964,7 @@ impl Lesson for MeshTreeLesson {
             ui,
             &mut self.stage.scene,
             &mut self.tree,
-            &mut self.structure,
+            (&mut self.structure, &mut self.precision),
         );
         let Some(tree) = self.tree.get().cloned() else {
             ui.label("Building…");

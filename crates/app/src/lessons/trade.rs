@@ -12,8 +12,8 @@ use std::sync::Arc;
 use accelviz_core::break_even::plotted;
 use accelviz_core::format::{count, number};
 use accelviz_core::outcome::Outcome;
-use accelviz_core::trade::{Precision, Switches, TradeRow};
-use accelviz_core::{Family, Ray, Structure};
+use accelviz_core::trade::{Switches, TradeRow};
+use accelviz_core::{Family, Ray};
 use accelviz_scene::rays::RayKind;
 use egui::{Color32, RichText};
 use egui_plot::{
@@ -298,6 +298,11 @@ impl TradeLesson {
         }
     }
 
+    /// The mesh on screen, to open another.
+    pub fn scene_mut(&mut self) -> &mut MeshScene {
+        &mut self.stage.scene
+    }
+
     /// The finished measurement shown.
     pub fn result(&self) -> Option<&TradeResult> {
         self.result.as_deref()
@@ -355,15 +360,9 @@ impl TradeLesson {
         }
         self.job = Some(TradeJob::start(
             key,
-            self.stage.scene.name.clone(),
-            &mesh.triangles,
+            (mesh, self.stage.scene.name.clone()),
             &rays,
-            Structure::compared(),
             self.ray_kind.default_query(),
-            accelviz_core::params::BuildParams {
-                kd_budget: crate::stage::KD_BUDGET,
-                ..accelviz_core::params::BuildParams::default()
-            },
             worker_threads(),
         ));
     }
@@ -390,10 +389,11 @@ impl TradeLesson {
         let Some(ray) = trade_row.example(outcome) else {
             return false;
         };
+        // The result's own mesh: a table left from another mesh steps its ray on that mesh.
         self.show_ray = Some(ShowRay {
             lesson: SHOWN_IN,
-            mesh: self.stage.scene.mesh.clone(),
-            mesh_name: self.stage.scene.name.clone(),
+            mesh: result.mesh.clone(),
+            mesh_name: result.mesh_name.clone(),
             structure: trade_row.structure,
             ray: *ray,
             switches: trade_row.switches,
@@ -917,12 +917,13 @@ impl Lesson for TradeLesson {
             if let Some(result) = job.take_result() {
                 // The browser test waits for this line.
                 log::info!(
-                    "accelviz: trade lab measured {} rows of {} {} rays on {} in {} ms",
+                    "accelviz: trade lab measured {} rows of {} {} rays on {} in {} ms {}",
                     result.rows.len(),
                     result.rays,
                     result.key.ray_kind.name(),
                     result.mesh_name,
-                    result.millis.round()
+                    result.millis.round(),
+                    result.place
                 );
                 self.result = Some(Arc::new(result));
                 self.job = None;
@@ -986,7 +987,7 @@ impl Lesson for TradeLesson {
             return;
         };
         ui.label(format!(
-            "{} ({} triangles), {} {} rays, {} hit; {}, measured in {:.1} s.",
+            "{} ({} triangles), {} {} rays, {} hit; {}, measured in {:.1} s {}.",
             short_name(&result.mesh_name),
             count(result.triangles),
             count(result.rays),
@@ -994,36 +995,16 @@ impl Lesson for TradeLesson {
             crate::mesh::trade::query_name(result.query),
             accelviz_core::format::counted(result.key.rounds, "round", "rounds"),
             result.millis / 1e3,
+            result.place,
         ));
         ui.separator();
         self.row_ui(ui, &result);
         ui.separator();
         Self::break_even_ui(ui, &result);
-        let errors: u64 = result
-            .rows
-            .iter()
-            .filter(|row| row.switches.watertight)
-            .map(|row| {
-                row.outcomes.count(Outcome::Leak)
-                    + row.outcomes.count(Outcome::FalseHit)
-                    + row.outcomes.count(Outcome::Wrong)
-            })
-            .sum();
-        let fast_leaks = |precision: Precision| -> usize {
-            result
-                .rows
-                .iter()
-                .filter(|row| !row.switches.watertight && row.switches.precision == precision)
-                .map(|row| row.outcomes.count(Outcome::Leak) as usize)
-                .sum()
-        };
         ui.separator();
-        ui.label(format!(
-            "In all rows: the watertight test {} leaks, false hits or wrong answers; the fast test {} leaks in f32 and {} in f64.",
-            count(errors as usize),
-            count(fast_leaks(Precision::F32)),
-            count(fast_leaks(Precision::F64)),
-        ));
+        for sentence in accelviz_core::trade_summary::summary(&result.rows) {
+            ui.label(sentence);
+        }
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
@@ -1038,9 +1019,36 @@ impl Lesson for TradeLesson {
             });
             return;
         };
+        if let Some(note) = self.stale_note(&result) {
+            ui.label(RichText::new(note).strong().color(palette::MISS));
+        }
         match self.view {
             View::Table => self.table_ui(ui, &result),
             _ => self.plot_ui(ui, &result),
         }
+    }
+}
+
+impl TradeLesson {
+    /// What to say over a result that is not of the mesh on screen (another was opened, and
+    /// its measurement is under way or was cancelled): whose numbers these are.
+    pub fn stale_note(&self, result: &TradeResult) -> Option<String> {
+        if result.key.mesh_revision == self.stage.scene.revision {
+            return None;
+        }
+        let then = format!(
+            "These are the numbers of {} ({} triangles), not of {}, the mesh on screen",
+            short_name(&result.mesh_name),
+            count(result.triangles),
+            short_name(&self.stage.scene.name)
+        );
+        Some(if self.job.is_some() {
+            format!("{then}: it is being measured.")
+        } else {
+            format!(
+                "{then}: press \"measure again\" to measure it. \"Show me\" steps a ray on {}.",
+                short_name(&result.mesh_name)
+            )
+        })
     }
 }

@@ -1,14 +1,15 @@
 //! A 3D lesson's model, apart from the widget that draws it ([`crate::view3d`]): the mesh
 //! ([`scene`]: built in, or an OBJ opened, a large one read aside), a catalogue structure
 //! built over it ([`tree`]), the work done aside for large meshes ([`aside`]: worker threads on
-//! the desktop, a Web Worker in the browser), the heat maps' jobs ([`heat`]), what a traced
-//! ray adds to the view ([`overlay`]), and the choosers and progress line every 3D lesson
-//! shows ([`ui`]).
+//! the desktop, a Web Worker in the browser, which sends its results back as bytes), the heat
+//! maps' jobs ([`heat`]), the trade lab's measurement ([`trade`]), what a traced ray adds to
+//! the view ([`overlay`]), and the choosers and progress line every 3D lesson shows ([`ui`]).
 //!
 //! The layers point one way: `tree` ← `aside` ← `scene` ← `ui`; `heat` and `overlay` read a
 //! `tree`.
 
 pub mod aside;
+mod bytes;
 pub mod heat;
 pub mod overlay;
 pub mod scene;

@@ -4,6 +4,7 @@
 use std::sync::Arc;
 
 use accelviz_core::Structure;
+use accelviz_core::trade::Precision;
 use accelviz_scene::Mesh;
 
 use super::aside::MeshLoad;
@@ -12,6 +13,10 @@ use crate::background::Derived;
 use crate::files::FileFilter;
 use crate::lesson_file::LessonText;
 use crate::stage::SceneFile;
+
+/// What a tree over a lesson's mesh is made of: the mesh's revision, the structure, and the
+/// precision it is built in.
+pub type TreeKey = (u64, Structure, Precision);
 
 /// The mesh a 3D lesson shows, and a revision that changes whenever it is replaced.
 pub struct MeshScene {
@@ -41,16 +46,25 @@ impl MeshScene {
     /// Called before anything is drawn, so a read that ends becomes a build in the same frame
     /// and [`loading_ui`](super::loading_ui) never draws a frame with neither (a click on its cancel button would
     /// be lost).
-    pub fn request_tree(
+    pub fn request_tree(&mut self, derived: &mut Derived<TreeKey, MeshTree>, structure: Structure) {
+        self.request_tree_in(derived, structure, Precision::F64);
+    }
+
+    /// [`request_tree`](Self::request_tree) in `precision` (f32: as a trade row builds it).
+    pub fn request_tree_in(
         &mut self,
-        derived: &mut Derived<(u64, Structure), MeshTree>,
+        derived: &mut Derived<TreeKey, MeshTree>,
         structure: Structure,
+        precision: Precision,
     ) {
         self.poll();
         let mesh = self.mesh.clone();
-        let key = (self.revision, structure);
+        let key = (self.revision, structure, precision);
+        // A Web Worker builds in f64 (an f32 tree, the trade lab's rows', is asked for on
+        // its meshes, small enough for the page).
         #[cfg(target_arch = "wasm32")]
-        if mesh.triangles.len() >= super::aside::BUILD_ASIDE_FROM
+        if precision == Precision::F64
+            && mesh.triangles.len() >= super::aside::BUILD_ASIDE_FROM
             && derived.request_elsewhere(&key, |sender| {
                 super::aside::build_in_worker(mesh.clone(), structure, sender)
             })
@@ -58,7 +72,7 @@ impl MeshScene {
             return;
         }
         derived.request(&key, mesh.triangles.len(), || {
-            move || MeshTree::build(mesh, structure)
+            move || MeshTree::build_in(mesh, structure, precision)
         });
     }
 

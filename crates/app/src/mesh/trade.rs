@@ -1,18 +1,25 @@
 //! The trade lab's measurement in the app: the core's [`Lab`] (every structure, every switch,
-//! interleaved rounds, each ray's outcome) run on a worker thread on the desktop, or a slice
-//! a frame on the UI thread in the browser, with its progress and a cancel between any two
-//! of its tasks. What it measures is what `accelviz-cli tradeoff` measures.
+//! interleaved rounds, each ray's outcome) run off the UI's frame loop, on a worker thread on
+//! the desktop and in a Web Worker in the browser (`web/worker.js`, which sends the rows back
+//! as bytes), with its progress and a cancel between any two of its tasks. Timed between the
+//! page's frames, on the thread that draws (in software, a frame can take a quarter of a
+//! second), the rounds spread by ±50 to 460 % and the verdict changed from run to run; only
+//! where no Web Worker starts does the page measure a slice a frame. What it measures is what
+//! `accelviz-cli tradeoff` measures.
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use accelviz_core::break_even::BreakEven;
+use accelviz_core::outcome::OutcomeCounts;
 use accelviz_core::params::BuildParams;
-use accelviz_core::trade::{Lab, TradeRow, contenders};
-use accelviz_core::{Query, Ray, Structure};
+use accelviz_core::trade::{Lab, Precision, Switches, TradeRow, contenders};
+use accelviz_core::{Order, Query, Ray, Structure};
 use accelviz_scene::rays::RayKind;
 use glam::DVec3;
 use web_time::Instant;
+
+use super::bytes::{Reader, Writer};
 
 /// What a measurement is of.
 #[derive(Clone, Debug, PartialEq)]
@@ -34,6 +41,8 @@ pub struct TradeKey {
 pub struct TradeResult {
     /// What was measured.
     pub key: TradeKey,
+    /// The mesh measured (a "show me" fires its ray at this mesh, whatever is on screen).
+    pub mesh: Arc<accelviz_scene::Mesh>,
     /// The mesh's name.
     pub mesh_name: String,
     /// Its triangle count.
@@ -53,7 +62,21 @@ pub struct TradeResult {
     pub contender_rows: Vec<usize>,
     /// How long the whole measurement took, milliseconds.
     pub millis: f64,
+    /// Where it was measured: off the UI's frame loop ("on a worker thread", "in a Web
+    /// Worker"), or not ("between the page's frames" where no Web Worker started, "on the UI
+    /// thread" in tests).
+    pub place: &'static str,
 }
+
+/// Where a lab measured, as [`TradeResult::place`] says it.
+const ON_A_WORKER_THREAD: &str = "on a worker thread";
+#[cfg(target_arch = "wasm32")]
+const IN_A_WEB_WORKER: &str = "in a Web Worker";
+const ON_THE_UI_THREAD: &str = if cfg!(target_arch = "wasm32") {
+    "between the page's frames"
+} else {
+    "on the UI thread"
+};
 
 thread_local! {
     /// Whether measurements this thread starts time every timed task as one millisecond
@@ -86,14 +109,19 @@ impl TradeResult {
     /// The result with `rows` instead (their break-even made again from their own figures).
     pub fn with_rows(mut self, rows: Vec<TradeRow>) -> Self {
         let (contenders, contender_rows) = contenders(&rows);
-        self.break_even = BreakEven::of(contenders);
+        self.break_even = BreakEven::of(contenders, self.key.rounds);
         self.contender_rows = contender_rows;
         self.rows = rows;
         self
     }
 
-    /// What `source`'s finished `lab` measured.
-    fn of(source: &Source, lab: &Lab) -> Option<Self> {
+    /// What `source`'s finished `lab` measured at `place`.
+    fn of(source: &Source, lab: &Lab, place: &'static str) -> Option<Self> {
+        Some(Self::of_rows(source, lab.ray_count(), lab.rows()?, place))
+    }
+
+    /// `rows`, measured for `source` over `rays` rays with [`measurement_params`] at `place`.
+    fn of_rows(source: &Source, rays: usize, rows: Vec<TradeRow>, place: &'static str) -> Self {
         let millis = if source.steady {
             0.0
         } else {
@@ -101,18 +129,33 @@ impl TradeResult {
         };
         let measured = Self {
             key: source.key.clone(),
+            mesh: source.mesh.clone(),
             mesh_name: source.mesh_name.clone(),
             triangles: source.triangles,
-            rays: lab.ray_count(),
+            rays,
             query: source.query,
-            params: *lab.params(),
+            params: measurement_params(),
             rows: Vec::new(),
-            break_even: BreakEven::of(Vec::new()),
+            break_even: BreakEven::of(Vec::new(), source.key.rounds),
             contender_rows: Vec::new(),
             millis,
+            place,
         };
-        Some(measured.with_rows(lab.rows()?))
+        measured.with_rows(rows)
     }
+}
+
+/// What every measurement builds with: the defaults, within the lessons' kD budget.
+pub fn measurement_params() -> BuildParams {
+    BuildParams {
+        kd_budget: crate::stage::KD_BUDGET,
+        ..BuildParams::default()
+    }
+}
+
+/// The structures every measurement compares.
+fn measured_structures() -> Vec<Structure> {
+    Structure::compared()
 }
 
 /// How far a measurement is.
@@ -141,8 +184,10 @@ struct Shared {
 }
 
 /// What a job is being made of, and by whom.
+#[derive(Clone)]
 struct Source {
     key: TradeKey,
+    mesh: Arc<accelviz_scene::Mesh>,
     mesh_name: String,
     triangles: usize,
     query: Query,
@@ -150,47 +195,44 @@ struct Source {
     steady: bool,
 }
 
+/// A lab the UI thread steps a slice a frame (the browser without a Web Worker; tests run it
+/// to the end at once).
+type OnUiThread = Arc<Mutex<Option<(Lab, Source)>>>;
+
 /// A measurement under way, or done.
 pub struct TradeJob {
     shared: Arc<Shared>,
-    /// The browser's lab, stepped on the UI thread (the desktop's is on its worker).
-    on_ui_thread: Option<Mutex<(Lab, Source)>>,
+    /// The lab stepped on the UI thread, if it is not measured aside.
+    on_ui_thread: OnUiThread,
+    /// The browser's Web Worker measuring (dropped, it stops).
+    #[cfg(target_arch = "wasm32")]
+    _web_worker: Option<super::aside::worker::Spawned>,
     key: TradeKey,
     /// See [`set_steady_clock`].
     steady: bool,
 }
 
-/// How long the browser measures in one frame: long enough to get on, short enough that the
-/// page answers (a timed task runs whole, so one frame may take longer).
+/// How long the browser measures in one frame when it cannot measure aside: long enough to
+/// get on, short enough that the page answers (a timed task runs whole, so one frame may take
+/// longer).
 const BROWSER_SLICE_MS: f64 = 40.0;
 
 impl TradeJob {
-    /// Starts measuring every structure of `structures` over `triangles` with `rays`: on a
-    /// worker thread when `threads > 0`, else a slice a frame ([`advance`](Self::advance)).
-    #[allow(clippy::too_many_arguments)]
+    /// Starts measuring every structure of [`Structure::compared`] over `mesh` (named
+    /// `mesh_name`) with `rays`: on a worker thread when `threads > 0`; in the browser in a
+    /// Web Worker, or a slice a frame ([`advance`](Self::advance)) if none starts; in tests at
+    /// once.
     pub fn start(
         key: TradeKey,
-        mesh_name: String,
-        triangles: &[[[f64; 3]; 3]],
+        (mesh, mesh_name): (Arc<accelviz_scene::Mesh>, String),
         rays: &[Ray<DVec3>],
-        structures: Vec<Structure>,
         query: Query,
-        params: BuildParams,
         threads: usize,
     ) -> Self {
-        let lab = Lab::new(triangles, rays, structures, query, params, key.rounds);
-        let (done, total) = lab.progress();
-        let shared = Arc::new(Shared {
-            cancelled: AtomicBool::new(false),
-            progress: Mutex::new(TradeProgress {
-                done,
-                total,
-                doing: lab.doing(),
-            }),
-            result: Mutex::new(None),
-        });
+        let triangles = &mesh.triangles[..];
         let source = Source {
             key: key.clone(),
+            mesh: mesh.clone(),
             mesh_name,
             triangles: triangles.len(),
             query,
@@ -198,27 +240,57 @@ impl TradeJob {
             steady: STEADY.get(),
         };
         let steady = source.steady;
-        if threads == 0 {
-            return Self {
-                shared,
-                on_ui_thread: Some(Mutex::new((lab, source))),
-                key,
-                steady,
-            };
-        }
-        let worker = shared.clone();
-        std::thread::spawn(move || {
-            let mut lab = lab;
-            let now = clock(steady, Instant::now());
-            while !worker.cancelled.load(Ordering::Acquire) && lab.step(&now) {
-                publish(&worker, &lab);
-            }
-            publish(&worker, &lab);
-            finish(&worker, &lab, &source);
+        let shared = Arc::new(Shared {
+            cancelled: AtomicBool::new(false),
+            progress: Mutex::new(TradeProgress {
+                done: 0,
+                total: 1,
+                doing: "starting".to_owned(),
+            }),
+            result: Mutex::new(None),
         });
+        let on_ui_thread: OnUiThread = Arc::new(Mutex::new(None));
+        #[cfg(target_arch = "wasm32")]
+        {
+            let started = web_worker::start(&shared, &on_ui_thread, &source, triangles, rays);
+            match started {
+                Ok(worker) => {
+                    return Self {
+                        shared,
+                        on_ui_thread,
+                        _web_worker: Some(worker),
+                        key,
+                        steady,
+                    };
+                }
+                Err(problem) => {
+                    log::warn!("accelviz: the trade lab measures on the page: {problem}");
+                }
+            }
+        }
+        let lab = new_lab(triangles, rays, query, key.rounds);
+        publish(&shared, &lab);
+        if threads == 0 {
+            if let Ok(mut slot) = on_ui_thread.lock() {
+                *slot = Some((lab, source));
+            }
+        } else {
+            let worker = shared.clone();
+            std::thread::spawn(move || {
+                let mut lab = lab;
+                let now = clock(steady, Instant::now());
+                while !worker.cancelled.load(Ordering::Acquire) && lab.step(&now) {
+                    publish(&worker, &lab);
+                }
+                publish(&worker, &lab);
+                finish(&worker, &lab, &source, ON_A_WORKER_THREAD);
+            });
+        }
         Self {
             shared,
-            on_ui_thread: None,
+            on_ui_thread,
+            #[cfg(target_arch = "wasm32")]
+            _web_worker: None,
             key,
             steady,
         }
@@ -232,13 +304,12 @@ impl TradeJob {
     /// On the UI thread: in the browser, measures for a slice of the frame; in tests (native,
     /// no workers), to the end, so a test sees the result. With a worker: nothing.
     pub fn advance(&self) {
-        let Some(lab) = &self.on_ui_thread else {
+        let Ok(mut guard) = self.on_ui_thread.lock() else {
             return;
         };
-        let Ok(mut guard) = lab.lock() else {
+        let Some((lab, source)) = &mut *guard else {
             return;
         };
-        let (lab, source) = &mut *guard;
         if lab.done() || self.shared.cancelled.load(Ordering::Acquire) {
             return;
         }
@@ -253,7 +324,7 @@ impl TradeJob {
         }
         publish(&self.shared, lab);
         if lab.done() {
-            finish(&self.shared, lab, source);
+            finish(&self.shared, lab, source, ON_THE_UI_THREAD);
         }
     }
 
@@ -294,13 +365,336 @@ fn publish(shared: &Shared, lab: &Lab) {
     }
 }
 
-fn finish(shared: &Shared, lab: &Lab, source: &Source) {
+fn finish(shared: &Shared, lab: &Lab, source: &Source, place: &'static str) {
     if shared.cancelled.load(Ordering::Acquire) {
         return;
     }
-    let result = TradeResult::of(source, lab);
+    let result = TradeResult::of(source, lab, place);
     if let Ok(mut slot) = shared.result.lock() {
         *slot = result;
+    }
+}
+
+/// The lab of a measurement.
+fn new_lab(triangles: &[[[f64; 3]; 3]], rays: &[Ray<DVec3>], query: Query, rounds: usize) -> Lab {
+    Lab::new(
+        triangles,
+        rays,
+        measured_structures(),
+        query,
+        measurement_params(),
+        rounds,
+    )
+}
+
+/// Marks packed rows, and their layout's version.
+const ROWS_MAGIC: &[u8; 8] = b"accelvt1";
+
+/// `rows` as bytes (little-endian): what a Web Worker sends back.
+pub fn pack_rows(rows: &[TradeRow]) -> Vec<u8> {
+    let mut out = Writer::default();
+    out.bytes.extend_from_slice(ROWS_MAGIC);
+    out.u64(rows.len() as u64);
+    for row in rows {
+        out.string(&row.structure.name());
+        let Switches {
+            order,
+            precision,
+            watertight,
+        } = row.switches;
+        out.u32(u32::from(order == Order::FileOrder));
+        out.u32(u32::from(precision == Precision::F64));
+        out.u32(u32::from(watertight));
+        for value in [
+            row.build_ms,
+            row.build_spread_percent,
+            row.build_range_ms.0,
+            row.build_range_ms.1,
+            row.sah_cost,
+        ] {
+            out.f64(value);
+        }
+        out.u32(u32::from(row.epo.is_some()));
+        out.f64(row.epo.unwrap_or(0.0));
+        out.u64(row.bytes as u64);
+        for value in [
+            row.nodes_per_ray,
+            row.primitives_per_ray,
+            row.mrays_per_s,
+            row.trace_spread_percent,
+            row.ms_per_ray_range.0,
+            row.ms_per_ray_range.1,
+        ] {
+            out.f64(value);
+        }
+        for count in row.outcomes.counts() {
+            out.u64(count);
+        }
+        for example in &row.examples {
+            out.u32(u32::from(example.is_some()));
+            let ray = example.unwrap_or(Ray {
+                origin: DVec3::ZERO,
+                direction: DVec3::ZERO,
+                t_min: 0.0,
+                t_max: 0.0,
+            });
+            for value in flat_ray(&ray) {
+                out.f64(value);
+            }
+        }
+    }
+    out.bytes
+}
+
+/// Rows from [`pack_rows`]' bytes; cut short, padded or not rows at all: an error.
+pub fn unpack_rows(bytes: &[u8]) -> Result<Vec<TradeRow>, String> {
+    let Some(rest) = bytes.strip_prefix(ROWS_MAGIC) else {
+        return Err("not the trade lab's rows".to_owned());
+    };
+    let mut input = Reader { rest };
+    // Each row is at least this many bytes: a count cannot ask for more.
+    let count = input.count(8 + 3 * 4 + 5 * 8 + 12 + 8 + 6 * 8 + 6 * 8 + 6 * 68)?;
+    let mut rows = Vec::with_capacity(count);
+    for _ in 0..count {
+        let name = input.string()?;
+        let structure = Structure::parse(&name).map_err(|error| error.to_string())?;
+        let flag = |input: &mut Reader| input.u32().map(|value| value != 0);
+        let switches = Switches {
+            order: if flag(&mut input)? {
+                Order::FileOrder
+            } else {
+                Order::NearFirst
+            },
+            precision: if flag(&mut input)? {
+                Precision::F64
+            } else {
+                Precision::F32
+            },
+            watertight: flag(&mut input)?,
+        };
+        let mut numbers = [0.0; 5];
+        for value in &mut numbers {
+            *value = input.f64()?;
+        }
+        let [
+            build_ms,
+            build_spread_percent,
+            build_low,
+            build_high,
+            sah_cost,
+        ] = numbers;
+        let has_epo = flag(&mut input)?;
+        let epo = input.f64()?;
+        let bytes = input.usize()?;
+        let mut numbers = [0.0; 6];
+        for value in &mut numbers {
+            *value = input.f64()?;
+        }
+        let [nodes, primitives, mrays, spread, ray_low, ray_high] = numbers;
+        let mut counts = [0; 6];
+        for count in &mut counts {
+            *count = input.u64()?;
+        }
+        let mut examples = [None; 6];
+        for example in &mut examples {
+            let present = flag(&mut input)?;
+            let mut values = [0.0; 8];
+            for value in &mut values {
+                *value = input.f64()?;
+            }
+            *example = present.then(|| ray_of(&values));
+        }
+        rows.push(TradeRow {
+            structure,
+            switches,
+            build_ms,
+            build_spread_percent,
+            build_range_ms: (build_low, build_high),
+            sah_cost,
+            epo: has_epo.then_some(epo),
+            bytes,
+            nodes_per_ray: nodes,
+            primitives_per_ray: primitives,
+            mrays_per_s: mrays,
+            trace_spread_percent: spread,
+            ms_per_ray_range: (ray_low, ray_high),
+            outcomes: OutcomeCounts::from_counts(counts),
+            examples,
+        });
+    }
+    if !input.is_done() {
+        return Err("the rows go on after their end".to_owned());
+    }
+    Ok(rows)
+}
+
+/// A ray as eight numbers: origin, direction, `t_min`, `t_max`.
+fn flat_ray(ray: &Ray<DVec3>) -> [f64; 8] {
+    let [ox, oy, oz] = ray.origin.to_array();
+    let [dx, dy, dz] = ray.direction.to_array();
+    [ox, oy, oz, dx, dy, dz, ray.t_min, ray.t_max]
+}
+
+/// A ray from [`flat_ray`]'s numbers (as measured: not checked again).
+fn ray_of(values: &[f64; 8]) -> Ray<DVec3> {
+    Ray {
+        origin: DVec3::new(values[0], values[1], values[2]),
+        direction: DVec3::new(values[3], values[4], values[5]),
+        t_min: values[6],
+        t_max: values[7],
+    }
+}
+
+/// What a Web Worker runs (`web/worker.js`, exported from `main.rs`).
+pub mod work {
+    use super::{Instant, clock, new_lab, pack_rows, ray_of};
+    use crate::mesh::aside::triangles_of;
+
+    /// Measures `triangles` (nine numbers each) with `rays` (eight numbers each: origin,
+    /// direction, `t_min`, `t_max`) for `query` (`closest` or `any`) over `rounds` rounds,
+    /// telling `progress` (tasks done, tasks in all, the task next) after each task; the rows
+    /// packed ([`super::pack_rows`]).
+    pub fn measure(
+        triangles: &[f64],
+        rays: &[f64],
+        query: &str,
+        rounds: usize,
+        progress: &dyn Fn(usize, usize, &str),
+    ) -> Result<Vec<u8>, String> {
+        let query = match query {
+            "closest" => accelviz_core::Query::Closest,
+            "any" => accelviz_core::Query::Any,
+            other => return Err(format!("query '{other}' is not closest or any")),
+        };
+        if !rays.len().is_multiple_of(8) {
+            return Err("rays come as eight numbers each".to_owned());
+        }
+        let rays: Vec<_> = rays
+            .chunks_exact(8)
+            .map(|values| ray_of(values.try_into().unwrap_or(&[0.0; 8])))
+            .collect();
+        let mut lab = new_lab(&triangles_of(triangles), &rays, query, rounds);
+        let now = clock(false, Instant::now());
+        let report = |lab: &accelviz_core::trade::Lab| {
+            let (done, total) = lab.progress();
+            progress(done, total, &lab.doing());
+        };
+        report(&lab);
+        while lab.step(&now) {
+            report(&lab);
+        }
+        report(&lab);
+        lab.rows()
+            .map(|rows| pack_rows(&rows))
+            .ok_or_else(|| "the measurement ended without its rows".to_owned())
+    }
+}
+
+/// The browser's measurement in a Web Worker.
+#[cfg(target_arch = "wasm32")]
+mod web_worker {
+    use std::sync::Arc;
+    use std::sync::atomic::Ordering;
+
+    use accelviz_core::Ray;
+    use glam::DVec3;
+
+    use super::super::aside::flat_triangles;
+    use super::super::aside::worker::{Spawned, field};
+    use super::{
+        OnUiThread, Shared, Source, TradeProgress, TradeResult, flat_ray, new_lab, query_name,
+        unpack_rows,
+    };
+
+    /// Starts measuring `triangles` with `rays` for `source` in a Web Worker of its own: its
+    /// progress into `shared`, then its result. If the worker fails on the way, the lab goes
+    /// to `on_ui_thread`, measured a slice a frame.
+    pub(super) fn start(
+        shared: &Arc<Shared>,
+        on_ui_thread: &OnUiThread,
+        source: &Source,
+        triangles: &[[[f64; 3]; 3]],
+        rays: &[Ray<DVec3>],
+    ) -> Result<Spawned, String> {
+        let flat_rays: Vec<f64> = rays.iter().flat_map(flat_ray).collect();
+        let (kept_triangles, kept_rays) = (triangles.to_vec(), rays.to_vec());
+        let ray_count = rays.len();
+        let fallback = {
+            let on_ui_thread = on_ui_thread.clone();
+            let source = source.clone();
+            move |problem: String| {
+                log::error!(
+                    "accelviz: the trade lab's worker failed ({problem}); measuring on the page"
+                );
+                let lab = new_lab(&kept_triangles, &kept_rays, source.query, source.key.rounds);
+                if let Ok(mut slot) = on_ui_thread.lock() {
+                    *slot = Some((lab, source));
+                }
+            }
+        };
+        let fallback = std::rc::Rc::new(std::cell::RefCell::new(Some(fallback)));
+        let fail = {
+            let fallback = fallback.clone();
+            move |problem: String| {
+                if let Some(fallback) = fallback.borrow_mut().take() {
+                    fallback(problem);
+                }
+            }
+        };
+        let fail_on_error = fail.clone();
+        let (query, rounds) = (source.query, source.key.rounds);
+        let (heard, source) = (shared.clone(), source.clone());
+        let spawned = Spawned::new(
+            move |data| {
+                if heard.cancelled.load(Ordering::Acquire) {
+                    return;
+                }
+                if let Some(done) = field(&data, "tasks").and_then(|value| value.as_f64()) {
+                    let total = field(&data, "of").and_then(|value| value.as_f64());
+                    let doing = field(&data, "doing").and_then(|value| value.as_string());
+                    if let Ok(mut progress) = heard.progress.lock() {
+                        *progress = TradeProgress {
+                            done: done as usize,
+                            total: total.unwrap_or(done) as usize,
+                            doing: doing.unwrap_or_default(),
+                        };
+                    }
+                } else if let Some(bytes) = field(&data, "done") {
+                    match unpack_rows(&js_sys::Uint8Array::new(&bytes).to_vec()) {
+                        Ok(rows) => {
+                            let result = TradeResult::of_rows(
+                                &source,
+                                ray_count,
+                                rows,
+                                super::IN_A_WEB_WORKER,
+                            );
+                            if let Ok(mut slot) = heard.result.lock() {
+                                *slot = Some(result);
+                            }
+                        }
+                        Err(problem) => fail(problem),
+                    }
+                } else {
+                    let problem = field(&data, "problem").and_then(|value| value.as_string());
+                    fail(problem.unwrap_or_else(|| "the worker sent nothing".to_owned()));
+                }
+            },
+            fail_on_error,
+        )?;
+        let triangles = js_sys::Float64Array::from(flat_triangles(triangles));
+        let rays = js_sys::Float64Array::from(&flat_rays[..]);
+        let buffers = [triangles.buffer().into(), rays.buffer().into()];
+        spawned.post(
+            &[
+                ("job", "trade".into()),
+                ("triangles", triangles.into()),
+                ("rays", rays.into()),
+                ("query", query_name(query).into()),
+                ("rounds", (rounds as f64).into()),
+            ],
+            &buffers,
+        )?;
+        Ok(spawned)
     }
 }
 
@@ -309,5 +703,73 @@ pub fn query_name(query: Query) -> &'static str {
     match query {
         Query::Any => "any",
         Query::Closest | Query::FirstInCell => "closest",
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::aside::flat_triangles;
+
+    /// A row with its timings set to nothing, so that two measurements compare.
+    fn untimed(row: &TradeRow) -> TradeRow {
+        TradeRow {
+            build_ms: 0.0,
+            build_spread_percent: 0.0,
+            build_range_ms: (0.0, 0.0),
+            mrays_per_s: 0.0,
+            trace_spread_percent: 0.0,
+            ms_per_ray_range: (0.0, 0.0),
+            ..row.clone()
+        }
+    }
+
+    #[test]
+    fn a_web_workers_rows_come_back_as_the_labs() {
+        let mesh = accelviz_scene::builtin::icosphere(1);
+        let rays: Vec<Ray<DVec3>> = RayKind::Aimed
+            .rays(&mesh, 300, 1, None)
+            .expect("rays")
+            .iter()
+            .map(|spec| spec.to_ray().expect("a ray"))
+            .collect();
+        let flat_rays: Vec<f64> = rays.iter().flat_map(flat_ray).collect();
+        let heard = std::cell::RefCell::new(Vec::new());
+        let bytes = work::measure(
+            flat_triangles(&mesh.triangles),
+            &flat_rays,
+            "closest",
+            1,
+            &|done, total, _| heard.borrow_mut().push((done, total)),
+        )
+        .expect("measures");
+        let from_worker = unpack_rows(&bytes).expect("unpacks");
+        // The lab on the page: the same rows but for their timings.
+        let mut lab = new_lab(&mesh.triangles, &rays, Query::Closest, 1);
+        lab.finish(&clock(true, Instant::now()));
+        let on_page = lab.rows().expect("rows");
+        assert_eq!(
+            from_worker.iter().map(untimed).collect::<Vec<_>>(),
+            on_page.iter().map(untimed).collect::<Vec<_>>()
+        );
+        assert!(from_worker.iter().all(|row| row.mrays_per_s > 0.0));
+        // Progress: every task, in order, to the end.
+        let heard = heard.into_inner();
+        assert!(
+            heard.windows(2).all(|pair| pair[0].0 <= pair[1].0),
+            "{heard:?}"
+        );
+        assert_eq!(heard.last().map(|(done, total)| done == total), Some(true));
+        // Packed and unpacked, every field comes back; cut short or padded, an error.
+        assert_eq!(unpack_rows(&pack_rows(&on_page)), Ok(on_page.clone()));
+        for cut in [0, 7, 8, 20, bytes.len() / 2, bytes.len() - 1] {
+            assert!(unpack_rows(&bytes[..cut]).is_err(), "cut at {cut}");
+        }
+        let mut padded = bytes.clone();
+        padded.push(0);
+        assert!(unpack_rows(&padded).is_err());
+        // Bad input: an error naming it.
+        assert!(work::measure(&[], &flat_rays, "nearest", 1, &|_, _, _| {}).is_err());
+        assert!(work::measure(&[], &[1.0; 7], "any", 1, &|_, _, _| {}).is_err());
     }
 }

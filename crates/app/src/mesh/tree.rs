@@ -5,9 +5,12 @@ use std::sync::{Arc, OnceLock};
 
 use accelviz_core::camera::bounding_sphere_of_box;
 use accelviz_core::params::BuildParams;
-use accelviz_core::{Built, LeafOrdered, NoBuildObserver, Structure, TreeStats, TriangleSet};
+use accelviz_core::trade::Precision;
+use accelviz_core::{
+    Built, LeafOrdered, NoBuildObserver, Ray, Structure, TraceOptions, Tree, TreeStats, TriangleSet,
+};
 use accelviz_scene::Mesh;
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use web_time::Instant;
 
 use crate::stage::KD_BUDGET;
@@ -40,13 +43,19 @@ const MESH_COLOR: [u8; 4] = [178, 188, 204, 255];
 pub struct MeshTree {
     /// The mesh.
     pub mesh: Arc<Mesh>,
-    /// Its triangles as the core traces them.
+    /// Its triangles as the core traces them (rounded to the tree's precision, widened).
     pub triangles: TriangleSet<DVec3>,
     /// The structure, what was measured of it, and the mesh as drawn.
     pub build: MeshBuild,
+    /// The precision the tree was built and is traced in: f64, or f32 as a trade row builds
+    /// it (the tree then widened to f64 node for node for the view, exactly).
+    pub precision: Precision,
     /// The triangles in the tree's leaf order, made when first asked for (only the heat
     /// maps trace that many rays).
     ordered: OnceLock<LeafOrdered<TriangleSet<DVec3>>>,
+    /// An f32 tree's own numbers, narrowed back from the view's (exactly), made when first
+    /// traced.
+    in_f32: OnceLock<(Tree<Vec3>, TriangleSet<Vec3>)>,
 }
 
 impl MeshTree {
@@ -57,6 +66,57 @@ impl MeshTree {
         Self::with_built(mesh, triangles, built)
     }
 
+    /// Builds `structure` over `mesh` in `precision`: in f64 as [`build`](Self::build); in
+    /// f32 as a trade row does, over the mesh rounded to f32, the tree then widened to f64
+    /// (exactly) for the view.
+    pub fn build_in(mesh: Arc<Mesh>, structure: Structure, precision: Precision) -> Self {
+        if precision == Precision::F64 {
+            return Self::build(mesh, structure);
+        }
+        let in_f32 = TriangleSet::<Vec3>::from_f64(&mesh.triangles);
+        let rounded: Vec<[[f64; 3]; 3]> = in_f32
+            .triangles()
+            .iter()
+            .map(|corners| corners.map(|corner| corner.as_dvec3().to_array()))
+            .collect();
+        let build = Self::measured(&mesh, |params| {
+            Built::new(structure, &in_f32, params, &mut NoBuildObserver).converted()
+        });
+        Self {
+            triangles: TriangleSet::<DVec3>::from_f64(&rounded),
+            build,
+            precision,
+            ordered: OnceLock::new(),
+            in_f32: OnceLock::new(),
+            mesh,
+        }
+    }
+
+    /// Traces `ray` through the tree in its precision (the ray rounded to it), recorded step
+    /// by step in f64: what a trade row of that precision computes.
+    pub fn trace(&self, ray: &Ray<DVec3>, options: &TraceOptions) -> crate::trace::Trace {
+        match self.precision {
+            Precision::F64 => {
+                crate::trace::Trace::of(&self.build.built.tree, &self.triangles, ray, options)
+            }
+            Precision::F32 => {
+                let (tree, triangles) = self.in_f32.get_or_init(|| {
+                    (
+                        self.build.built.tree.converted(),
+                        TriangleSet::<Vec3>::from_f64(&self.mesh.triangles),
+                    )
+                });
+                let narrowed = Ray {
+                    origin: ray.origin.as_vec3(),
+                    direction: ray.direction.as_vec3(),
+                    t_min: ray.t_min as f32,
+                    t_max: ray.t_max as f32,
+                };
+                crate::trace::Trace::of_any_precision(tree, triangles, &narrowed, options)
+            }
+        }
+    }
+
     /// What a build does on the builder's thread: the structure over `triangles` (`mesh`'s),
     /// what is measured of it, and the mesh as drawn (the part a Web Worker does in the
     /// browser, see [`super::aside`]).
@@ -65,12 +125,20 @@ impl MeshTree {
         triangles: &TriangleSet<DVec3>,
         structure: Structure,
     ) -> MeshBuild {
+        Self::measured(mesh, |params| {
+            Built::new(structure, triangles, params, &mut NoBuildObserver)
+        })
+    }
+
+    /// A build over `mesh` by `build` (with the lessons' parameters), timed, measured and
+    /// with the mesh as drawn.
+    fn measured(mesh: &Mesh, build: impl FnOnce(&BuildParams) -> Built<DVec3>) -> MeshBuild {
         let params = BuildParams {
             kd_budget: KD_BUDGET,
             ..BuildParams::default()
         };
         let started = Instant::now();
-        let built = Built::new(structure, triangles, &params, &mut NoBuildObserver);
+        let built = build(&params);
         let build_millis = started.elapsed().as_secs_f64() * 1e3;
         let sphere = bounding_sphere_of_box(&mesh.bounds());
         let drawn = mesh
@@ -97,7 +165,9 @@ impl MeshTree {
             mesh,
             triangles,
             build,
+            precision: Precision::F64,
             ordered: OnceLock::new(),
+            in_f32: OnceLock::new(),
         }
     }
 

@@ -2,6 +2,7 @@
 //! the progress of a large mesh read or built aside, with its cancel button.
 
 use accelviz_core::Structure;
+use accelviz_core::trade::Precision;
 use accelviz_scene::builtin::BUILTINS;
 
 use super::scene::MeshScene;
@@ -69,13 +70,13 @@ pub fn mesh_ui(ui: &mut egui::Ui, scene: &mut MeshScene) -> bool {
 
 /// While a large mesh is read or its structure built: a progress line with a cancel button
 /// that goes back to exactly what is on screen (the UI keeps drawing meanwhile): a read
-/// stops and the mesh shown stays; a build stops and the mesh and `structure` go back to the
-/// tree shown.
+/// stops and the mesh shown stays; a build stops and the mesh, `structure` and `precision`
+/// go back to the tree shown.
 pub fn loading_ui(
     ui: &mut egui::Ui,
     scene: &mut MeshScene,
-    tree: &mut Derived<(u64, Structure), MeshTree>,
-    structure: &mut Structure,
+    tree: &mut Derived<crate::mesh::scene::TreeKey, MeshTree>,
+    (structure, precision): (&mut Structure, &mut Precision),
 ) {
     let building = tree.working_for();
     let line = match (&scene.loading, building) {
@@ -105,12 +106,13 @@ pub fn loading_ui(
             if scene.loading.is_some() {
                 // A file being read: the mesh on screen is still the one before it.
                 scene.loading = None;
-            } else if let Some(&(revision, shown)) = tree.key() {
+            } else if let Some(&(revision, shown, shown_precision)) = tree.key() {
                 // A build: back to the tree on screen, over its mesh.
                 if revision != scene.revision {
                     scene.go_back();
                 }
                 *structure = shown;
+                *precision = shown_precision;
             }
         }
         match progress {

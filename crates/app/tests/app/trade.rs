@@ -8,7 +8,7 @@ use accelviz_app::mesh::trade::TradeResult;
 use accelviz_core::outcome::Outcome;
 use accelviz_core::trade::{Precision, Switches, TradeRow};
 use accelviz_core::{Order, Structure};
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
 
 use crate::common::{app_harness, lesson_harness_3d, lesson_text};
 
@@ -193,7 +193,118 @@ fn show_me_opens_lesson_12_on_that_ray_with_the_rows_switches() {
             .query_by_label_contains("From the trade lab: leak for bvh:middle near-first f32 fast")
             .is_some()
     );
+    // Stepped with the row's own switches (f32: the tree built in it, the ray traced in it),
+    // the traversal ends as the row did: the reference on the row's f32 triangles calls its
+    // answer a leak.
+    assert_eq!(shared.get("precision").map(String::as_str), Some("f32"));
+    let number = |label: &str| -> Vec<f64> {
+        let text = harness
+            .query_by_label_contains(label)
+            // A label keeps its text as its value.
+            .and_then(|node| node.accesskit_node().value())
+            .unwrap_or_default();
+        text.trim_start_matches(label)
+            .trim_matches(|c| c == '(' || c == ')' || c == ' ')
+            .split(", ")
+            .map(|part| part.parse().expect("a number"))
+            .collect()
+    };
+    let (origin, direction) = (number("origin "), number("direction "));
+    let ray = accelviz_core::Ray::try_new(
+        glam::Vec3::new(origin[0] as f32, origin[1] as f32, origin[2] as f32),
+        glam::Vec3::new(
+            direction[0] as f32,
+            direction[1] as f32,
+            direction[2] as f32,
+        ),
+    )
+    .expect("a ray");
+    assert_eq!(
+        f64::from(ray.origin.x),
+        origin[0],
+        "the ray is f32's exactly"
+    );
+    let frames = harness
+        .state()
+        .lesson()
+        .expect("a lesson")
+        .stage()
+        .timeline
+        .len;
+    harness
+        .state_mut()
+        .lesson_mut()
+        .expect("a lesson")
+        .stage_mut()
+        .timeline
+        .shown = frames;
+    harness.run();
+    let caption = harness
+        .state()
+        .lesson()
+        .expect("a lesson")
+        .caption()
+        .expect("a caption");
+    let hit: Option<u32> = caption
+        .split("primitive ")
+        .nth(1)
+        .and_then(|rest| rest.split(' ').next())
+        .and_then(|number| number.parse().ok());
+    let mesh = (accelviz_scene::builtin::named("builtin:icosphere")
+        .expect("built in")
+        .make)();
+    let reference = accelviz_core::outcome::ReferenceScene::new(&accelviz_core::TriangleSet::<
+        glam::Vec3,
+    >::from_f64(&mesh.triangles));
+    assert_eq!(
+        reference.outcome(&ray, hit, accelviz_core::Query::Closest),
+        Outcome::Leak,
+        "{caption}"
+    );
     harness.snapshot("trade_show_me_in_lesson_12");
+}
+
+/// A table left from another mesh (another opened, its measurement cancelled) says whose
+/// numbers it holds, and "show me" steps its ray on that mesh, not on the one on screen.
+#[test]
+fn a_table_of_another_mesh_says_so_and_shows_its_rays_on_its_mesh() {
+    let mut harness = lesson_harness_3d(lab());
+    harness.run();
+    assert!(harness.state().result().is_some());
+    let result = harness.state().result().expect("measured").clone();
+    assert_eq!(harness.state().stale_note(&result), None);
+    // Another mesh, its measurement started and cancelled.
+    harness
+        .state_mut()
+        .scene_mut()
+        .replace(accelviz_scene::builtin::teapot());
+    harness.state_mut().update();
+    harness.state_mut().cancel();
+    harness.run();
+    let result = harness
+        .state()
+        .result()
+        .expect("the old table stays")
+        .clone();
+    let note = harness.state().stale_note(&result).expect("a note");
+    assert!(
+        note.contains("icosphere") && note.contains("not of teapot"),
+        "{note}"
+    );
+    assert!(
+        harness
+            .query_by_label_contains("These are the numbers of")
+            .is_some()
+    );
+    let leaking = result
+        .rows
+        .iter()
+        .position(|row| row.outcomes.count(Outcome::Leak) > 0)
+        .expect("a leaking row");
+    assert!(harness.state_mut().show_me(leaking, Outcome::Leak));
+    let shown = harness.state_mut().take_show_ray().expect("asked");
+    assert_eq!(shown.mesh_name, "builtin:icosphere");
+    assert_eq!(shown.mesh.triangles, result.mesh.triangles);
 }
 
 #[test]

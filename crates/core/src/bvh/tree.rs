@@ -48,6 +48,23 @@ pub struct Bvh<V: Vector> {
 }
 
 impl<V: Vector> Bvh<V> {
+    /// The same tree in another precision `W`, node for node (exact from f32 to f64; see
+    /// [`Vector::converted`]): a tree built in f32 drawn by a view that works in f64.
+    pub fn converted<W: Vector>(&self) -> Bvh<W> {
+        Bvh {
+            nodes: self
+                .nodes
+                .iter()
+                .map(|node| BvhNode {
+                    bounds: node.bounds.converted(),
+                    first: node.first,
+                    count: node.count,
+                })
+                .collect(),
+            primitive_indices: self.primitive_indices.clone(),
+        }
+    }
+
     /// The number of nodes.
     pub fn node_count(&self) -> usize {
         self.nodes.len()

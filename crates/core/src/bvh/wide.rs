@@ -132,6 +132,26 @@ pub struct WideBvh<V: Vector, const W: usize> {
 }
 
 impl<V: Vector, const W: usize> WideBvh<V, W> {
+    /// The same tree in another precision `U`, node for node (see [`Bvh::converted`]).
+    pub fn converted<U: Vector>(&self) -> WideBvh<U, W> {
+        let scalar = |value: V::Scalar| U::Scalar::from_f64(value.to_f64());
+        WideBvh {
+            nodes: self
+                .nodes
+                .iter()
+                .map(|node| WideNode {
+                    planes: node.planes.map(|side| side.map(|axis| axis.map(scalar))),
+                    child: node.child,
+                    count: node.count,
+                })
+                .collect(),
+            primitive_indices: self.primitive_indices.clone(),
+            node_sources: self.node_sources.clone(),
+            leaf_sources: self.leaf_sources.clone(),
+            binary: self.binary.converted(),
+        }
+    }
+
     /// The number of wide nodes.
     pub fn node_count(&self) -> usize {
         self.nodes.len()

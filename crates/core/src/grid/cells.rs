@@ -30,6 +30,22 @@ pub struct GridCells<V: Vector> {
 pub const MAX_CELLS: u64 = 1 << 24;
 
 impl<V: Vector> GridCells<V> {
+    /// The same cells in another precision `W` (exact from f32 to f64; see
+    /// [`Vector::converted`]).
+    pub fn converted<W: Vector>(&self) -> GridCells<W> {
+        GridCells {
+            bounds: self.bounds.converted(),
+            resolution: self.resolution,
+            planes: self.planes.clone().map(|planes| {
+                planes
+                    .into_iter()
+                    .map(|plane| W::Scalar::from_f64(plane.to_f64()))
+                    .collect()
+            }),
+            inverse_cell_size: self.inverse_cell_size,
+        }
+    }
+
     /// The cells Cleary & Wyvill 1988 and Ize, Shirley & Parker 2007 ("Grid creation
     /// strategies for efficient ray tracing") choose for `primitive_count` primitives in
     /// `bounds`: cells near cubes (squares in 2D), about `density` of them per primitive,

@@ -384,6 +384,19 @@ pub struct GridLimits {
 }
 
 impl<V: Vector, C: CellStore> Grid<V, C> {
+    /// The same grid in another precision `W`, cell for cell (exact from f32 to f64; see
+    /// [`Vector::converted`]).
+    pub fn converted<W: Vector>(&self) -> Grid<W, C>
+    where
+        C: Clone,
+    {
+        Grid {
+            cells: self.cells.converted(),
+            store: self.store.clone(),
+            limits: self.limits,
+        }
+    }
+
     /// The node observers hear for cell `cell`.
     #[inline(always)]
     pub fn node_of_cell(cell: u32) -> u32 {

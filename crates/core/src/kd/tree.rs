@@ -115,6 +115,26 @@ impl KdLimits {
 }
 
 impl<V: Vector> KdTree<V> {
+    /// The same tree in another precision `W`, node for node (exact from f32 to f64; see
+    /// [`Vector::converted`]).
+    pub fn converted<W: Vector>(&self) -> KdTree<W> {
+        KdTree {
+            bounds: self.bounds.converted(),
+            nodes: self
+                .nodes
+                .iter()
+                .map(|node| KdNode {
+                    split: W::Scalar::from_f64(node.split.to_f64()),
+                    axis: node.axis,
+                    first: node.first,
+                    count: node.count,
+                })
+                .collect(),
+            primitive_indices: self.primitive_indices.clone(),
+            limits: self.limits,
+        }
+    }
+
     /// The primitives of a leaf.
     pub fn leaf_primitives(&self, node: &KdNode<V::Scalar>) -> &[u32] {
         let first = node.first as usize;

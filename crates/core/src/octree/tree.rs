@@ -87,6 +87,17 @@ pub fn child_cell<V: Vector>(cell: &Aabb<V>, middle: V, child: usize) -> Aabb<V>
 }
 
 impl<V: Vector> Octree<V> {
+    /// The same tree in another precision `W`, node for node (exact from f32 to f64; see
+    /// [`Vector::converted`]).
+    pub fn converted<W: Vector>(&self) -> Octree<W> {
+        Octree {
+            bounds: self.bounds.converted(),
+            nodes: self.nodes.clone(),
+            primitive_indices: self.primitive_indices.clone(),
+            limits: self.limits,
+        }
+    }
+
     /// The primitives of a leaf.
     pub fn leaf_primitives(&self, node: &OctreeNode) -> &[u32] {
         &self.primitive_indices[node.first as usize..][..node.count as usize]

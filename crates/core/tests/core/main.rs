@@ -12,4 +12,5 @@ mod kd_cases;
 mod observer_steps;
 mod octree_order;
 mod parallel_build;
+mod precision;
 mod slab_extremes;
