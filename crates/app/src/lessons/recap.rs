@@ -6,10 +6,13 @@
 //! rays. Presets show each case; any scene can be measured, and the verdict is written from
 //! the numbers.
 
+use std::sync::Arc;
+
 use accelviz_core::format::{count, number};
-use accelviz_core::{Family, SplitRule, Structure};
+use accelviz_core::{Counters, Family, ShapeSet, SplitRule, Structure, TraceOptions};
 use accelviz_scene::document::SceneSettings;
 use egui::{Color32, RichText};
+use glam::DVec2;
 
 use crate::background::Derived;
 use crate::canvas::palette;
@@ -17,7 +20,7 @@ use crate::editor::Editing;
 use crate::lesson::Lesson;
 use crate::lesson_file::LessonText;
 use crate::stage::{Stage, request_over_shapes};
-use crate::views::compare::{Comparison, Measured, comparison_ui};
+use crate::views::compare::{Comparison, Measured, count_rays, interior_rays};
 
 /// The five families, in pane order: the lecture's two first.
 pub const FAMILIES: [Family; 5] = [
@@ -50,80 +53,177 @@ pub fn structures(settings: &SceneSettings) -> [Structure; 5] {
     })
 }
 
-/// The five structures' figures, in pane order.
-pub fn measure(comparison: &Comparison) -> [Measured; 5] {
-    [0, 1, 2, 3, 4].map(|pane| comparison.measured(pane))
+/// The recap's measurement: the five structures over the scene, counted on rays from around
+/// it (`comparison`'s) and on rays from points inside it in every direction (a camera in the
+/// scene, a bounce): in a walled scene a ray from outside stops at the wall, whatever the
+/// structure, and only rays from inside show how each finds its way through.
+pub struct Recap {
+    /// The structures and their counts on the rays from outside.
+    pub comparison: Comparison,
+    /// Each structure's counts on the rays from inside.
+    pub inside: Vec<Counters>,
+    /// How many rays from inside.
+    pub inside_rays: usize,
 }
 
-/// The verdict, from the numbers: the lecture's question first (BVH or kD-tree: who wins, by
-/// how much, and where the difference comes from), then where the other three stand.
-pub fn verdict(figures: [Measured; 5]) -> String {
-    let [bvh, kd, grid, hashed, quadtree] = figures;
+impl Recap {
+    /// Builds the five structures over `shapes` and counts both sets of rays through them.
+    pub fn build(shapes: Arc<ShapeSet<DVec2>>, settings: SceneSettings) -> Self {
+        let comparison = Comparison::build(&structures(&settings), shapes.clone(), settings);
+        let rays = interior_rays(&shapes);
+        let options = TraceOptions::default();
+        let inside = comparison
+            .trees
+            .iter()
+            .map(|tree| count_rays(tree, &rays, &options))
+            .collect();
+        Self {
+            comparison,
+            inside,
+            inside_rays: rays.len(),
+        }
+    }
+
+    /// The five structures' figures on both sets of rays, in pane order.
+    pub fn figures(&self) -> Figures {
+        let comparison = &self.comparison;
+        Figures {
+            outside: [0, 1, 2, 3, 4].map(|pane| comparison.measured(pane)),
+            inside: [0, 1, 2, 3, 4]
+                .map(|pane| comparison.measured_with(pane, &self.inside[pane], self.inside_rays)),
+        }
+    }
+}
+
+/// The five structures' figures, in pane order, on rays from outside the scene and from
+/// inside it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Figures {
+    /// On rays from around the scene to points in it.
+    pub outside: [Measured; 5],
+    /// On rays from points inside it, in every direction.
+    pub inside: [Measured; 5],
+}
+
+/// The structures cheapest first by `figures`' cost per ray, each with its cost.
+fn ranked(figures: &[Measured; 5]) -> String {
     let mut ranked: Vec<(usize, f64)> = figures
         .iter()
         .enumerate()
         .map(|(pane, figure)| (pane, figure.cost_per_ray))
         .collect();
     ranked.sort_by(|a, b| a.1.total_cmp(&b.1));
-    let name = |pane: usize| family_name(FAMILIES[pane]);
     let order: Vec<String> = ranked
         .iter()
-        .map(|&(pane, cost)| format!("{} {}", name(pane), number(cost)))
+        .map(|&(pane, cost)| format!("{} {}", family_name(FAMILIES[pane]), number(cost)))
         .collect();
-    let grid_why = if grid.nodes_per_ray > 2.0 * kd.nodes_per_ray.max(bvh.nodes_per_ray) {
-        format!(
-            "The uniform grid steps through {:.1} cells per ray: its cells are one size everywhere, so a ray crosses many empty ones where the scene is sparse",
-            grid.nodes_per_ray
-        )
-    } else if grid.tests_per_ray > 1.5 * kd.tests_per_ray.min(bvh.tests_per_ray) {
-        format!(
-            "The uniform grid tests {:.1} primitives per ray: cells sized for the average hold many where the scene is dense",
-            grid.tests_per_ray
-        )
-    } else {
-        format!(
-            "The uniform grid keeps up here ({:.1} cells and {:.1} tests per ray): the scene fills its cells evenly, the case its density rule assumes",
-            grid.nodes_per_ray, grid.tests_per_ray
-        )
-    };
-    let quadtree_why = if quadtree.cost_per_ray > kd.cost_per_ray * 1.05 {
-        "the quadtree trails the SAH kD-tree: it cuts at the middle of both axes whatever the cell holds"
-    } else {
-        "the quadtree keeps up with the SAH kD-tree: the middle of each cell happens to be a good place to cut"
-    };
-    format!(
-        "{} Of all five, cheapest first: {}. {grid_why}; the hashed grid walks the same cells and tests the same primitives ({} per ray), and adds a lookup for each cell; {quadtree_why}.",
-        lecture_verdict(bvh, kd),
-        order.join(", "),
-        number(hashed.cost_per_ray)
-    )
+    order.join(", ")
 }
 
-/// The lecture's question, from the numbers: BVH or kD-tree, who wins, by how much, and where
-/// the difference comes from (the node visits and the primitive tests, each with what causes
-/// it).
-pub fn lecture_verdict(bvh: Measured, kd: Measured) -> String {
-    let ratio = bvh.cost_per_ray / kd.cost_per_ray.max(1e-12);
-    let outcome = if ratio > 1.05 {
+/// The verdict, a sentence at a time, each from the numbers: the lecture's question first
+/// (BVH or kD-tree: who wins, by how much, and where the difference comes from) on rays from
+/// outside, then on rays from inside, the five ranked on each, and where the grids and the
+/// quadtree stand and why, said only where the figures show it.
+pub fn verdict(figures: &Figures) -> Vec<String> {
+    let [bvh, kd, grid, hashed, quadtree] = figures.outside;
+    let [bvh_in, kd_in, grid_in, _, quadtree_in] = figures.inside;
+    let mut said = vec![
+        format!("From outside the scene, {}", lecture_verdict(bvh, kd)),
         format!(
-            "Here the kD-tree wins: {} against the BVH's {} per ray ({ratio:.2}×).",
+            "From inside it (a camera in the scene, a bounce): {}",
+            lecture_outcome(bvh_in, kd_in)
+        ),
+        format!(
+            "Of all five, cheapest first, from outside: {}; from inside: {}.",
+            ranked(&figures.outside),
+            ranked(&figures.inside)
+        ),
+    ];
+    // The grid, from outside: a ray that stops in the first cell it meets stopped at the
+    // scene's edge, the same for every structure.
+    if grid.nodes_per_ray <= 1.5 && grid_in.nodes_per_ray >= 2.0 * grid.nodes_per_ray.max(1.0) {
+        said.push(format!(
+            "From outside, the uniform grid's rays stop in about the first cell they reach ({:.1} cells a ray): the scene's outer shapes line its edge, and the first cell holds the hit; from inside, the same grid walks {:.1} cells a ray.",
+            grid.nodes_per_ray, grid_in.nodes_per_ray
+        ));
+    }
+    // The grid, from inside: where it steps and what it tests, against the trees.
+    let trees_nodes = kd_in.nodes_per_ray.max(bvh_in.nodes_per_ray);
+    let trees_tests = kd_in.tests_per_ray.min(bvh_in.tests_per_ray);
+    let empty = grid_in.empty_share * 100.0;
+    said.push(if grid_in.nodes_per_ray > 2.0 * trees_nodes {
+        format!(
+            "From inside, the uniform grid steps through {:.1} cells a ray against the trees' {:.1} nodes at most: its cells are one size everywhere, and {empty:.0} % of the scene lies in cells that hold nothing, which a ray crosses one by one.",
+            grid_in.nodes_per_ray, trees_nodes
+        )
+    } else if grid_in.tests_per_ray > 1.5 * trees_tests {
+        format!(
+            "From inside, the uniform grid tests {:.1} primitives a ray against the trees' {:.1}: cells sized for the average hold many where the scene is dense.",
+            grid_in.tests_per_ray, trees_tests
+        )
+    } else if empty < 30.0 {
+        format!(
+            "From inside, the uniform grid keeps up ({:.1} cells and {:.1} tests a ray): the scene fills its cells evenly ({empty:.0} % of the area in empty cells), the case its density rule assumes.",
+            grid_in.nodes_per_ray, grid_in.tests_per_ray
+        )
+    } else {
+        format!(
+            "From inside, the uniform grid keeps up ({:.1} cells and {:.1} tests a ray), though {empty:.0} % of the area lies in empty cells.",
+            grid_in.nodes_per_ray, grid_in.tests_per_ray
+        )
+    });
+    said.push(format!(
+        "The hashed grid walks the dense grid's cells and tests the same primitives ({} a ray from outside, as the grid's {}), and adds a table lookup for each cell.",
+        number(hashed.cost_per_ray),
+        number(grid.cost_per_ray)
+    ));
+    said.push(if quadtree_in.cost_per_ray > kd_in.cost_per_ray * 1.05 {
+        format!(
+            "The quadtree trails the SAH kD-tree from inside ({} against {} a ray): it cuts at the middle of both axes whatever the cell holds.",
+            number(quadtree_in.cost_per_ray),
+            number(kd_in.cost_per_ray)
+        )
+    } else {
+        format!(
+            "The quadtree keeps up with the SAH kD-tree from inside ({} against {} a ray).",
+            number(quadtree_in.cost_per_ray),
+            number(kd_in.cost_per_ray)
+        )
+    });
+    let _ = quadtree;
+    said
+}
+
+/// Who wins between the BVH and the kD-tree, by how much.
+fn lecture_outcome(bvh: Measured, kd: Measured) -> String {
+    let ratio = bvh.cost_per_ray / kd.cost_per_ray.max(1e-12);
+    if ratio > 1.05 {
+        format!(
+            "the kD-tree wins, {} against the BVH's {} per ray ({ratio:.2}×).",
             number(kd.cost_per_ray),
             number(bvh.cost_per_ray)
         )
     } else if ratio < 1.0 / 1.05 {
         format!(
-            "Here the BVH wins: {} against the kD-tree's {} per ray ({:.2}×).",
+            "the BVH wins, {} against the kD-tree's {} per ray ({:.2}×).",
             number(bvh.cost_per_ray),
             number(kd.cost_per_ray),
             1.0 / ratio
         )
     } else {
         format!(
-            "Here they are even: {} (BVH) and {} (kD-tree) per ray.",
+            "they are even, {} (BVH) and {} (kD-tree) per ray.",
             number(bvh.cost_per_ray),
             number(kd.cost_per_ray)
         )
-    };
+    }
+}
+
+/// The lecture's question, from the numbers: BVH or kD-tree, who wins, by how much, and where
+/// the difference comes from (the node visits and the primitive tests, each with what causes
+/// it).
+pub fn lecture_verdict(bvh: Measured, kd: Measured) -> String {
+    let outcome = lecture_outcome(bvh, kd);
     let empty = if kd.empty_share >= 0.05 {
         format!(
             "; the kD-tree's empty cells, {:.0} % of the scene, are crossed without a test",
@@ -177,7 +277,7 @@ type FigureOf = fn(&Measured) -> String;
 /// The lesson.
 pub struct RecapLesson {
     stage: Stage,
-    comparison: Derived<(u64, ()), Comparison>,
+    recap: Derived<(u64, ()), Recap>,
 }
 
 impl RecapLesson {
@@ -185,13 +285,13 @@ impl RecapLesson {
     pub fn new(text: LessonText) -> Self {
         Self {
             stage: Stage::new(text, Editing::ALL),
-            comparison: Derived::default(),
+            recap: Derived::default(),
         }
     }
 
     /// The figures of the five structures on the current scene, once measured.
-    pub fn measured(&self) -> Option<[Measured; 5]> {
-        Some(measure(self.comparison.get()?))
+    pub fn measured(&self) -> Option<Figures> {
+        Some(self.recap.get()?.figures())
     }
 
     /// Opens preset `index` of the lesson file's presets (its scene and name).
@@ -201,7 +301,7 @@ impl RecapLesson {
 }
 
 impl Lesson for RecapLesson {
-    crate::staged!(comparison);
+    crate::staged!(recap);
 
     fn show_named(&mut self, name: &str) -> bool {
         self.stage.show_named_preset(name)
@@ -213,19 +313,18 @@ impl Lesson for RecapLesson {
 
     fn update(&mut self) {
         let scene = &self.stage.scene;
-        request_over_shapes(&mut self.comparison, scene, (), |shapes, settings| {
-            Comparison::build(&structures(&settings), shapes, settings)
-        });
+        request_over_shapes(&mut self.recap, scene, (), Recap::build);
     }
 
     fn inspector_ui(&mut self, ui: &mut egui::Ui, _parts: crate::lesson::Parts<'_>) {
         ui.label(RichText::new("Scenes that make the point").strong());
         self.stage.presets_ui(ui, "");
-        let Some(comparison) = self.comparison.get().cloned() else {
+        let Some(recap) = self.recap.get().cloned() else {
             ui.label("Building…");
             return;
         };
-        let figures = measure(&comparison);
+        let figures = recap.figures();
+        let comparison = &recap.comparison;
         ui.separator();
         // A table keeps its columns: in a narrow panel (the app scaled up) it scrolls
         // sideways rather than widen the panel.
@@ -239,22 +338,45 @@ impl Lesson for RecapLesson {
                             .on_hover_text(tree.built.structure.name());
                     }
                     ui.end_row();
-                    let rows: [(&str, FigureOf); 5] = [
-                        ("nodes or cells a ray", |m| {
-                            format!("{:.1}", m.nodes_per_ray)
-                        }),
+                    let per_ray: [(&str, FigureOf); 3] = [
+                        ("nodes a ray", |m| format!("{:.1}", m.nodes_per_ray)),
                         ("tests a ray", |m| format!("{:.1}", m.tests_per_ray)),
                         ("cost a ray", |m| number(m.cost_per_ray)),
-                        ("references a primitive", |m| {
+                    ];
+                    for (set, about, measured) in [
+                        (
+                            "rays from outside",
+                            "From around the scene to points in it: a camera outside",
+                            &figures.outside,
+                        ),
+                        (
+                            "rays from inside",
+                            "From points inside the scene, every direction: a camera in it, a bounce",
+                            &figures.inside,
+                        ),
+                    ] {
+                        ui.strong(set).on_hover_text(about);
+                        ui.end_row();
+                        for (name, value) in per_ray {
+                            ui.label(name)
+                                .on_hover_text("nodes: or cells, for the grids and the quadtree");
+                            for figure in measured {
+                                ui.label(value(figure));
+                            }
+                            ui.end_row();
+                        }
+                    }
+                    let held: [(&str, FigureOf); 2] = [
+                        ("references", |m| {
                             format!("{:.2}", m.references_per_primitive)
                         }),
-                        ("area left empty", |m| {
+                        ("area empty", |m| {
                             format!("{:.0} %", m.empty_share * 100.0)
                         }),
                     ];
-                    for (name, value) in rows {
+                    for (name, value) in held {
                         ui.label(name);
-                        for figure in &figures {
+                        for figure in &figures.outside {
                             ui.label(value(figure));
                         }
                         ui.end_row();
@@ -269,8 +391,9 @@ impl Lesson for RecapLesson {
         let settings = self.stage.scene.scene.settings;
         ui.label(
             RichText::new(format!(
-                "Measured on {} seeded rays from around the scene to points in it. Cost per ray = C_trav · nodes (or cells) + C_isect · tests, with C_trav = {} and C_isect = {}. A ray from outside a walled scene meets the wall in the first cell a grid looks at.",
+                "Measured on {} seeded rays from around the scene to points in it (a camera outside), and {} from points inside it in every direction (a camera in the scene, a bounce). Cost per ray = C_trav · nodes (or cells) + C_isect · tests, with C_trav = {} and C_isect = {}.",
                 comparison.ray_count,
+                recap.inside_rays,
                 number(settings.traversal_cost),
                 number(settings.intersection_cost)
             ))
@@ -278,22 +401,28 @@ impl Lesson for RecapLesson {
             .weak(),
         );
         ui.separator();
-        ui.label(
-            RichText::new(verdict(figures)).color(crate::canvas::readable(ui, palette::CURRENT)),
-        );
+        let color = crate::canvas::readable(ui, palette::CURRENT);
+        for sentence in verdict(&figures) {
+            ui.label(RichText::new(sentence).color(color));
+        }
     }
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
         self.stage.scene.toolbar_ui(ui);
         let height = ui.available_height();
-        comparison_ui(
-            ui,
-            &self.comparison,
-            &mut self.stage.scene,
-            height,
-            3,
-            |_| Color32::WHITE,
-            |_, _, _| {},
-        );
+        match self.recap.get() {
+            Some(recap) => recap.comparison.panes_ui(
+                ui,
+                &mut self.stage.scene,
+                self.recap.working_for(),
+                height,
+                3,
+                |_| Color32::WHITE,
+                |_, _, _| {},
+            ),
+            None => {
+                ui.label("Building…");
+            }
+        }
     }
 }

@@ -67,9 +67,18 @@ impl Comparison {
 
     /// What pane `pane`'s structure costs per measured ray, and what it holds.
     pub fn measured(&self, pane: usize) -> Measured {
+        self.measured_with(pane, &self.counters[pane], self.ray_count)
+    }
+
+    /// What pane `pane`'s structure costs per ray by `counters` summed over `rays` rays of
+    /// another set, and what it holds.
+    pub fn measured_with(&self, pane: usize, counters: &Counters, rays: usize) -> Measured {
         let tree = &self.trees[pane];
-        let nodes = self.per_ray(pane, |c| c.nodes_visited);
-        let tests = self.per_ray(pane, |c| c.primitive_tests);
+        let per_ray = |count: u64| count as f64 / rays.max(1) as f64;
+        let (nodes, tests) = (
+            per_ray(counters.nodes_visited),
+            per_ray(counters.primitive_tests),
+        );
         Measured {
             nodes_per_ray: nodes,
             tests_per_ray: tests,
@@ -119,7 +128,7 @@ impl Comparison {
     /// user's edits on any pane go to `scene`. While a newer comparison is `working`, the
     /// first pane says so.
     #[allow(clippy::too_many_arguments)] // The pieces of one call, each used once.
-    fn panes_ui(
+    pub(crate) fn panes_ui(
         &self,
         ui: &mut egui::Ui,
         scene: &mut EditableScene,
