@@ -6,7 +6,7 @@ use accelviz_core::quality::{NodeEntries, SahCheck};
 use accelviz_core::simd::Isa;
 use accelviz_core::{Counters, MaxStack, NoObserver, Ray, TraceOptions, TriangleSet, Vector3};
 use accelviz_scene::Mesh;
-use accelviz_scene::rays::{RayKind, RaySource, RaySpec, pixel_tiles};
+use accelviz_scene::rays::{RayKind, RaySource, pixel_tiles};
 use anyhow::{Result, bail};
 use clap::Args;
 
@@ -14,7 +14,7 @@ use crate::json::JsonObject;
 use crate::parallel::Workers;
 use crate::spec::{Accel, AccelSpec};
 use crate::timing::{Samples, interleaved};
-use crate::{BuildArgs, Precision, TraceArgs, convert_rays, load_mesh};
+use crate::{BuildArgs, Precision, TraceArgs, load_mesh};
 
 /// Builds timed for one sample of a structure's build time, at least: the sample is their
 /// median. With one build a sample, the bunny's two-thread
@@ -32,7 +32,8 @@ pub struct BenchArgs {
     /// it), or of `--ray-kind`.
     #[arg(long, default_value_t = 100_000, conflicts_with = "rays_file")]
     rays: usize,
-    /// Trace the rays of this file (the `query` format) instead.
+    /// Trace the rays of this file (the `query` format) instead: read a line at a time, each
+    /// ray held as the precision traces it (32 bytes in f32: 10 million rays in 320 MB).
     #[arg(long, conflicts_with_all = ["camera", "aimed"])]
     rays_file: Option<String>,
     /// Trace rays aimed exactly at triangle corners and edges instead (the watertightness
@@ -62,7 +63,7 @@ pub struct BenchArgs {
     build: BuildArgs,
     /// Rounds: every structure is built and traced once per round, the rounds interleaved,
     /// and each figure is the median of its rounds with the range it moved in (`±%`).
-    #[arg(long, default_value_t = 5)]
+    #[arg(long, default_value_t = 5, value_parser = crate::parse_rounds)]
     repeat: usize,
     /// Comma-separated instruction sets to trace with, each measured in the same rounds:
     /// portable, avx2, avx512 (x86-64), simd128 (WebAssembly). Default: the best this
@@ -83,35 +84,6 @@ pub struct BenchArgs {
     /// One JSON object per structure, one per line.
     #[arg(long)]
     json: bool,
-}
-
-impl BenchArgs {
-    /// What `cargo run --release` runs: every BVH builder on the built-in mesh.
-    pub fn default_run() -> Self {
-        Self {
-            mesh: "builtin:lumpy-sphere".into(),
-            accel: "bvh:middle,bvh:median,bvh:sah-binned,bvh:sah-sweep".into(),
-            rays: 100_000,
-            rays_file: None,
-            camera: None,
-            aimed: false,
-            repeat: 5,
-            isa: None,
-            seed: 1,
-            ray_kind: None,
-            trace: TraceArgs {
-                order: None,
-                precision: Precision::F32,
-                robust: false,
-                mailbox: false,
-                query: None,
-            },
-            build: BuildArgs::default(),
-            threads: "1".into(),
-            packet: "1".into(),
-            json: false,
-        }
-    }
 }
 
 /// The precision as the command line spells it.
@@ -218,7 +190,6 @@ pub fn run(args: &BenchArgs) -> Result<String> {
         args.seed,
     )
     .map_err(anyhow::Error::msg)?;
-    let rays = source.rays(&mesh)?;
     let ray_source = source.label();
     let axes = Axes {
         isas: &isas,
@@ -227,12 +198,8 @@ pub fn run(args: &BenchArgs) -> Result<String> {
         source: &source,
     };
     let figures = match args.trace.precision {
-        Precision::F32 => {
-            measure::<glam::Vec3>(&specs, &axes, &params, &mesh, &rays, &ray_source, args)?
-        }
-        Precision::F64 => {
-            measure::<glam::DVec3>(&specs, &axes, &params, &mesh, &rays, &ray_source, args)?
-        }
+        Precision::F32 => measure::<glam::Vec3>(&specs, &axes, &params, &mesh, args)?,
+        Precision::F64 => measure::<glam::DVec3>(&specs, &axes, &params, &mesh, args)?,
     };
     let options = args.trace.options_for(source.kind());
     let mut output = String::new();
@@ -241,7 +208,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
             "mesh {} ({} triangles), {} rays ({ray_source}), {} hit, {} order, {}, {}, median of {} interleaved rounds (±: half their range); errors/M: leaks, false hits and wrong answers per million rays against the reference (the JSON has every outcome)\n",
             mesh.name,
             mesh.triangles.len(),
-            rays.len(),
+            figures.first().map_or(0, |figures| figures.rays),
             crate::tradeoff::query_name(options.query),
             options.order.name(),
             precision_name(args.trace.precision),
@@ -372,12 +339,10 @@ fn measure<V: Vector3>(
     axes: &Axes<'_>,
     params: &BuildParams,
     mesh: &Mesh,
-    ray_specs: &[RaySpec],
-    ray_source: &str,
     args: &BenchArgs,
 ) -> Result<Vec<Figures>> {
     let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
-    let rays = convert_rays::<V>(ray_specs, ray_source)?;
+    let rays = crate::rays_of::<V>(axes.source, mesh)?;
     let options = args.trace.options_for(axes.source.kind());
     let rounds = args.repeat.max(1);
     let workers = axes
@@ -444,6 +409,11 @@ fn measure<V: Vector3>(
                 }
             }
             builds[index].push(sample.median());
+            crate::progress::report(
+                "bench: builds",
+                round * configurations + step + 1,
+                rounds * configurations,
+            );
         }
     }
     let accels: Vec<_> = accels.into_iter().flatten().collect();
@@ -459,7 +429,7 @@ fn measure<V: Vector3>(
         }
     }
     let mut hits = vec![0; configurations.len()];
-    let traces = interleaved(rounds, configurations.len(), |index| {
+    let traces = interleaved("bench: traces", rounds, configurations.len(), |index| {
         let (spec, isa, threads, packet) = configurations[index];
         Isa::set_active(isa).unwrap_or_else(|_| unreachable!("checked by parse_isas"));
         let rays = tiled[packet].as_deref().unwrap_or(&rays);
@@ -482,30 +452,40 @@ fn measure<V: Vector3>(
     // SAH's chances, checked).
     // Each ray's answer is held to the reference on the same rounded inputs, decided once.
     let reference = ReferenceScene::new(&triangles);
-    let references: Vec<_> = rays.iter().map(|ray| reference.reference(ray)).collect();
     let facts: Vec<_> = accels.iter().map(|accel| accel.binary_facts()).collect();
-    let counted: Vec<(Counters, (MaxStack, NodeEntries), OutcomeCounts)> = accels
+    let mut observers: Vec<(Counters, (MaxStack, NodeEntries))> = facts
         .iter()
-        .zip(&facts)
-        .map(|(accel, facts)| {
+        .map(|facts| {
             let nodes = facts.as_ref().map_or(0, |facts| facts.bounds.len());
-            let mut observer = (
+            (
                 Counters::default(),
                 (MaxStack::default(), NodeEntries::new(nodes)),
-            );
-            let mut outcomes = OutcomeCounts::default();
-            let mut stack = accelviz_core::TraversalStacks::default();
-            for (ray, expected) in rays.iter().zip(&references) {
-                let got = accel.trace(ray, &options, &mut stack, &mut observer);
-                outcomes.add(reference.classify(
-                    ray,
-                    expected.as_ref(),
-                    got.map(|hit| hit.primitive),
-                    options.query,
-                ));
-            }
-            (observer.0, observer.1, outcomes)
+            )
         })
+        .collect();
+    let mut outcomes = vec![OutcomeCounts::default(); accels.len()];
+    let mut stack = accelviz_core::TraversalStacks::default();
+    // Ray by ray: its reference decided once, then every structure's answer judged, so no
+    // ray's reference is kept (a file of millions of rays holds no more than its rays).
+    for (index, ray) in rays.iter().enumerate() {
+        if index % 4096 == 0 {
+            crate::progress::report("bench: each ray judged", index, rays.len());
+        }
+        let expected = reference.reference(ray);
+        for ((accel, observer), outcomes) in accels.iter().zip(&mut observers).zip(&mut outcomes) {
+            let got = accel.trace(ray, &options, &mut stack, observer);
+            outcomes.add(reference.classify(
+                ray,
+                expected.as_ref(),
+                got.map(|hit| hit.primitive),
+                options.query,
+            ));
+        }
+    }
+    let counted: Vec<(Counters, (MaxStack, NodeEntries), OutcomeCounts)> = observers
+        .into_iter()
+        .zip(outcomes)
+        .map(|((counters, entries), outcomes)| (counters, entries, outcomes))
         .collect();
     let sah_checks: Vec<Option<SahCheck>> = facts
         .iter()

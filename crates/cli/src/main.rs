@@ -9,6 +9,7 @@ mod heatmap;
 mod json;
 mod parallel;
 mod plot;
+mod progress;
 mod quiz;
 mod sah;
 mod slab;
@@ -29,10 +30,10 @@ use crate::spec::AccelSpec;
 
 /// Ray-tracing acceleration structures, measured.
 #[derive(Parser, Debug)]
-#[command(name = "accelviz-cli", version, about)]
+#[command(name = "accelviz-cli", version, about, arg_required_else_help = true)]
 struct Cli {
     #[command(subcommand)]
-    command: Option<Command>,
+    command: Command,
 }
 
 #[derive(Subcommand, Debug)]
@@ -46,8 +47,9 @@ enum Command {
     /// The SAH cost of every candidate split of one node (exact and binned), with the leaf
     /// cost and where the middle, median and SAH rules cut.
     Sah(sah::SahArgs),
-    /// Every structure and every speed/accuracy switch on the same rays, against f64 brute
-    /// force: a table (Markdown, CSV) and two SVG plots.
+    /// Every structure and every speed/accuracy switch on the same rays, each ray's answer
+    /// judged by a reference on the same rounded inputs: a table (Markdown, CSV), the
+    /// break-even, and four SVG plots.
     Tradeoff(tradeoff::TradeoffArgs),
     /// The cost of every pixel of the benchmark's camera (nodes visited, box tests or
     /// primitive tests) as a PNG, with every pixel's counts as CSV if asked.
@@ -215,6 +217,15 @@ pub fn mesh_help() -> String {
     )
 }
 
+/// Parses `--repeat`: at least one round.
+pub fn parse_rounds(text: &str) -> Result<usize, String> {
+    match text.parse::<usize>() {
+        Ok(0) => Err("at least one round is needed".to_owned()),
+        Ok(rounds) => Ok(rounds),
+        Err(_) => Err(format!("'{text}' is not a number of rounds")),
+    }
+}
+
 /// `--accel`'s help (`what` names it): every structure of the catalogue.
 pub fn structure_help(what: &str) -> String {
     format!(
@@ -247,6 +258,29 @@ pub fn convert_rays<V: Vector3>(
                 .with_context(|| format!("{source}:{}: bad ray", spec.line))
         })
         .collect()
+}
+
+/// The rays of `source` for `mesh`, in `V`'s precision. A ray file is read a line at a time,
+/// each ray kept only as `V` has it (32 bytes in f32: 10 million rays in 320 MB, where the
+/// file's text and its rays in f64 took 2 GB); generated rays are made, then converted.
+pub fn rays_of<V: Vector3>(
+    source: &accelviz_scene::rays::RaySource,
+    mesh: &Mesh,
+) -> Result<Vec<accelviz_core::Ray<V>>> {
+    match source {
+        accelviz_scene::rays::RaySource::File(path) => {
+            let mut rays = Vec::new();
+            for spec in RayReader::open(path)? {
+                let spec = spec?;
+                rays.push(
+                    spec.to_ray::<V>()
+                        .with_context(|| format!("{path}:{}: bad ray", spec.line))?,
+                );
+            }
+            Ok(rays)
+        }
+        _ => convert_rays(&source.rays(mesh)?, &source.label()),
+    }
 }
 
 /// Bytes of the ray file read, parsed, traced and answered at a time by `query` (about
@@ -359,20 +393,21 @@ fn query_in<V: Vector3>(
 
 fn run(cli: Cli) -> Result<String> {
     match cli.command {
-        Some(Command::Query(args)) => query(&args),
-        Some(Command::Slab(args)) => slab::run(&args),
-        Some(Command::Bench(args)) => bench::run(&args),
-        Some(Command::Sah(args)) => sah::run(&args),
-        Some(Command::Tradeoff(args)) => tradeoff::run(&args),
-        Some(Command::Heatmap(args)) => heatmap::run(&args),
-        Some(Command::Quiz(args)) => quiz::run(&args),
-        None => bench::run(&bench::BenchArgs::default_run()),
+        Command::Query(args) => query(&args),
+        Command::Slab(args) => slab::run(&args),
+        Command::Bench(args) => bench::run(&args),
+        Command::Sah(args) => sah::run(&args),
+        Command::Tradeoff(args) => tradeoff::run(&args),
+        Command::Heatmap(args) => heatmap::run(&args),
+        Command::Quiz(args) => quiz::run(&args),
     }
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match run(cli) {
+    let result = run(cli);
+    progress::clear();
+    match result {
         Ok(output) => {
             use std::io::Write;
             let mut stdout = std::io::stdout().lock();

@@ -6,11 +6,17 @@ use accelviz_quiz::{Level, Session, kind_names};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 
+/// `--kind`'s help: every kind of question.
+fn kind_help() -> String {
+    format!(
+        "The kind of question, one of {}; every kind in turn when not given",
+        kind_names().join(", ")
+    )
+}
+
 #[derive(Args, Debug)]
 pub struct QuizArgs {
-    /// The kind of question (`slab`, `first-hit`, `visit-order`, …); every kind in turn when
-    /// not given.
-    #[arg(long)]
+    #[arg(long, help = kind_help())]
     kind: Option<String>,
     /// The seed: the same seed gives the same questions here, in the app and in the browser.
     #[arg(long, allow_hyphen_values = true)]

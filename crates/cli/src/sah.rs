@@ -34,8 +34,12 @@ pub enum AxisArg {
 
 #[derive(Args, Debug)]
 pub struct SahArgs {
-    /// A 3D scene: an OBJ file, or builtin:NAME.
-    #[arg(long, required_unless_present = "scene2d", conflicts_with = "scene2d")]
+    #[arg(
+        long,
+        required_unless_present = "scene2d",
+        conflicts_with = "scene2d",
+        help = crate::mesh_help()
+    )]
     mesh: Option<String>,
     /// A 2D scene instead: a scene file (`disc CX CY R`, `box X0 Y0 X1 Y1`, `segment AX AY BX
     /// BY` per line) or `builtin:LAYOUT[:COUNT[:SEED]]` with LAYOUT uniform, clustered or

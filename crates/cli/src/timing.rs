@@ -17,7 +17,15 @@ pub fn now_ms() -> f64 {
 }
 
 /// Runs `rounds` rounds of `count` configurations, interleaved, timing each
-/// ([`accelviz_core::trade::interleaved`]).
-pub fn interleaved(rounds: usize, count: usize, run: impl FnMut(usize)) -> Vec<Samples> {
-    accelviz_core::trade::interleaved(rounds, count, now_ms, run)
+/// ([`accelviz_core::trade::interleaved`]); `what` they are is said on a terminal as they go
+/// ([`crate::progress`]).
+pub fn interleaved(
+    what: &str,
+    rounds: usize,
+    count: usize,
+    run: impl FnMut(usize),
+) -> Vec<Samples> {
+    accelviz_core::trade::interleaved(rounds, count, now_ms, run, |done, total| {
+        crate::progress::report(what, done, total)
+    })
 }

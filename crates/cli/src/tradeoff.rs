@@ -50,8 +50,9 @@ pub struct TradeoffArgs {
     /// otherwise.
     #[arg(long, value_parser = parse_query)]
     query: Option<Query>,
-    /// Write tradeoff.md, tradeoff.csv, build-vs-traversal.svg and predicted-vs-measured.svg
-    /// here (created if missing). Without it, the table goes to stdout.
+    /// Write tradeoff.md, tradeoff.csv and the plots build-vs-traversal.svg,
+    /// predicted-vs-measured.svg, total-vs-rays.svg and sah-assumption.svg here (created if
+    /// missing). Without it, the table goes to stdout.
     #[arg(long)]
     out: Option<String>,
     /// Print one JSON object per row instead of the table.
@@ -63,8 +64,9 @@ pub struct TradeoffArgs {
     #[arg(long)]
     examples: Option<String>,
     /// Rounds: every structure is built, and every row traced, once per round, the rounds
-    /// interleaved; each figure is the median of its rounds, with the range it moved in.
-    #[arg(long, default_value_t = 5)]
+    /// interleaved; each figure is the median of its rounds, with the range it moved in
+    /// (with one round, the range says nothing and no winner is named).
+    #[arg(long, default_value_t = 5, value_parser = crate::parse_rounds)]
     repeat: usize,
     /// Threads tracing rays, in tiles of 256 (builds are single-threaded).
     #[arg(long, default_value_t = 1)]
@@ -139,7 +141,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         specs.iter().map(|_| None).collect();
     let mut trees64: Vec<Option<Accel<DVec3, TriangleSet<DVec3>>>> =
         specs.iter().map(|_| None).collect();
-    let builds = interleaved(repeat, specs.len() * 2, |index| {
+    let builds = interleaved("tradeoff: builds", repeat, specs.len() * 2, |index| {
         let spec = AccelSpec::Tree(specs[index / 2]);
         if index % 2 == 0 {
             let (tree, _) = spec.build(&single.triangles, &params);
@@ -155,7 +157,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     let keys: Vec<(usize, Switches)> = (0..specs.len())
         .flat_map(|spec| Switches::ALL.map(|switches| (spec, switches)))
         .collect();
-    let traces = interleaved(repeat, keys.len(), |index| {
+    let traces = interleaved("tradeoff: traces", repeat, keys.len(), |index| {
         let (spec, switches) = keys[index];
         let options = switches.options(query);
         let hits = match switches.precision {
@@ -176,6 +178,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         .collect();
     let mut rows = Vec::with_capacity(keys.len());
     for (index, &(spec, switches)) in keys.iter().enumerate() {
+        crate::progress::report("tradeoff: each row's rays judged", index, keys.len());
         let options = switches.options(query);
         let (evaluation, quality) = match switches.precision {
             Precision::F64 => {

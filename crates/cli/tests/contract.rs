@@ -419,6 +419,66 @@ fn bench_reads_a_ray_file() {
     );
 }
 
+/// `bench --rays-file` holds each ray once, as the precision it traces in has it (32 bytes in
+/// f32), and no ray's reference: half a million rays peak far below what the file's text and
+/// its rays in f64 took (200 bytes a ray: 2 GB for ten million). Its peak resident memory is
+/// read from /proc while it runs.
+#[cfg(target_os = "linux")]
+#[test]
+fn bench_traces_a_large_ray_file_in_bounded_memory() {
+    let mesh = file("square-large-file.obj", SQUARE);
+    let count = 500_000u32;
+    let mut text = String::with_capacity(count as usize * 40);
+    for index in 0..count {
+        let x = f64::from(index % 1000) / 999.0 * 1.2 - 0.1;
+        let y = f64::from(index / 1000) / f64::from(count / 1000) * 1.2 - 0.1;
+        text.push_str(&format!("{x:.6} {y:.6} 1 0.01 -0.02 -1\n"));
+    }
+    let rays = file("large-bench-rays.txt", &text);
+    drop(text);
+    let mut child = Command::new(env!("CARGO_BIN_EXE_accelviz-cli"))
+        .args([
+            "bench",
+            "--mesh",
+            &mesh,
+            "--accel",
+            "bvh:median,kd:sah",
+            "--rays-file",
+            &rays,
+            "--repeat",
+            "1",
+            "--json",
+        ])
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("the binary runs");
+    let status = format!("/proc/{}/status", child.id());
+    let mut peak_kb = 0u64;
+    while child.try_wait().expect("it runs").is_none() {
+        if let Some(peak) = std::fs::read_to_string(&status).ok().and_then(|text| {
+            text.lines()
+                .find_map(|line| line.strip_prefix("VmHWM:"))
+                .and_then(|value| value.trim().trim_end_matches("kB").trim().parse().ok())
+        }) {
+            peak_kb = peak;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(10));
+    }
+    let output = child.wait_with_output().expect("it ends");
+    assert!(output.status.success(), "{}", stderr(&output));
+    let value: serde_json::Value =
+        serde_json::from_str(stdout(&output).lines().next().unwrap()).unwrap();
+    assert_eq!(value["rays"].as_u64(), Some(u64::from(count)));
+    println!("peak {peak_kb} kB for {count} rays");
+    // The program itself, then 64 bytes a ray at most.
+    let bound_kb = 40_000 + u64::from(count) * 64 / 1024;
+    assert!(
+        peak_kb > 0 && peak_kb < bound_kb,
+        "peak {peak_kb} kB for {count} rays, above {bound_kb} kB"
+    );
+}
+
 /// Runs a failing command: exit 2, nothing on stdout, one line on stderr containing `expected`.
 fn assert_fails(args: &[&str], expected: &str) {
     let output = cli(args);
@@ -1393,4 +1453,64 @@ fn query_reads_a_copied_ray_line_as_the_same_ray() {
         }
     }
     assert!(hits >= 10, "only {hits} of the rays hit the teapot");
+}
+
+/// What a person trying the CLI met: a bare `accelviz-cli` ran a benchmark silently (now
+/// its usage), `--repeat 0` ran one round (now an error), an absurd camera aborted with a
+/// backtrace (now one line), and the help left out built-in meshes and question kinds.
+#[test]
+fn the_cli_says_what_it_does_and_refuses_what_it_cannot() {
+    let bare = cli(&[]);
+    assert_eq!(bare.status.code(), Some(2));
+    assert!(bare.stdout.is_empty());
+    assert!(
+        stderr(&bare).contains("Usage: accelviz-cli <COMMAND>"),
+        "{}",
+        stderr(&bare)
+    );
+    assert_fails(
+        &[
+            "bench",
+            "--mesh",
+            "builtin:cube",
+            "--accel",
+            "bvh:middle",
+            "--repeat",
+            "0",
+        ],
+        "at least one round",
+    );
+    assert_fails(
+        &["tradeoff", "--mesh", "builtin:cube", "--repeat", "0"],
+        "at least one round",
+    );
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("huge.png");
+    assert_fails(
+        &[
+            "heatmap",
+            "--mesh",
+            "builtin:cube",
+            "--accel",
+            "bvh:middle",
+            "--camera",
+            "100000x100000",
+            "--out",
+            &out.to_string_lossy(),
+        ],
+        "at most 16777216",
+    );
+    let sah = stdout(&cli(&["sah", "--help"]));
+    for builtin in accelviz_scene::builtin::BUILTINS {
+        assert!(sah.contains(builtin.name), "sah --help: {}", builtin.name);
+    }
+    let quiz = stdout(&cli(&["quiz", "--help"]));
+    for kind in accelviz_quiz::kind_names() {
+        assert!(quiz.contains(kind), "quiz --help: {kind}");
+    }
+    let tradeoff = stdout(&cli(&["tradeoff", "--help"]));
+    assert!(
+        tradeoff.contains("total-vs-rays.svg") && tradeoff.contains("sah-assumption.svg"),
+        "{tradeoff}"
+    );
+    assert!(!tradeoff.contains("brute force"), "{tradeoff}");
 }

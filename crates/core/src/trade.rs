@@ -196,19 +196,23 @@ pub fn interleaved_index(round: usize, step: usize, count: usize) -> usize {
 
 /// Runs `rounds` rounds; in each, runs every configuration `0..count` (in
 /// [`interleaved_index`]'s order) with `run(index)` and times it with `now_ms` (milliseconds
-/// from any fixed start; [`timed`]: `run` may be called more than once a sample). Returns
+/// from any fixed start; [`timed`]: `run` may be called more than once a sample), telling
+/// `after` (samples done, samples in all) after each sample, outside its timing. Returns
 /// each configuration's samples.
 pub fn interleaved(
     rounds: usize,
     count: usize,
     now_ms: impl Fn() -> f64,
     mut run: impl FnMut(usize),
+    mut after: impl FnMut(usize, usize),
 ) -> Vec<Samples> {
+    let rounds = rounds.max(1);
     let mut samples = vec![Samples::default(); count];
-    for round in 0..rounds.max(1) {
+    for round in 0..rounds {
         for step in 0..count {
             let index = interleaved_index(round, step, count);
             samples[index].push(timed(&now_ms, || run(index)));
+            after(round * count + step + 1, rounds * count);
         }
     }
     samples
@@ -763,6 +767,7 @@ mod tests {
         assert_eq!((samples.min(), samples.max()), (10.0, 30.0));
         assert!((samples.spread_percent() - 10.0 / 11.5 * 100.0).abs() < 1e-9);
         let mut order = Vec::new();
+        let mut told = Vec::new();
         let clock = std::cell::Cell::new(0.0);
         // A clock that moves a whole sample's time a read: each configuration runs once.
         let timed = interleaved(
@@ -773,8 +778,10 @@ mod tests {
                 clock.get()
             },
             |index| order.push(index),
+            |done, total| told.push((done, total)),
         );
         assert_eq!(order, [0, 1, 2, 2, 1, 0, 0, 1, 2]);
+        assert_eq!(told, (1..=9).map(|done| (done, 9)).collect::<Vec<_>>());
         assert!(
             timed
                 .iter()

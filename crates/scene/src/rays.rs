@@ -449,16 +449,28 @@ impl RaySource {
     }
 }
 
-/// Parses a camera resolution `WIDTHxHEIGHT` (e.g. `512x512`).
+/// Parses a camera resolution `WIDTHxHEIGHT` (e.g. `512x512`) of at most [`MAX_PIXELS`].
 pub fn parse_resolution(text: &str) -> Result<(usize, usize), String> {
     let parsed = text
         .split_once('x')
         .and_then(|(width, height)| Some((width.parse().ok()?, height.parse().ok()?)));
     match parsed {
-        Some((width, height)) if width > 0 && height > 0 => Ok((width, height)),
+        Some((width, height)) if width > 0 && height > 0 => {
+            let pixels = (width as u64).saturating_mul(height as u64);
+            if pixels > MAX_PIXELS {
+                return Err(format!(
+                    "{text} is {pixels} pixels; an image has at most {MAX_PIXELS} (4096x4096): its rays and counts are held in memory"
+                ));
+            }
+            Ok((width, height))
+        }
         _ => Err(format!("'{text}' is not WIDTHxHEIGHT, e.g. 512x512")),
     }
 }
+
+/// The most pixels an image of camera rays has (4096 × 4096): each pixel's ray and counts are
+/// held in memory, a few tens of bytes each.
+pub const MAX_PIXELS: u64 = 1 << 24;
 
 /// Primary rays of the benchmark's camera ([`accelviz_core::camera::Camera::framing`]: a 45°
 /// pinhole looking at the box's centre from the +z side, slightly raised, from far enough
