@@ -416,7 +416,7 @@ impl AccelvizApp {
             } else {
                 style.text_styles = defaults.text_styles.clone();
                 style.spacing = defaults.spacing.clone();
-                // Hints and footnotes at 11 points, not egui's 9: nobody reads 9-point grey.
+                // Hints and footnotes at 12 points, not egui's 9: nobody reads 9-point grey.
                 if let Some(small) = style.text_styles.get_mut(&egui::TextStyle::Small) {
                     small.size = small.size.max(SMALL_TEXT_POINTS);
                 }
@@ -940,7 +940,7 @@ impl eframe::App for AccelvizApp {
 }
 
 /// The smallest text outside lecture mode (hints, footnotes), in points.
-pub const SMALL_TEXT_POINTS: f32 = 11.0;
+pub const SMALL_TEXT_POINTS: f32 = 12.0;
 
 /// Lecture scripts, opened from lecture mode ("Open script…").
 pub const SCRIPT_FILTER: FileFilter = FileFilter {

@@ -247,11 +247,17 @@ impl HeatMap {
 /// Differences as colours (RGBA): negative blue, zero near-white, positive orange, full
 /// colour at `±scale` (and beyond).
 pub fn difference_colors(differences: &[i64], scale: u64) -> Vec<[u8; 4]> {
+    difference_colors_on(differences, scale, false)
+}
+
+/// [`difference_colors`] for a view on a dark background (`dark`): the no-difference middle
+/// dark too ([`diverging_on`]), so a map that mostly does not differ is no glaring white panel.
+pub fn difference_colors_on(differences: &[i64], scale: u64, dark: bool) -> Vec<[u8; 4]> {
     let scale = scale.max(1) as f64;
     differences
         .iter()
         .map(|&difference| {
-            let [r, g, b] = diverging(difference as f64 / scale);
+            let [r, g, b] = diverging_on(difference as f64 / scale, dark);
             [r, g, b, 255]
         })
         .collect()
@@ -346,6 +352,25 @@ pub fn sequential(t: f64) -> [u8; 3] {
         [0.992, 0.906, 0.145],
     ];
     through_stops(&STOPS, t)
+}
+
+/// [`diverging`] for a view on a light background, or on a dark one (`dark`): there the
+/// middle is dark and the ends light, the same two hues.
+pub fn diverging_on(t: f64, dark: bool) -> [u8; 3] {
+    // The same two hues, from a dark middle out to light ends: on a dark background the
+    // colour's distance from the background tells the size, as the light map's does on white.
+    const DARK_STOPS: [[f64; 3]; 5] = [
+        [0.573, 0.773, 0.871],
+        [0.200, 0.420, 0.620],
+        [0.120, 0.120, 0.120],
+        [0.640, 0.360, 0.090],
+        [0.992, 0.722, 0.388],
+    ];
+    if dark {
+        through_stops(&DARK_STOPS, (t + 1.0) / 2.0)
+    } else {
+        diverging(t)
+    }
 }
 
 /// The diverging palette, `t` in [-1, 1]: blue below zero, near-white at zero, orange above

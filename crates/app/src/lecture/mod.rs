@@ -567,7 +567,10 @@ impl Lecture {
                             format!("({}) {}", accelviz_quiz::option_letter(index), option.label);
                         let right = revealed && correct == Some(index);
                         let text = if right {
-                            RichText::new(text).size(20.0).strong().color(palette::HIT)
+                            RichText::new(text)
+                                .size(20.0)
+                                .strong()
+                                .color(crate::canvas::readable(ui, palette::HIT))
                         } else {
                             RichText::new(text).size(20.0)
                         };
@@ -583,7 +586,7 @@ impl Lecture {
                                 RichText::new(format!("Answer: {}", ask.expected.model_answer()))
                                     .size(22.0)
                                     .strong()
-                                    .color(palette::HIT),
+                                    .color(crate::canvas::readable(ui, palette::HIT)),
                             );
                         }
                         ui.label(RichText::new(&ask.explanation).size(19.0));

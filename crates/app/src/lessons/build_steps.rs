@@ -337,6 +337,7 @@ impl Lesson for BuildStepsLesson {
             let candidates = curve.axes.get(axis).cloned().unwrap_or_default();
             let points: PlotPoints = candidates.iter().map(|c| [c.position, c.cost]).collect();
             let [low, high] = curve.bounds[axis.min(2)];
+            let plot_bg = ui.visuals().extreme_bg_color;
             Plot::new("build sweep")
                 .height(190.0)
                 .custom_x_axes(vec![narrow_x_axis(&format!(
@@ -352,10 +353,16 @@ impl Lesson for BuildStepsLesson {
                 .allow_drag(false)
                 .allow_zoom(false)
                 .show(ui, |plot| {
-                    plot.line(Line::new("cost", points).color(palette::RAY));
+                    plot.line(
+                        Line::new("cost", points)
+                            .color(crate::canvas::ink_on(palette::RAY, plot_bg)),
+                    );
                     plot.hline(HLine::new("leaf cost", curve.leaf_cost).color(Color32::GRAY));
                     if let Some(best) = curve.best.filter(|best| best.axis == axis) {
-                        plot.vline(VLine::new("best", best.position).color(palette::CURRENT));
+                        plot.vline(
+                            VLine::new("best", best.position)
+                                .color(crate::canvas::ink_on(palette::CURRENT, plot_bg)),
+                        );
                     }
                 });
         }

@@ -282,34 +282,35 @@ pub fn cost_plot_ui(ui: &mut egui::Ui, curve: &CostCurve, current: Option<u32>) 
         .map_or(highest, |cheapest| (4.0 * cheapest.cost_per_ray).max(12.0))
         .min(highest * 1.05);
     // A new id for new bounds: a plot keeps the bounds it showed first.
+    let plot_bg = ui.visuals().extreme_bg_color;
     cell_size_plot(("grid cost curve", y_top.to_bits()), height, "per ray")
         .default_y_bounds(0.0, y_top)
         .legend(Legend::default().position(egui_plot::Corner::RightTop))
         .show(ui, |plot| {
             plot.line(
                 Line::new("measured cost", measured)
-                    .color(palette::CURRENT)
+                    .color(crate::canvas::ink_on(palette::CURRENT, plot_bg))
                     .width(2.5),
             );
             plot.line(
                 Line::new("cells passed", cells)
-                    .color(palette::X_AXIS)
+                    .color(crate::canvas::ink_on(palette::X_AXIS, plot_bg))
                     .width(1.5),
             );
             plot.line(
                 Line::new("primitive tests", tests)
-                    .color(palette::HIT)
+                    .color(crate::canvas::ink_on(palette::HIT, plot_bg))
                     .width(1.5),
             );
             plot.line(
                 Line::new("model's cost", predicted)
-                    .color(palette::SPHERE)
+                    .color(crate::canvas::ink_on(palette::SPHERE, plot_bg))
                     .style(LineStyle::dashed_loose())
                     .width(1.5),
             );
             plot.vline(
                 VLine::new("density rule", f64::from(curve.rule_along))
-                    .color(palette::RAY)
+                    .color(crate::canvas::ink_on(palette::RAY, plot_bg))
                     .style(LineStyle::dashed_dense()),
             );
             shown_size_line(plot, current);

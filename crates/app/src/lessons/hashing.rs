@@ -397,24 +397,25 @@ impl HashLesson {
             .and_then(|tree| tree.built.grid_cells())
             .map(GridCells::cells_along_longest);
         let height = (ui.available_height() - 40.0).clamp(130.0, 220.0);
+        let plot_bg = ui.visuals().extreme_bg_color;
         cell_size_plot("hash memory", height, "KiB")
             .legend(Legend::default().position(egui_plot::Corner::LeftTop))
             .include_y(0.0)
             .show(ui, |plot| {
                 plot.line(
                     Line::new("dense grid", dense)
-                        .color(palette::X_AXIS)
+                        .color(crate::canvas::ink_on(palette::X_AXIS, plot_bg))
                         .width(2.0),
                 );
                 plot.line(
                     Line::new("hashed grid", hashed)
-                        .color(palette::CURRENT)
+                        .color(crate::canvas::ink_on(palette::CURRENT, plot_bg))
                         .width(2.0),
                 );
                 if let Some(from) = curve.hashing_pays_from() {
                     plot.vline(
                         VLine::new("hashing pays from here", f64::from(from))
-                            .color(palette::HIT)
+                            .color(crate::canvas::ink_on(palette::HIT, plot_bg))
                             .style(LineStyle::dashed_dense()),
                     );
                 }

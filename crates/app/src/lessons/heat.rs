@@ -8,7 +8,9 @@ use std::sync::Arc;
 
 use accelviz_core::camera::Camera;
 use accelviz_core::format::{count, counted, number};
-use accelviz_core::heatmap::{Counter, HeatMap, difference_colors, diverging, sequential};
+use accelviz_core::heatmap::{
+    Counter, HeatMap, difference_colors, difference_colors_on, diverging_on, sequential,
+};
 use accelviz_core::{CATALOGUE, Family, Order, Ray, Structure, Width};
 use accelviz_scene::rays::{RayKind, pixel_secondary_rays};
 use egui::{Color32, ColorImage, Rect, Sense, TextureHandle, TextureOptions, Vec2};
@@ -40,7 +42,7 @@ struct Picked {
 
 /// The maps' textures, for the job state and counter they show.
 struct Textures {
-    made_for: (u64, usize, Counter),
+    made_for: (u64, usize, Counter, bool),
     orders: [TextureHandle; 2],
     difference: TextureHandle,
     /// The sequential maps' scale (both share it) and the difference's.
@@ -201,7 +203,8 @@ impl HeatLesson {
         let Some(maps) = &self.maps else {
             return;
         };
-        let made_for = (self.job_serial, self.maps_bands, self.counter);
+        let dark = ctx.global_style().visuals.dark_mode;
+        let made_for = (self.job_serial, self.maps_bands, self.counter, dark);
         if self
             .textures
             .as_ref()
@@ -236,7 +239,7 @@ impl HeatLesson {
         let file = image(&maps.maps[1], maps.maps[1].colors(counter, scale));
         let diff = image(
             &maps.maps[0],
-            difference_colors(&difference, difference_scale),
+            difference_colors_on(&difference, difference_scale, dark),
         );
         match &mut self.textures {
             Some(textures) => {
@@ -434,11 +437,12 @@ impl Legend {
         let (rect, _) =
             ui.allocate_exact_size(Vec2::new(width.min(320.0), LEGEND_BAR), Sense::hover());
         let steps = 48;
+        let dark = ui.visuals().dark_mode;
         for step in 0..steps {
             let t = step as f64 / (steps - 1) as f64;
             let [r, g, b] = match self {
                 Legend::Sequential { .. } => sequential(t),
-                Legend::Diverging { .. } => diverging(t * 2.0 - 1.0),
+                Legend::Diverging { .. } => diverging_on(t * 2.0 - 1.0, dark),
             };
             let x0 = rect.min.x + rect.width() * step as f32 / steps as f32;
             let x1 = rect.min.x + rect.width() * (step + 1) as f32 / steps as f32;

@@ -154,6 +154,7 @@ impl SplitsLesson {
         } else {
             high + 1.0
         };
+        let plot_bg = ui.visuals().extreme_bg_color;
         let response = Plot::new("sah cost curve")
             .height(height)
             .legend(Legend::default().position(egui_plot::Corner::RightTop))
@@ -197,15 +198,22 @@ impl SplitsLesson {
                     )
                 };
                 // No name: the dots' legend entry stands for both.
-                plot.line(Line::new("", PlotPoints::new(lowest)).color(palette::RAY));
-                plot.points(Points::new(dots_name, dots).radius(2.5).color(palette::RAY));
+                plot.line(
+                    Line::new("", PlotPoints::new(lowest))
+                        .color(crate::canvas::ink_on(palette::RAY, plot_bg)),
+                );
+                plot.points(
+                    Points::new(dots_name, dots)
+                        .radius(2.5)
+                        .color(crate::canvas::ink_on(palette::RAY, plot_bg)),
+                );
                 if !binned.is_empty() {
                     let bins: PlotPoints = binned.iter().map(|c| [c.position, c.cost]).collect();
                     plot.points(
                         Points::new("binned candidates", bins)
                             .shape(MarkerShape::Diamond)
                             .radius(5.0)
-                            .color(palette::SPHERE),
+                            .color(crate::canvas::ink_on(palette::SPHERE, plot_bg)),
                     );
                 }
                 plot.hline(HLine::new("leaf cost", leaf_cost).color(Color32::GRAY));
@@ -238,7 +246,7 @@ impl SplitsLesson {
                             PlotPoints::new(vec![[candidate.position, candidate.cost]]),
                         )
                         .radius(7.0)
-                        .color(palette::CURRENT),
+                        .color(crate::canvas::ink_on(palette::CURRENT, plot_bg)),
                     );
                 }
                 plot.pointer_coordinate()

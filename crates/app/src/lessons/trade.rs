@@ -567,7 +567,9 @@ impl TradeLesson {
                                     && outcome.is_error()
                                     && trade_row.outcomes.count(outcome) > 0
                                 {
-                                    text = text.color(palette::MISS).strong();
+                                    text = text
+                                        .color(crate::canvas::readable_in_table(ui, palette::MISS))
+                                        .strong();
                                 }
                                 if ui.selectable_label(selected, text).clicked() {
                                     self.selected = Some(row);
@@ -656,7 +658,8 @@ impl TradeLesson {
                 let rays = trade_row.outcomes.count(outcome);
                 let name = RichText::new(outcome.name().replace('_', " "));
                 ui.label(if outcome.is_error() && rays > 0 {
-                    name.color(palette::MISS).strong()
+                    name.color(crate::canvas::readable_in_table(ui, palette::MISS))
+                        .strong()
                 } else {
                     name
                 })
@@ -1020,7 +1023,11 @@ impl Lesson for TradeLesson {
             return;
         };
         if let Some(note) = self.stale_note(&result) {
-            ui.label(RichText::new(note).strong().color(palette::MISS));
+            ui.label(
+                RichText::new(note)
+                    .strong()
+                    .color(crate::canvas::readable(ui, palette::MISS)),
+            );
         }
         match self.view {
             View::Table => self.table_ui(ui, &result),

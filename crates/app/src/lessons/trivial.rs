@@ -131,6 +131,7 @@ impl TrivialLoop {
                 String::new()
             }
         };
+        let plot_bg = ui.visuals().extreme_bg_color;
         Plot::new("growth")
             .height(220.0)
             .legend(Legend::default().position(egui_plot::Corner::LeftTop))
@@ -152,11 +153,11 @@ impl TrivialLoop {
             .show(ui, |plot| {
                 plot.line(
                     Line::new("trivial loop: n", line(|p| p.brute_force_tests))
-                        .color(palette::MISS),
+                        .color(crate::canvas::ink_on(palette::MISS, plot_bg)),
                 );
                 plot.line(
                     Line::new("SAH BVH: boxes + primitives", line(|p| p.bvh_tests))
-                        .color(palette::HIT),
+                        .color(crate::canvas::ink_on(palette::HIT, plot_bg)),
                 );
                 if let Some(point) = current {
                     let n = log(point.count as f64);
@@ -180,7 +181,7 @@ impl TrivialLoop {
                             )
                             .shape(MarkerShape::Circle)
                             .radius(5.0)
-                            .color(palette::RAY),
+                            .color(crate::canvas::ink_on(palette::RAY, plot_bg)),
                         );
                     }
                 }

@@ -906,6 +906,7 @@ fn build_costs_ui(ui: &mut Ui, choice: &accelviz_quiz::NodeChoice, picked: usize
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(low, high), cost| {
             (low.min(*cost), high.max(*cost))
         });
+    let plot_bg = ui.visuals().extreme_bg_color;
     Plot::new(("build costs", choice.path.as_str()))
         .height(220.0)
         // Headroom above the points for the legend.
@@ -922,7 +923,7 @@ fn build_costs_ui(ui: &mut Ui, choice: &accelviz_quiz::NodeChoice, picked: usize
                 plot.points(
                     Points::new(format!("splits on {}", ["x", "y"][axis]), per_axis(axis))
                         .radius(3.0)
-                        .color(palette::AXES[axis]),
+                        .color(crate::canvas::ink_on(palette::AXES[axis], plot_bg)),
                 );
             }
             plot.hline(HLine::new("keep a leaf", choice.costs[0]).color(Color32::GRAY));
@@ -930,18 +931,19 @@ fn build_costs_ui(ui: &mut Ui, choice: &accelviz_quiz::NodeChoice, picked: usize
                 plot.points(
                     Points::new("the builder's pick", vec![best])
                         .radius(7.0)
-                        .color(palette::HIT),
+                        .color(crate::canvas::ink_on(palette::HIT, plot_bg)),
                 );
             } else {
                 plot.hline(
-                    HLine::new("the builder keeps a leaf", choice.costs[0]).color(palette::HIT),
+                    HLine::new("the builder keeps a leaf", choice.costs[0])
+                        .color(crate::canvas::ink_on(palette::HIT, plot_bg)),
                 );
             }
             if let Some(mine) = point(picked) {
                 plot.points(
                     Points::new("your pick", vec![mine])
                         .radius(5.0)
-                        .color(palette::RAY),
+                        .color(crate::canvas::ink_on(palette::RAY, plot_bg)),
                 );
             }
         });

@@ -23,12 +23,11 @@ pub fn draw_shapes(
     color_of: impl Fn(usize) -> Option<Color32>,
 ) {
     let plain = shape_fill(ui);
+    let color_of = |index| canvas.ink(color_of(index).unwrap_or(plain));
     if shapes.shapes.len() > BATCH_ABOVE {
         // Kept between frames while the shapes and their colours are the same (hashing them
         // takes a fraction of what drawing them again does).
-        let colors: Vec<Color32> = (0..shapes.shapes.len())
-            .map(|index| color_of(index).unwrap_or(plain))
-            .collect();
+        let colors: Vec<Color32> = (0..shapes.shapes.len()).map(color_of).collect();
         let mut hasher = std::collections::hash_map::DefaultHasher::new();
         for shape in &shapes.shapes {
             let bounds = shape.bounds();
@@ -48,8 +47,12 @@ pub fn draw_shapes(
         return;
     }
     for (index, shape) in shapes.shapes.iter().enumerate() {
-        let color = color_of(index).unwrap_or(plain);
-        canvas.shape(shape, faded(color, 200), Stroke::new(1.0, color));
+        let color = color_of(index);
+        canvas.shape(
+            shape,
+            canvas.ink(faded(color, 200)),
+            Stroke::new(1.0, color),
+        );
     }
 }
 
@@ -99,6 +102,7 @@ pub fn draw_ray_colored(
     hit_label: &str,
 ) {
     let t_end = canvas.clip_t(ray.origin, ray.direction, f64::INFINITY);
+    let color = canvas.ink(color);
     if let Some(t) = t_solid.filter(|t| *t < t_end) {
         let cut = ray.origin + ray.direction * t;
         canvas.painter.line_segment(
@@ -106,7 +110,7 @@ pub fn draw_ray_colored(
                 canvas.to_screen(cut),
                 canvas.to_screen(ray.origin + ray.direction * t_end),
             ],
-            Stroke::new(1.5, faded(color, 70)),
+            Stroke::new(1.5, canvas.ink(faded(color, 70))),
         );
         canvas.ray(ray.origin, ray.direction, t, Stroke::new(2.5, color));
         // Beside the ray on a dark plate, not on the hit shape (green on green).

@@ -175,7 +175,7 @@ pub fn diagram_ui<V: Vector>(
                 shown_depth + 1,
                 facts.max_depth()
             ),
-            crate::canvas::font(ui.ctx(), 10.0),
+            crate::canvas::font(ui.ctx(), 11.0),
             ui.visuals().weak_text_color(),
         );
     }
