@@ -111,6 +111,12 @@ impl BuildExercise {
         &self.decided
     }
 
+    /// How many nodes wait to be decided, the next one included (each split adds its two
+    /// children): how much of the exercise is left, as far as it is known.
+    pub fn waiting(&self) -> usize {
+        self.pending.len()
+    }
+
     /// The node to decide next, with its options, or `None` when the tree is done.
     pub fn next_choice(&self) -> Option<NodeChoice> {
         let (path, members) = self.pending.last()?;

@@ -297,6 +297,23 @@ impl Lecture {
         self.question.as_ref()
     }
 
+    /// Where the question is, in words: `step 2 of 4`; for a build question, whose steps
+    /// come as the tree grows, `node 3, 2 waiting`.
+    pub fn question_step_text(&self) -> Option<String> {
+        let session = self.question.as_ref()?;
+        if let Some(exercise) = session.exercise() {
+            let node = exercise.decided().len() + usize::from(!exercise.is_done());
+            let waiting = exercise.waiting().saturating_sub(1);
+            return Some(match (exercise.is_done(), waiting) {
+                (true, _) => format!("all {} nodes decided", exercise.decided().len()),
+                (false, 0) => format!("node {node}, none waiting"),
+                (false, waiting) => format!("node {node}, {waiting} waiting"),
+            });
+        }
+        let (step, count) = self.question_step()?;
+        Some(format!("step {step} of {count}"))
+    }
+
     /// On a question slide, the step shown (from 1) and how many the question has: the last
     /// once every step is done (after End, or coming back from the next slide).
     pub fn question_step(&self) -> Option<(usize, usize)> {

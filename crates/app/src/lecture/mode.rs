@@ -29,9 +29,11 @@ impl AccelvizApp {
                 } else {
                     ""
                 };
-                let (step, count) = lecture.question_step().unwrap_or((1, 1));
+                let step = lecture
+                    .question_step_text()
+                    .unwrap_or_else(|| "step 1 of 1".to_owned());
                 let place = format!(
-                    "{slide}: question {}, step {step} of {count}{revealed}{blank}",
+                    "{slide}: question {}, {step}{revealed}{blank}",
                     session.questions()[0].kind,
                 );
                 Position {
@@ -230,8 +232,8 @@ impl AccelvizApp {
                     .iter()
                     .find(|entry| entry.name == *kind)
                     .map_or(*kind, |entry| entry.title);
-                match lecture.question_step() {
-                    Some((step, count)) => format!("{title} · step {step} of {count}"),
+                match lecture.question_step_text() {
+                    Some(step) => format!("{title} · {step}"),
                     None => title.to_owned(),
                 }
             }
@@ -265,6 +267,17 @@ impl AccelvizApp {
                     ui.close();
                 }
                 ui.separator();
+                let problems = lecture.script.problems();
+                if !problems.is_empty() {
+                    ui.label(RichText::new("Lines of the script skipped:").strong());
+                    for problem in &problems {
+                        ui.label(RichText::new(problem).color(crate::canvas::readable(
+                            ui,
+                            crate::canvas::palette::MISS,
+                        )));
+                    }
+                    ui.separator();
+                }
                 ui.checkbox(&mut lecture.pointer, "Pointer");
                 ui.horizontal(|ui| {
                     let label = ui.label("Scale");
@@ -290,12 +303,33 @@ impl AccelvizApp {
             ui.add(egui::Label::new(RichText::new(&place).strong()).truncate())
                 .on_hover_text(&place);
         });
-        // What went wrong with the script or the slide, below, in full.
-        let notes = [
-            lecture.script.problems_line().map(|line| (line, true)),
-            lecture.message.clone(),
-        ];
-        for (note, problem) in notes.into_iter().flatten() {
+        // What went wrong with the script or the slide, below, in full: the skipped lines one
+        // a row (the first few; Setup lists every one).
+        let problems = lecture.script.problems();
+        const SHOWN_PROBLEMS: usize = 3;
+        if !problems.is_empty() {
+            let count = problems.len();
+            let heading = if count == 1 {
+                "A line of the script was skipped:".to_owned()
+            } else {
+                format!("{count} lines of the script were skipped:")
+            };
+            crate::canvas::message_line(ui, &heading, true);
+            for problem in problems.iter().take(SHOWN_PROBLEMS) {
+                crate::canvas::message_line(ui, &format!("  {problem}"), true);
+            }
+            if count > SHOWN_PROBLEMS {
+                crate::canvas::message_line(
+                    ui,
+                    &format!(
+                        "  … and {} more: Setup lists every one",
+                        count - SHOWN_PROBLEMS
+                    ),
+                    true,
+                );
+            }
+        }
+        if let Some((note, problem)) = lecture.message.clone() {
             crate::canvas::message_line(ui, &note, problem);
         }
         if open_script {

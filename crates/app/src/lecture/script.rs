@@ -177,6 +177,12 @@ impl LectureScript {
         })
     }
 
+    /// Each skipped line with its place and problem, one a line (a bar that says them all on
+    /// one line cut off the third).
+    pub fn problems(&self) -> Vec<String> {
+        self.problems.iter().map(ToString::to_string).collect()
+    }
+
     /// The built-in script, for lessons with these inspector parts (as [`parse`](Self::parse)).
     pub fn default_for(lesson_parts: &[&'static [Part]]) -> Result<Self, ScriptError> {
         Self::parse(DEFAULT_SCRIPT, DEFAULT_SCRIPT_PATH, lesson_parts)

@@ -253,6 +253,11 @@ impl QuizMode {
         if moved {
             self.number_text.clear();
             self.number_problem = None;
+            // A note on how the quiz began ("carrying on with question 4") is out of date
+            // once the quiz moves on; a problem stays until something replaces it.
+            if self.message.as_ref().is_some_and(|(_, problem)| !problem) {
+                self.message = None;
+            }
             self.save();
         }
         moved

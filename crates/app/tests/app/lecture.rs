@@ -468,6 +468,21 @@ fn bad_script_lines_are_skipped_and_each_reported() {
     harness.run();
     assert_eq!(harness.state().mode, Mode::Lecture);
     harness.get_by_label_contains("3 lines of the script were skipped");
+    // Each on a line of its own: one bar line cut off the third after the second.
+    let places = [
+        "my-lecture.txt:2:",
+        "my-lecture.txt:4:",
+        "my-lecture.txt:5:",
+    ];
+    for place in places {
+        assert!(
+            harness.query_all_by_label_contains(place).any(|node| places
+                .iter()
+                .filter(|other| **other != place)
+                .all(|other| !format!("{node:?}").contains(other))),
+            "{place} on a line of its own"
+        );
+    }
 }
 
 /// The lecture bar is one row on every slide at 1920×1080 and the default scale: its buttons
@@ -617,4 +632,36 @@ fn a_slides_named_panels_fit_the_screen_without_scrolling() {
             );
         }
     }
+}
+
+/// The build question's slide says where the build is: the node being decided and how many
+/// wait (its steps come as the tree grows, so a count of them was "1 of 1", then "3 of 3").
+#[test]
+fn the_build_questions_bar_says_which_node_and_how_many_wait() {
+    let mut harness = lecturing();
+    let index = slides(&harness)
+        .iter()
+        .position(|slide| matches!(slide, Slide::Question { kind, .. } if *kind == "build"))
+        .expect("the default script asks the build question");
+    harness.state_mut().open_slide(index, false);
+    harness.run();
+    harness.run();
+    let text = |harness: &Harness<'_, AccelvizApp>| {
+        harness
+            .state()
+            .lecture
+            .as_ref()
+            .unwrap()
+            .question_step_text()
+            .unwrap()
+    };
+    assert_eq!(text(&harness), "node 1, none waiting");
+    assert!(
+        harness
+            .query_by_label_contains("node 1, none waiting")
+            .is_some()
+    );
+    // The next step: the builder's pick at the root, a split, so its two children wait.
+    press(&mut harness, Key::PageDown);
+    assert_eq!(text(&harness), "node 2, 1 waiting");
 }

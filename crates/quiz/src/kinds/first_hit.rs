@@ -113,7 +113,8 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
         highlight: Highlight {
             shapes: hit.map(|hit| vec![hit.primitive]).unwrap_or_default(),
             t: hit.map(|hit| hit.t),
-            t_label: hit.map_or_else(String::new, |hit| format!("closest, t = {}", num(hit.t))),
+            // Where, not how far: the next step asks for its t.
+            t_label: hit.map_or_else(String::new, |_| "closest".to_owned()),
             ..Highlight::default()
         },
         frame: 0,

@@ -22,10 +22,10 @@ const MOST_ASKED: usize = 3;
 /// What happens to the far child, and why: the pseudo-code's three cases and a distractor.
 /// Each of the three says what the near child gave, so exactly one is true.
 const OUTCOMES: [&str; 4] = [
-    "yes: the near child gave no hit, and the ray's far part is not empty",
+    "yes: the near child gave no hit, and the far part is not empty",
     "no: the near child gave no hit, but the ray's far part is empty",
     "no: the near child gave a hit, so the far side is never clipped",
-    "no: the far child is only ever searched in file order",
+    "no: near first never searches a far child, only file order does",
 ];
 
 /// What became of a far child, as [`OUTCOMES`] indexes it and the JSON names it.

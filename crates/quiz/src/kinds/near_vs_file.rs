@@ -16,10 +16,10 @@ use crate::question::{Ask, Choice, Expected, Figure, Highlight, TreeFigure, node
 
 /// Why near first does not enter a node that file order enters.
 const REASONS: [&str; 4] = [
-    "a hit already found lies before its box, so it is culled",
+    "a hit found earlier lies before its box: it is culled",
     "its parent was never entered, so it was never reached",
-    "the ray misses its box entirely",
-    "near first never enters a right child",
+    "the ray passes beside its box and misses it entirely",
+    "near first always skips a right child when it can",
 ];
 
 pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
@@ -130,12 +130,13 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
                     num(hit.1)
                 )
             },
+            // The hit and the node, not near first's steps: which nodes it enters is the
+            // next step's question.
             highlight: Highlight {
                 nodes: vec![asked],
                 shapes: vec![hit.0],
                 t: Some(hit.1),
                 t_label: format!("closest, t = {}", num(hit.1)),
-                frame: Some(near_frames),
                 ..Highlight::default()
             },
             frame: 0,

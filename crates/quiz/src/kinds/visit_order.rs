@@ -202,6 +202,43 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
     }
     let options = shape_options(&shapes);
     let none = options.len() - 1;
+    // The nodes still waiting once the hit is found: each is culled (or none is left).
+    let last_hit = steps
+        .iter()
+        .rposition(|step| matches!(step, Step::ClosestHitUpdated { .. }))
+        .unwrap_or(steps.len());
+    let after = &steps[last_hit..];
+    let named = |wanted: fn(&Step<f64>) -> Option<u32>| -> Vec<String> {
+        after
+            .iter()
+            .filter_map(wanted)
+            .map(|node| node_label(facts, node))
+            .collect()
+    };
+    let culled = named(|step| match *step {
+        Step::NodeCulled { node, .. } => Some(node),
+        _ => None,
+    });
+    let entered_after = named(|step| match *step {
+        Step::NodeEntered { node } => Some(node),
+        _ => None,
+    });
+    let after_the_hit = match (entered_after.is_empty(), culled.is_empty()) {
+        (true, true) => "once it is found, no node is left on the stack".to_owned(),
+        (false, true) => format!(
+            "the traversal then enters {}, whose boxes start before it, and finds nothing nearer",
+            entered_after.join(", ")
+        ),
+        (true, false) => format!(
+            "every node left on the stack ({}) starts beyond it and is skipped",
+            culled.join(", ")
+        ),
+        (false, false) => format!(
+            "the traversal then enters {}, whose boxes start before it, finds nothing nearer, and skips {}, which start beyond it",
+            entered_after.join(", "),
+            culled.join(", ")
+        ),
+    };
     asks.push(Ask {
         prompt: "Which shape does the traversal return as the closest hit?".into(),
         expected: Expected::Choice {
@@ -209,10 +246,7 @@ pub(super) fn generate(generator: &mut Gen) -> Option<Draft> {
             correct: hit.map_or(none, |(shape, _)| shape as usize),
         },
         explanation: match hit {
-            Some((shape, t)) => format!(
-                "Shape {shape} at t = {}: every node left on the stack starts beyond it.",
-                num(t)
-            ),
+            Some((shape, t)) => format!("Shape {shape} at t = {}: {after_the_hit}.", num(t)),
             None => "No leaf the ray reaches holds a shape it hits.".into(),
         },
         highlight: Highlight {
