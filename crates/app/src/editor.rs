@@ -158,9 +158,13 @@ impl EditableScene {
 
     /// Replaces the scene (opened from a file or a preset) and refits the view.
     pub fn replace(&mut self, scene: Scene2d) {
+        // A scene written out shape by shape offers to generate as many shapes, uniformly, as
+        // a new one does: the bar must not name the generator of the scene before it (the
+        // recap's dust in a room showed the teapot in a stadium's).
         self.generator = scene.generator.unwrap_or(GeneratorEntry {
+            layout: LayoutEntry::Uniform,
             count: scene.shapes.shapes.len().max(1),
-            ..self.generator
+            seed: 1,
         });
         self.scene = scene;
         self.selected = None;

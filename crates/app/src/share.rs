@@ -159,10 +159,17 @@ impl AccelvizApp {
                 None => state.scene = Some(flat.scene.to_ron()),
             }
         }
+        // A 2D view the user moved (zoomed or panned): where it is, as they see it.
+        if let Some(flat) = stage.scene.flat()
+            && flat.view.placed
+            && flat.view.fitted_size.is_none()
+        {
+            state.values.push(view_value(&flat.view));
+        }
         let is_3d = stage.scene.flat().is_none() && stage.scene.noun() == "mesh";
         if is_3d && !state.values.iter().any(|(key, _)| key == "mesh") {
             return Err(
-                "a mesh opened from a file cannot go in a link: share the file, or pick a built-in mesh".into(),
+                "a mesh opened from a file cannot go in a link: share the file, or pick a built-in mesh. A clicked ray can be shared as a line of a ray file: its button is under the ray in the inspector (\"copy as a ray-file line\").".into(),
             );
         }
         if state.encode().len() > MOST_BYTES {
@@ -219,6 +226,11 @@ impl AccelvizApp {
                         lesson.named().join(", ")
                     ));
                 }
+            } else if key == VIEW {
+                let view = parse_view(value)?;
+                if let Some(flat) = lesson.stage_mut().scene.as_flat() {
+                    flat.view = view;
+                }
             } else {
                 lesson.restore(key, value)?;
             }
@@ -261,7 +273,8 @@ impl AccelvizApp {
         let Some(mut typed) = self.share_window.take() else {
             return;
         };
-        let mut open = true;
+        // Escape closes it, as it closes a menu.
+        let mut open = !ctx.input(|input| input.key_pressed(egui::Key::Escape));
         let mut opened = None;
         let state = self.share_state().map(|state| state.encode());
         egui::Window::new("Share this view")
@@ -272,13 +285,14 @@ impl AccelvizApp {
                 match &state {
                     Ok(encoded) => {
                         let link = crate::files::page_link(encoded);
-                        ui.label("This link opens exactly this view: the lesson, its scene and ray, its choices and the step.");
+                        let about = ui.label("This link opens exactly this view: the lesson, its scene and ray, its choices, its zoom and the step.");
                         let mut shown = link.clone();
                         ui.add(
                             egui::TextEdit::multiline(&mut shown)
                                 .desired_rows(3)
                                 .desired_width(f32::INFINITY),
-                        );
+                        )
+                        .labelled_by(about.id);
                         if ui.button("Copy").clicked() {
                             ui.ctx().copy_text(link);
                         }
@@ -345,11 +359,75 @@ pub fn parse_structure(value: &str) -> Result<accelviz_core::Structure, String> 
 /// `o`rthographic (numbers as Rust prints them, so they read back exactly).
 pub fn camera_value(orbit: &crate::view3d::Orbit) -> (String, String) {
     let kind = if orbit.orthographic { "o" } else { "p" };
-    let value = format!(
-        "{},{},{},{},{},{},{kind}",
-        orbit.yaw, orbit.pitch, orbit.distance, orbit.pan.x, orbit.pan.y, orbit.pan.z
-    );
-    ("camera".into(), value)
+    let numbers = [
+        orbit.yaw,
+        orbit.pitch,
+        orbit.distance,
+        orbit.pan.x,
+        orbit.pan.y,
+        orbit.pan.z,
+    ]
+    .map(tidy);
+    ("camera".into(), format!("{},{kind}", numbers.join(",")))
+}
+
+/// `value` in at most [`TIDY_DIGITS`] significant digits, without trailing zeros: a dragged
+/// camera's `34.00000000000001` degrees is `34` (the view the same to a millionth).
+pub fn tidy(value: f64) -> String {
+    if value == 0.0 || !value.is_finite() {
+        return format!("{}", if value == 0.0 { 0.0 } else { value });
+    }
+    let magnitude = value.abs().log10().floor() as i32;
+    let decimals = (TIDY_DIGITS - 1 - magnitude).max(0) as usize;
+    let text = format!("{value:.decimals$}");
+    let text = if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_owned()
+    } else {
+        text
+    };
+    if text == "-0" { "0".to_owned() } else { text }
+}
+
+/// Significant digits [`tidy`] keeps.
+const TIDY_DIGITS: i32 = 10;
+
+/// The key of a moved 2D view.
+pub const VIEW: &str = "view";
+
+/// A 2D view as a value: its centre and its zoom (screen points per world unit).
+pub fn view_value(view: &crate::canvas::View2d) -> (String, String) {
+    (
+        VIEW.into(),
+        format!(
+            "{},{},{}",
+            tidy(view.center.x),
+            tidy(view.center.y),
+            tidy(view.points_per_unit)
+        ),
+    )
+}
+
+/// A 2D view from its value: placed where it says, as a view the user moved.
+pub fn parse_view(value: &str) -> Result<crate::canvas::View2d, String> {
+    let bad = || format!("view '{}' is not x,y,zoom", shorten(value));
+    let numbers: Vec<f64> = value
+        .split(',')
+        .map(|part| part.parse::<f64>().ok().filter(|number| number.is_finite()))
+        .collect::<Option<_>>()
+        .ok_or_else(bad)?;
+    let [x, y, zoom] = numbers[..] else {
+        return Err(bad());
+    };
+    if zoom <= 0.0 {
+        return Err(bad());
+    }
+    Ok(crate::canvas::View2d {
+        center: glam::DVec2::new(x, y),
+        points_per_unit: zoom,
+        placed: true,
+        fitted_size: None,
+        ..crate::canvas::View2d::default()
+    })
 }
 
 /// A camera from its value.

@@ -54,22 +54,42 @@ pub fn point(coordinates: &[f64]) -> String {
     format!("({})", parts.join(", "))
 }
 
-/// A point in a scene of size `scale` (its bounding box's diagonal, say), each coordinate by
-/// [`number`], except that one a billion times smaller than the scene is written `0`: a box
-/// bound at 9.185e-18 on a mesh a metre wide is 0 up to rounding, and reads as such.
+/// A point in a scene of size `scale` (its bounding box's diagonal, say), each coordinate to
+/// four significant digits of the scene ([`number_at_scale`]): a box bound at 9.185e-18 on a
+/// mesh a metre wide is 0 up to rounding, and reads as such.
 ///
 /// ```
 /// use accelviz_core::format::point_at_scale;
 /// assert_eq!(point_at_scale(&[9.185e-18, 1.837, -1.141], 3.0), "(0, 1.837, −1.141)");
-/// assert_eq!(point_at_scale(&[2.99e-4, 1.0], 3.0), "(2.99e-4, 1.000)");
+/// assert_eq!(point_at_scale(&[2.99e-4, 1.0], 3.0), "(0, 1.000)");
+/// assert_eq!(point_at_scale(&[-0.0344, -3.56e-4, -0.0494], 0.15), "(−0.0344, −0.0004, −0.0494)");
 /// ```
 pub fn point_at_scale(coordinates: &[f64], scale: f64) -> String {
-    let negligible = scale.abs() * 1e-9;
     let parts: Vec<String> = coordinates
         .iter()
-        .map(|&value| number(if value.abs() < negligible { 0.0 } else { value }))
+        .map(|&value| number_at_scale(value, scale))
         .collect();
     format!("({})", parts.join(", "))
+}
+
+/// `value` to four significant digits of `scale` (a scene's size): the same decimals for
+/// every coordinate of a scene, never an exponent (a bunny's box corner is `−0.0004`, not
+/// `−3.56e-4` beside `−0.0344`), and a value far below the scale is `0`.
+pub fn number_at_scale(value: f64, scale: f64) -> String {
+    let scale = scale.abs();
+    if !value.is_finite() || !scale.is_finite() || scale == 0.0 {
+        return number(value);
+    }
+    let decimals = (3 - scale.log10().floor() as i32).clamp(0, 12) as usize;
+    let text = format!("{:.decimals$}", value.abs());
+    let zero = text.chars().all(|c| c == '0' || c == '.');
+    if zero {
+        "0".to_owned()
+    } else if value < 0.0 {
+        format!("\u{2212}{text}")
+    } else {
+        text
+    }
 }
 
 /// A count with its thousands apart (`815 859`), the way SI writes them; the space is a

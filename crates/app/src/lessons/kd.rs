@@ -103,7 +103,32 @@ fn part_of(tree: &SceneTree, node: u32, ray: &Ray<DVec2>) -> (Option<u32>, Part)
 fn plane_text(tree: &SceneTree, node: u32) -> String {
     match tree.built.plane(node) {
         Some((axis, position)) => format!("{} = {}", ["x", "y"][axis.min(1)], number(position)),
-        None => format!("node {node}"),
+        None => format!("node {}", node_name(tree, node)),
+    }
+}
+
+/// What a frame's new closest hit means to the pseudo-code, said after the test that found
+/// it (the two are one frame): an intersection in the cell's part of the ray, so the search
+/// ends with this leaf.
+fn search_ends(frame: &[Step<f64>]) -> String {
+    frame
+        .iter()
+        .find_map(|step| match *step {
+            Step::ClosestHitUpdated { t, .. } => Some(format!(
+                ". An intersection in this cell's part of the ray (the closest so far, t = {}): once this leaf is done the search ends, and every far side still waiting is skipped, since If (no intersection) is false",
+                number(t)
+            )),
+            _ => None,
+        })
+        .unwrap_or_default()
+}
+
+/// A node's name as the quiz and the 3D lessons give it: its path from the root (`LRL`), or
+/// `root`.
+fn node_name(tree: &SceneTree, node: u32) -> String {
+    match tree.built.facts.path_to(node) {
+        path if path.is_empty() => "root".to_owned(),
+        path => path,
     }
 }
 
@@ -124,11 +149,20 @@ pub fn step_view(trace: &Trace, frame: usize, tree: &SceneTree, ray: &Ray<DVec2>
         };
     };
     let shown = trace.shown(frame);
-    // The leaf being searched: the last cell entered.
-    let leaf = shown.iter().rev().find_map(|step| match *step {
-        Step::CellEntered { node, .. } => Some(node),
-        _ => None,
-    });
+    // The leaf being searched, the last cell entered, and its part of the ray.
+    let (leaf, part) = shown
+        .iter()
+        .rev()
+        .find_map(|step| match *step {
+            Step::CellEntered {
+                node,
+                t_near,
+                t_far,
+            } => Some((Some(node), Some((t_near, t_far)))),
+            _ => None,
+        })
+        .unwrap_or((None, None));
+    let leaf_name = leaf.map_or("?".to_owned(), |leaf| node_name(tree, leaf));
     match step {
         Step::BoxTested {
             t_enter,
@@ -167,19 +201,21 @@ pub fn step_view(trace: &Trace, frame: usize, tree: &SceneTree, ray: &Ray<DVec2>
                 (Some(parent), Part::Near) => (
                     vec![4, 5],
                     format!(
-                        "at {}: rayNear = t in [{}, {}]; intersectKDTree(rayNear, nearChild = node {node}), {what}",
+                        "at {}: rayNear = t in [{}, {}]; intersectKDTree(rayNear, nearChild = node {}), {what}",
                         plane_text(tree, parent),
                         number(t_near),
-                        number(t_far)
+                        number(t_far),
+                        node_name(tree, node)
                     ),
                 ),
                 (Some(parent), Part::Far) => (
                     vec![6, 7, 8],
                     format!(
-                        "at {}: no hit before the plane, so rayFar = t in [{}, {}]; intersectKDTree(rayFar, farChild = node {node}), {what}",
+                        "at {}: no intersection in the near side, so rayFar = t in [{}, {}]; intersectKDTree(rayFar, farChild = node {}), {what}",
                         plane_text(tree, parent),
                         number(t_near),
-                        number(t_far)
+                        number(t_far),
+                        node_name(tree, node)
                     ),
                 ),
                 _ => (
@@ -209,8 +245,9 @@ pub fn step_view(trace: &Trace, frame: usize, tree: &SceneTree, ray: &Ray<DVec2>
             KdStepView {
                 lines: clip,
                 text: format!(
-                    "at {}: the ray does not reach node {node}'s side inside this cell, so {name} is empty: that call returns at 'If empty(ray)'",
-                    parent.map_or("the root".to_owned(), |parent| plane_text(tree, parent))
+                    "at {}: the ray does not reach node {}'s side inside this cell, so {name} is empty: that call returns at 'If empty(ray)'",
+                    parent.map_or("the root".to_owned(), |parent| plane_text(tree, parent)),
+                    node_name(tree, node)
                 ),
                 cell: Some(node),
                 plane_of: parent,
@@ -225,9 +262,10 @@ pub fn step_view(trace: &Trace, frame: usize, tree: &SceneTree, ray: &Ray<DVec2>
         } => KdStepView {
             lines: vec![6],
             text: format!(
-                "If (no intersection) is false: the hit at t = {} comes before the far part starts (t = {}), so the far child, node {node}, is never searched",
+                "If (no intersection) is false: the hit at t = {} comes before the far part starts (t = {}), so the far child, node {}, is never searched",
                 number(t_closest),
-                number(t_enter)
+                number(t_enter),
+                node_name(tree, node)
             ),
             cell: Some(node),
             plane_of: tree.built.facts.parent[node as usize],
@@ -238,20 +276,26 @@ pub fn step_view(trace: &Trace, frame: usize, tree: &SceneTree, ray: &Ray<DVec2>
             let before = shown[..shown.len() - trace.frame(frame).len()]
                 .iter()
                 .any(|step| matches!(step, Step::PrimitiveTested { primitive: earlier, .. } if *earlier == primitive));
-            let result = match t_hit {
-                Some(t) => format!("hit at t = {}", number(t)),
-                None => "missed".to_owned(),
+            let result = match (t_hit, part) {
+                (Some(t), Some((t_near, t_far))) if t < t_near || t > t_far => format!(
+                    "hit at t = {}, outside this cell's part of the ray, [{}, {}]: no intersection of the clipped ray here (it counts in the cell where it lies)",
+                    number(t),
+                    number(t_near),
+                    number(t_far)
+                ),
+                (Some(t), _) => format!("hit at t = {}", number(t)),
+                (None, _) => "missed".to_owned(),
             };
             let again = if before {
                 ". Tested again: it straddles a plane, so it is listed in both cells. A mailbox (a per-ray note of what was tested) would skip this test"
             } else {
                 ""
             };
+            let ends = search_ends(trace.frame(frame));
             KdStepView {
                 lines: vec![2],
                 text: format!(
-                    "leaf {}: intersectObjects: primitive {primitive} {result}{again}",
-                    leaf.map_or("?".to_owned(), |leaf| leaf.to_string())
+                    "leaf {leaf_name}: intersectObjects: primitive {primitive} {result}{again}{ends}"
                 ),
                 cell: leaf,
                 ..blank
@@ -260,8 +304,8 @@ pub fn step_view(trace: &Trace, frame: usize, tree: &SceneTree, ray: &Ray<DVec2>
         Step::PrimitiveSkipped { primitive } => KdStepView {
             lines: vec![2],
             text: format!(
-                "leaf {}: primitive {primitive} is not tested again: the mailbox shows it was tested for this ray in another cell",
-                leaf.map_or("?".to_owned(), |leaf| leaf.to_string())
+                "leaf {leaf_name}: primitive {primitive} is not tested again: the mailbox holds its test from another cell{}",
+                search_ends(trace.frame(frame))
             ),
             cell: leaf,
             ..blank
@@ -269,7 +313,7 @@ pub fn step_view(trace: &Trace, frame: usize, tree: &SceneTree, ray: &Ray<DVec2>
         Step::ClosestHitUpdated { primitive, t } => KdStepView {
             lines: vec![2],
             text: format!(
-                "closest hit so far: primitive {primitive} at t = {}",
+                "every cell searched, and no hit inside a cell's part of the ray: primitive {primitive}'s hit at t = {} lies at the end of a cell's part, outside it only by rounding, so it is the answer",
                 number(t)
             ),
             cell: leaf,
@@ -282,7 +326,7 @@ pub fn step_view(trace: &Trace, frame: usize, tree: &SceneTree, ray: &Ray<DVec2>
         | Step::CellSkipped { node, .. }
         | Step::CellLookedUp { node, .. } => KdStepView {
             lines: vec![0],
-            text: format!("enter node {node}"),
+            text: format!("enter node {}", node_name(tree, node)),
             cell: Some(node),
             ..blank
         },
@@ -497,8 +541,11 @@ impl Lesson for KdLesson {
                         Ok(ray) => Trace::of_tree(
                             &tree,
                             &ray,
+                            // The slide's pseudo-code as it reads: a leaf against the ray
+                            // clipped to its cell, the far side only `If(no intersection)`.
                             &TraceOptions {
                                 order: Order::NearFirst,
+                                query: accelviz_core::Query::FirstInCell,
                                 mailboxing,
                                 ..TraceOptions::default()
                             },

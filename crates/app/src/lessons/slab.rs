@@ -76,8 +76,8 @@ impl SlabLesson {
     /// The lesson with its file's scene.
     pub fn new(text: LessonText) -> Self {
         let mut stage = Stage::new(text, Editing::BY_HAND);
+        // At the first step, as every lesson (and lecture mode) opens: step and play walk it.
         stage.timeline.set_len(STEP_CAPTIONS.len() - 1);
-        stage.timeline.shown = stage.timeline.len;
         Self {
             stage,
             robust: false,

@@ -193,3 +193,60 @@ fn a_3d_link_reopens_on_the_same_clicked_pixel_order_and_step() {
         assert!(error.contains(problem), "{bad}: {error}");
     }
 }
+
+/// A 2D view the user zoomed and panned goes in the link and comes back as it was; a camera
+/// dragged to a noisy angle is written in ten significant digits; Escape closes the Share
+/// window.
+#[test]
+fn a_moved_2d_view_and_a_tidy_camera_go_in_the_link_and_escape_closes_it() {
+    use accelviz_app::share::{parse_camera, tidy};
+    let mut harness = common::app_harness();
+    harness.state_mut().selected = 3;
+    harness.run_steps(2);
+    {
+        let app = harness.state_mut();
+        let flat = app
+            .lesson_mut()
+            .unwrap()
+            .stage_mut()
+            .scene
+            .as_flat()
+            .unwrap();
+        flat.view.center = glam::DVec2::new(12.5, -3.25);
+        flat.view.points_per_unit = 7.75;
+        flat.view.placed = true;
+        flat.view.fitted_size = None;
+    }
+    let encoded = harness.state().share_state().unwrap().encode();
+    assert!(encoded.contains("view=12.5,-3.25,7.75"), "{encoded}");
+    let mut opened = common::app_harness();
+    opened.state_mut().open_state(&encoded).unwrap();
+    opened.run_steps(2);
+    let view = opened
+        .state()
+        .lesson()
+        .unwrap()
+        .stage()
+        .scene
+        .flat()
+        .unwrap()
+        .view;
+    assert_eq!(
+        (view.center, view.points_per_unit),
+        (glam::DVec2::new(12.5, -3.25), 7.75)
+    );
+    // A camera angle with float noise, tidied, and read back within a millionth.
+    assert_eq!(tidy(34.00000000000001), "34");
+    assert_eq!(tidy(-0.000123456789012), "-0.000123456789");
+    assert_eq!(tidy(0.1 + 0.2), "0.3");
+    let orbit = parse_camera("34.00000000000001,20,5,0,0,0,p").unwrap();
+    let (_, value) = accelviz_app::share::camera_value(&orbit);
+    assert_eq!(value, "34,20,5,0,0,0,p");
+    // Escape closes the Share window.
+    harness.state_mut().share_window = Some(String::new());
+    harness.run();
+    assert!(harness.state().share_window.is_some());
+    harness.key_press(egui::Key::Escape);
+    harness.run();
+    assert!(harness.state().share_window.is_none(), "Escape closes it");
+}

@@ -143,17 +143,22 @@ fn the_bvh_lesson_shows_the_cores_traversal_at_every_step() {
 fn the_kd_lesson_describes_one_step_in_every_panel() {
     let mut harness = lesson_harness(KdLesson::new(lesson_text("05-kd-tree.ron")));
     harness.run();
+    // The slide's pseudo-code: each leaf tests against the ray clipped to its cell.
     let core = core_steps(
         harness.state(),
         Structure::KdMiddle,
-        &TraceOptions::default(),
+        &TraceOptions {
+            order: accelviz_core::Order::NearFirst,
+            query: Query::FirstInCell,
+            ..TraceOptions::default()
+        },
     );
     let trace = harness.state().trace().expect("a trace").clone();
     assert_eq!(trace.steps, core, "the lesson records the core's traversal");
     let tree = harness.state().tree().expect("a tree").clone();
     let facts = &tree.built.facts;
     let frames = harness.state().stage().timeline.len;
-    let (mut culled, mut empty, mut near, mut far) = (false, false, false, false);
+    let (mut found, mut empty, mut near, mut far) = (false, false, false, false);
     for frame in 1..=frames {
         harness.state_mut().stage_mut().timeline.shown = frame;
         harness.run();
@@ -203,18 +208,29 @@ fn the_kd_lesson_describes_one_step_in_every_panel() {
                     "frame {frame}: 'If empty(ray) return' is lit"
                 );
             }
-            Step::NodeCulled { node, .. } => {
-                culled = true;
-                assert_eq!(view.cell, Some(node));
-                assert_eq!(view.lines, [6], "frame {frame}: the early exit");
+            Step::NodeCulled { .. } => {
+                panic!("frame {frame}: the pseudo-code never culls a node by a hit beyond it")
             }
             Step::PrimitiveTested { .. } => assert_eq!(view.lines, [2]),
             _ => {}
         }
+        // A test that finds the closest hit in its cell shows it in the same frame, and says
+        // the search ends with the leaf.
+        let finds = trace
+            .frame(frame)
+            .iter()
+            .any(|step| matches!(step, Step::ClosestHitUpdated { .. }));
+        assert_eq!(
+            view.text.contains("the search ends"),
+            finds,
+            "frame {frame}: {}",
+            view.text
+        );
+        found |= finds;
     }
     assert!(
-        culled && empty && near && far,
-        "the default scene shows the early exit ({culled}), an empty part ({empty}), rayNear ({near}) and rayFar ({far})"
+        found && empty && near && far,
+        "the default scene shows a hit in its cell ({found}), an empty part ({empty}), rayNear ({near}) and rayFar ({far})"
     );
 }
 
