@@ -121,6 +121,9 @@ pub struct FrameLayout {
     /// How much taller than the screen a lecture slide's panels were (points; 0 or less:
     /// they fit without scrolling).
     pub lecture_panels_overflow: f32,
+    /// Whether the lecture bar cut where the lecture stands (the slide and step counters; the
+    /// title after them may be cut).
+    pub lecture_place_cut: bool,
 }
 
 impl Default for AccelvizApp {
@@ -199,6 +202,7 @@ impl AccelvizApp {
                 window_width: None,
                 inspector_choice: None,
                 lecture_panels_overflow: 0.0,
+                lecture_place_cut: false,
             },
             mode: Mode::Lessons,
             quiz: crate::quiz::QuizMode::new(),
@@ -245,6 +249,7 @@ impl AccelvizApp {
     pub fn contents_ui(&mut self, ui: &mut Ui) {
         self.selected = self.selected.min(self.lessons.len().saturating_sub(1));
         self.apply_style(ui.ctx());
+        self.fit_lecture_zoom(ui.ctx());
         match self.mode {
             Mode::Quiz => self.quiz_ui(ui),
             Mode::Lecture if self.lecture.is_some() => self.lecture_ui(ui),
@@ -422,10 +427,21 @@ impl AccelvizApp {
                 }
             }
         });
-        if let Some(lecture) = self.lecture.as_ref().filter(|_| lecturing) {
-            ctx.set_zoom_factor(lecture.scale);
-        } else if was_lecturing {
+        if was_lecturing && !lecturing {
             ctx.set_zoom_factor(1.0);
+        }
+    }
+
+    /// In lecture mode, the zoom that fits a slide to the screen as it is now (a window
+    /// resized, full screen entered) at the lecturer's text size; set only when it changes.
+    fn fit_lecture_zoom(&self, ctx: &egui::Context) {
+        let Some(lecture) = self.lecture.as_ref().filter(|_| self.mode == Mode::Lecture) else {
+            return;
+        };
+        let zoom = ctx.zoom_factor();
+        let wanted = crate::lecture::lecture_zoom(ctx.content_rect().size() * zoom, lecture.scale);
+        if (wanted - zoom).abs() > 0.005 {
+            ctx.set_zoom_factor(wanted);
         }
     }
 

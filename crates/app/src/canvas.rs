@@ -134,9 +134,10 @@ pub struct View2d {
     /// The canvas size the view was fitted to, while the user has not moved it: a canvas of
     /// another size (a window resized, a lecture slide opened at another scale) fits again.
     pub fitted_size: Option<Vec2>,
-    /// The height kept clear at the top for the canvas's caption when it was fitted: a caption
-    /// that grows (lecture mode's larger text, more lines) fits the view again below it.
-    pub fitted_top: f32,
+    /// The caption's size (width, height) when the view was fitted, the scene kept clear of
+    /// it (below it, or beside it where that shows the scene larger): a caption that grows
+    /// (lecture mode's larger text, more lines) fits the view again.
+    pub fitted_caption: Vec2,
     /// The same at the bottom, for the notes there (the scene's shape count and source): a
     /// ray whose origin sat in the corner was hidden under it.
     pub fitted_bottom: f32,
@@ -149,7 +150,7 @@ impl Default for View2d {
             points_per_unit: 4.0,
             placed: false,
             fitted_size: None,
-            fitted_top: 0.0,
+            fitted_caption: Vec2::ZERO,
             fitted_bottom: 0.0,
         }
     }
@@ -158,13 +159,14 @@ impl Default for View2d {
 impl View2d {
     /// A view showing all of `bounds` in `rect` with a margin.
     pub fn fitted(bounds: &Aabb<DVec2>, rect: Rect) -> Self {
-        Self::fitted_between(bounds, rect, 0.0, 0.0)
+        Self::fitted_between(bounds, rect, Vec2::ZERO, 0.0)
     }
 
-    /// A view showing all of `bounds` in `rect` below its top `top` points (kept for a
-    /// caption) and above its bottom `bottom` points (kept for the notes there), with a
-    /// margin.
-    pub fn fitted_between(bounds: &Aabb<DVec2>, rect: Rect, top: f32, bottom: f32) -> Self {
+    /// A view showing all of `bounds` in `rect`, with a margin, clear of the caption at its
+    /// top left (`caption` its size) and of the bottom `bottom` points (kept for the notes
+    /// there). The scene goes below the caption or beside it, whichever shows it larger: a
+    /// short, wide pane (the recap's five, a lecture's row of three) has room beside it.
+    pub fn fitted_between(bounds: &Aabb<DVec2>, rect: Rect, caption: Vec2, bottom: f32) -> Self {
         if bounds.is_empty() || !bounds.is_finite() {
             return Self {
                 placed: true,
@@ -172,23 +174,86 @@ impl View2d {
             };
         }
         // No more than half the canvas goes to a caption, a quarter to the notes.
-        let top = top.clamp(0.0, rect.height() / 2.0);
+        let caption = Vec2::new(
+            caption.x.clamp(0.0, rect.width() / 2.0),
+            caption.y.clamp(0.0, rect.height() / 2.0),
+        );
         let bottom = bottom.clamp(0.0, rect.height() / 4.0);
-        let extent = bounds.extent().max(DVec2::splat(1e-9));
-        let usable = (rect.size() - Vec2::new(48.0, 48.0 + top + bottom)).max(Vec2::splat(16.0));
-        let points_per_unit = (usable.x as f64 / extent.x).min(usable.y as f64 / extent.y);
-        // The bounds' centre sits in the middle of what is between caption and notes.
+        let (points_per_unit, beside) =
+            Self::fitted_scale(bounds.extent(), rect.size(), caption, bottom);
+        // The offset of the free area's centre from the canvas's, in points (screen y down).
+        let shift = if beside {
+            Vec2::new(caption.x / 2.0, -bottom / 2.0)
+        } else {
+            Vec2::new(0.0, (caption.y - bottom) / 2.0)
+        };
+        // The bounds' centre sits in the middle of what is free of caption and notes.
         let center =
-            bounds.center() + DVec2::new(0.0, f64::from(top - bottom) / 2.0 / points_per_unit);
+            bounds.center() + DVec2::new(-f64::from(shift.x), f64::from(shift.y)) / points_per_unit;
         Self {
             center,
             points_per_unit,
             placed: true,
             fitted_size: Some(rect.size()),
-            fitted_top: top,
+            fitted_caption: caption,
             fitted_bottom: bottom,
         }
     }
+}
+
+impl View2d {
+    /// The zoom (points per unit) at which a scene of `extent` fits a canvas of `size` with
+    /// the margins of [`View2d::fitted_between`], clear of a caption of size `caption` and
+    /// the bottom `bottom` points, and whether the scene goes beside the caption (true) or
+    /// below it.
+    pub fn fitted_scale(extent: DVec2, size: Vec2, caption: Vec2, bottom: f32) -> (f64, bool) {
+        let caption = Vec2::new(
+            caption.x.clamp(0.0, size.x / 2.0),
+            caption.y.clamp(0.0, size.y / 2.0),
+        );
+        let bottom = bottom.clamp(0.0, size.y / 4.0);
+        let extent = extent.max(DVec2::splat(1e-9));
+        let scale_in = |usable: Vec2| {
+            let usable = usable.max(Vec2::splat(16.0));
+            (usable.x as f64 / extent.x).min(usable.y as f64 / extent.y)
+        };
+        let margin = Vec2::splat(48.0);
+        let below = scale_in(size - margin - Vec2::new(0.0, caption.y + bottom));
+        let beside = scale_in(size - margin - Vec2::new(caption.x, bottom));
+        if beside > below * 1.05 {
+            (beside, true)
+        } else {
+            (below, false)
+        }
+    }
+}
+
+/// Where the smallest whole scene of a pass is kept ([`smallest_scene`]).
+fn smallest_scene_id() -> egui::Id {
+    egui::Id::unique("smallest scene shown whole")
+}
+
+/// Notes that a canvas showed its whole scene `points` across (its longer side).
+fn note_scene_shown(ctx: &egui::Context, points: f32) {
+    let pass = ctx.cumulative_pass_nr();
+    ctx.data_mut(|data| {
+        let kept = data.get_temp_mut_or(smallest_scene_id(), (pass, points));
+        if kept.0 != pass {
+            *kept = (pass, points);
+        } else {
+            kept.1 = kept.1.min(points);
+        }
+    });
+}
+
+/// The smallest of the whole scenes the canvases of the last pass showed, in points across
+/// (the longer side; a view the user zoomed or panned is not counted): how large what
+/// carries a slide's point is drawn, which the lecture's layout test holds up.
+pub fn smallest_scene(ctx: &egui::Context) -> Option<f32> {
+    let pass = ctx.cumulative_pass_nr();
+    ctx.data(|data| data.get_temp::<(u64, f32)>(smallest_scene_id()))
+        .filter(|(kept, _)| *kept + 1 >= pass)
+        .map(|(_, points)| points)
 }
 
 /// One frame of a canvas: the painter clipped to its rectangle, the view, and the response
@@ -323,23 +388,31 @@ impl Canvas {
         let rect = response.rect;
         // The caption's and the bottom notes' heights last frame ([`Canvas::caption`],
         // [`Canvas::note_right`]).
-        let (caption, notes): (f32, f32) = ui.ctx().data(|data| {
+        let (caption, notes): (Vec2, f32) = ui.ctx().data(|data| {
             (
-                data.get_temp(caption_id(&response)).unwrap_or(0.0),
+                data.get_temp(caption_id(&response)).unwrap_or(Vec2::ZERO),
                 data.get_temp(notes_id(&response)).unwrap_or(0.0),
             )
         });
         // Fitted again when the canvas changes size or its caption or notes grow past the
         // room kept (not when they shrink: a view that jumped at every step would be worse).
         let resized = view.fitted_size.is_some_and(|size| {
+            let kept = view.fitted_caption;
             (size - rect.size()).length() > 0.5
-                || caption.clamp(0.0, rect.height() / 2.0) > view.fitted_top + 0.5
+                || caption.x.clamp(0.0, rect.width() / 2.0) > kept.x + 0.5
+                || caption.y.clamp(0.0, rect.height() / 2.0) > kept.y + 0.5
                 || notes.clamp(0.0, rect.height() / 4.0) > view.fitted_bottom + 0.5
         });
         if !view.placed || resized {
             *view = View2d::fitted_between(fit_bounds, rect, caption, notes);
         }
         painter.rect_filled(rect, 0.0, ui.visuals().extreme_bg_color);
+        if view.fitted_size.is_some() && !fit_bounds.is_empty() && fit_bounds.is_finite() {
+            note_scene_shown(
+                ui.ctx(),
+                (fit_bounds.extent() * view.points_per_unit).max_element() as f32,
+            );
+        }
 
         // Zoom about the pointer, so the point under it stays put.
         if let Some(hover) = response.hover_pos() {
@@ -752,6 +825,7 @@ impl Canvas {
         let top = self.rect.top();
         let mut pos = self.rect.left_top() + Vec2::new(10.0, 8.0);
         let width = (self.rect.width() - 20.0).max(40.0);
+        let mut widest: f32 = 0.0;
         for (text, color) in lines {
             let galley =
                 self.painter
@@ -759,13 +833,14 @@ impl Canvas {
             let backing = Rect::from_min_size(pos, galley.size()).expand(3.0);
             self.painter.rect_filled(backing, 3.0, PLATE);
             let height = galley.size().y;
+            widest = widest.max(galley.size().x);
             self.painter.galley(pos, galley, *color);
             pos.y += height + 6.0;
         }
-        let height = pos.y - top;
+        let size = Vec2::new(widest + 16.0, pos.y - top);
         self.painter
             .ctx()
-            .data_mut(|data| data.insert_temp(caption_id(&self.response), height));
+            .data_mut(|data| data.insert_temp(caption_id(&self.response), size));
     }
 }
 

@@ -50,6 +50,25 @@ impl Question {
             .numbers(Some(self.asks.get(step).map_or(0, |ask| ask.frame)))
     }
 
+    /// The figure's numbers while step `step` is asked, in two parts: those the step names
+    /// (the shapes and nodes its prompt or options name, and the ray, the box, the node being
+    /// split: every line that is not one shape's or one node's), then the rest. A lecture
+    /// shows the first part where it stays on screen; a node list of a dozen lines used to
+    /// push the node the step asks about below it.
+    pub fn numbers_named_by(&self, step: usize) -> (Vec<String>, Vec<String>) {
+        let Some(ask) = self.asks.get(step) else {
+            return (self.numbers(step), Vec::new());
+        };
+        let mut text = ask.prompt.clone();
+        for option in ask.expected.options() {
+            text.push('\n');
+            text.push_str(&option.label);
+        }
+        self.numbers(step)
+            .into_iter()
+            .partition(|line| line_is_named(line, &text))
+    }
+
     /// The question for print: the prompt, the figure's numbers, each step with its answer
     /// and explanation.
     pub fn to_text(&self) -> String {
@@ -73,6 +92,34 @@ impl Question {
         }
         text
     }
+}
+
+/// Whether a line of the numbers is one `text` needs: a line about one shape (`shape 3: …`)
+/// or one node (`node RL: …`) when `text` names it, every other line (the ray, a box, the
+/// node being split) always.
+fn line_is_named(line: &str, text: &str) -> bool {
+    let subject = line.split(": ").next().unwrap_or_default();
+    let (noun, name) = match subject.split_once(' ') {
+        Some((noun @ ("shape" | "node"), name)) if !name.contains(' ') => (noun, name),
+        _ => return true,
+    };
+    // A name of digits alone is named only with its noun (`shape 2`, `node 2`, `child 2`,
+    // `cell 2`): a bare `2` is as likely a coordinate. A path of L and R, or `root`, is named
+    // wherever it stands as a word.
+    let nouns: &[&str] = match (noun, name.bytes().all(|b| b.is_ascii_digit())) {
+        ("shape", _) => &["shape ", "shapes "],
+        (_, true) => &["node ", "child ", "cell "],
+        (_, false) => &[""],
+    };
+    nouns.iter().any(|noun| {
+        let wanted = format!("{noun}{name}");
+        text.match_indices(&wanted).any(|(at, _)| {
+            let before = text[..at].chars().next_back();
+            let after = text[at + wanted.len()..].chars().next();
+            let apart = |c: Option<char>| c.is_none_or(|c| !c.is_alphanumeric());
+            apart(before) && apart(after)
+        })
+    })
 }
 
 /// The letter of a choice: `a`, `b`, … (the keys that pick it in the app).
@@ -690,4 +737,36 @@ pub struct Highlight {
     pub marks: Vec<f64>,
     /// Whether the slab test's intervals are drawn on number lines (once every one is known).
     pub intervals: bool,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::line_is_named;
+
+    #[test]
+    fn a_line_is_named_by_its_shape_or_node_as_a_word() {
+        let text = "The ray is in cell R for t in [0.625, 1.05]; which child is near?\nnode RL (y < 7.5)\nnode RR";
+        for (line, named) in [
+            ("node R: (12.25, 1.5)–(19, 13.5), cut at y = 7.5", true),
+            ("node RL: (12.25, 1.5)–(19, 7.5)", true),
+            ("node RLL: (12.25, 1.5)–(15.625, 7.5), leaf", false),
+            ("node L: (5.5, 1.5)–(12.25, 13.5)", false),
+            ("shape 1: box (12.5, 7.5)–(14.5, 8.5)", false),
+            ("ray from (8.5, 21) in direction (10, −12)", true),
+            ("the node: 5 shapes, box (3, 1.5)–(18.5, 13.5)", true),
+        ] {
+            assert_eq!(line_is_named(line, text), named, "{line}");
+        }
+        let text = "After child 2, which child of root does the ray pass into next?\nnode 3 (x > 13)\nshape 12";
+        for (line, named) in [
+            ("node 2: (7.5, 8.5)–(13, 15.5)", true),
+            ("node 3: (13, 8.5)–(18.5, 15.5)", true),
+            ("node 1: (13, 1.5)–(18.5, 8.5)", false),
+            ("node root: (7.5, 1.5)–(18.5, 15.5)", true),
+            ("shape 1: box", false),
+            ("shape 12: disc", true),
+        ] {
+            assert_eq!(line_is_named(line, text), named, "{line}");
+        }
+    }
 }

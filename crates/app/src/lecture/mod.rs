@@ -201,11 +201,21 @@ impl Theme {
     }
 }
 
-/// The zoom a lecture starts at: on a 1920×1080 screen the app is laid out on 1280×720
-/// points, and the smallest text (16 points) is 24 pixels.
-pub const LECTURE_SCALE: f32 = 1.5;
+/// The screen a lecture lays its slides out on, in points, whatever the projector's pixels:
+/// a slide fills a 1366×768 projector as it fills a 1920×1080 one (there at a zoom of 1.5, the
+/// smallest text, 16 points, 24 pixels), so what carries its point is on screen at both.
+pub const LECTURE_LAYOUT: egui::Vec2 = egui::vec2(1280.0, 720.0);
 
-/// Text sizes in lecture mode, in points: the smallest is 16 (24 px at [`LECTURE_SCALE`]).
+/// The zoom that fits [`LECTURE_LAYOUT`] to a screen of `unzoomed` points (its size at a
+/// zoom of 1), times the lecturer's `scale` (Setup's text size, 1 by default).
+pub fn lecture_zoom(unzoomed: egui::Vec2, scale: f32) -> f32 {
+    let fit = (unzoomed.x / LECTURE_LAYOUT.x).min(unzoomed.y / LECTURE_LAYOUT.y);
+    // A window too small to lecture from is still readable, if cramped.
+    (fit * scale).max(0.75)
+}
+
+/// Text sizes in lecture mode, in points: the smallest is 16 (24 px on a 1920×1080 screen,
+/// see [`LECTURE_LAYOUT`]).
 pub fn lecture_text_styles(style: &mut egui::Style) {
     use egui::{FontFamily, FontId, TextStyle};
     for (text_style, size) in [
@@ -240,7 +250,8 @@ pub struct Lecture {
     pub panels: bool,
     /// The pointer is lit.
     pub pointer: bool,
-    /// The zoom (points per pixel at 1).
+    /// The lecturer's text size, relative to the slide fitted to the screen (see
+    /// [`lecture_zoom`]).
     pub scale: f32,
     /// The last message: text and whether it reports a problem.
     pub message: Option<(String, bool)>,
@@ -265,7 +276,7 @@ impl Lecture {
             blank: false,
             panels: false,
             pointer: true,
-            scale: LECTURE_SCALE,
+            scale: 1.0,
             message: None,
             pending: None,
             question: None,
@@ -593,11 +604,11 @@ impl Lecture {
                         };
                         ui.label(text);
                     }
-                    ui.add_space(8.0);
-                    let step = session.step().min(question.asks.len().saturating_sub(1));
-                    crate::quiz::numbers_ui(ui, &question.numbers(step), Some(18.0));
+                    // The answer right below the options, where the class is looking; the
+                    // numbers after it, those this step names first (they stay on screen
+                    // at 1280 × 720 points; the rest may scroll).
+                    ui.add_space(10.0);
                     if revealed {
-                        ui.add_space(10.0);
                         if let Expected::Number { .. } = ask.expected {
                             ui.label(
                                 RichText::new(format!("Answer: {}", ask.expected.model_answer()))
@@ -608,12 +619,25 @@ impl Lecture {
                         }
                         ui.label(RichText::new(&ask.explanation).size(19.0));
                     } else {
-                        ui.add_space(10.0);
                         ui.label(
                             RichText::new("Press R to reveal the answer.")
                                 .size(18.0)
                                 .weak(),
                         );
+                    }
+                    ui.add_space(10.0);
+                    let step = session.step().min(question.asks.len().saturating_sub(1));
+                    let (named, rest) = question.numbers_named_by(step);
+                    crate::quiz::numbers_ui(ui, &named, Some(18.0));
+                    if !rest.is_empty() {
+                        egui::CollapsingHeader::new(RichText::new("The other numbers").size(16.0))
+                            .id_salt("the other numbers")
+                            .default_open(true)
+                            .show(ui, |ui| {
+                                for line in &rest {
+                                    ui.label(RichText::new(line).size(16.0));
+                                }
+                            });
                     }
                 });
             });

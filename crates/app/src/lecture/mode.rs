@@ -217,14 +217,20 @@ impl AccelvizApp {
         };
         let mut outcome = None;
         let mut open_script = false;
+        let mut place_cut = false;
         let count = lecture.script.slides.len();
-        let what = match lecture.current() {
+        // The counters first and the title last, so that on a narrow screen the cut falls on
+        // the title (shown on hover), never on where the lecture stands.
+        let place = match lecture.current() {
             Slide::Lesson { index, .. } => {
                 let title = titles.get(*index).cloned().unwrap_or_default();
                 // A 3D slide before its ray is clicked has no steps to count.
                 match step {
-                    Some((shown, len)) if len > 0 => format!("{title} · step {shown} of {len}"),
-                    _ => title,
+                    Some((shown, len)) if len > 0 => format!(
+                        "Slide {} of {count} · step {shown} of {len} · {title}",
+                        lecture.slide + 1
+                    ),
+                    _ => format!("Slide {} of {count} · {title}", lecture.slide + 1),
                 }
             }
             Slide::Question { kind, .. } => {
@@ -233,12 +239,13 @@ impl AccelvizApp {
                     .find(|entry| entry.name == *kind)
                     .map_or(*kind, |entry| entry.title);
                 match lecture.question_step_text() {
-                    Some(step) => format!("{title} · {step}"),
-                    None => title.to_owned(),
+                    Some(step) => {
+                        format!("Slide {} of {count} · {step} · {title}", lecture.slide + 1)
+                    }
+                    None => format!("Slide {} of {count} · {title}", lecture.slide + 1),
                 }
             }
         };
-        let place = format!("Slide {} of {count} · {what}", lecture.slide + 1);
         // One row that never wraps: the buttons first, where the lecturer's hand expects
         // them on every slide, the setup in a menu, and the slide's place last, cut to what
         // is left (the whole of it on hover), so no slide moves the bar or the canvas.
@@ -280,13 +287,17 @@ impl AccelvizApp {
                 }
                 ui.checkbox(&mut lecture.pointer, "Pointer");
                 ui.horizontal(|ui| {
-                    let label = ui.label("Scale");
-                    let scale = ui
-                        .add(egui::Slider::new(&mut lecture.scale, 1.0..=2.5).step_by(0.1))
-                        .labelled_by(label.id);
-                    if scale.drag_stopped() || scale.lost_focus() {
-                        ui.ctx().set_zoom_factor(lecture.scale);
-                    }
+                    let label = ui.label("Text size");
+                    ui.add(
+                        egui::Slider::new(&mut lecture.scale, 0.7..=1.6)
+                            .step_by(0.1)
+                            .custom_formatter(|value, _| format!("{:.0} %", value * 100.0))
+                            .custom_parser(|text| {
+                                text.trim_end_matches(['%', ' ']).parse::<f64>().ok().map(|v| v / 100.0)
+                            }),
+                    )
+                    .labelled_by(label.id)
+                    .on_hover_text("Relative to the slide fitted to the screen: 100 % lays a slide out on 1280 × 720 points, whatever the projector's pixels");
                 });
                 ui.horizontal(|ui| {
                     for theme in Theme::ALL {
@@ -300,9 +311,23 @@ impl AccelvizApp {
                 });
             });
             ui.separator();
+            // Everything before the title: the counters, which must not be cut.
+            let counters = place.rsplit_once(" · ").map_or(place.as_str(), |(head, _)| head);
+            let counters_width = ui
+                .fonts_mut(|fonts| {
+                    fonts.layout_no_wrap(
+                        counters.to_owned(),
+                        egui::TextStyle::Body.resolve(ui.style()),
+                        egui::Color32::WHITE,
+                    )
+                })
+                .size()
+                .x;
+            place_cut = counters_width > ui.available_width();
             ui.add(egui::Label::new(RichText::new(&place).strong()).truncate())
                 .on_hover_text(&place);
         });
+        self.last_layout.lecture_place_cut = place_cut;
         // What went wrong with the script or the slide, below, in full: the skipped lines one
         // a row (the first few; Setup lists every one).
         let problems = lecture.script.problems();

@@ -534,7 +534,7 @@ impl Lesson for SplitsLesson {
 
     fn canvas_ui(&mut self, ui: &mut egui::Ui) {
         self.stage.scene.toolbar_ui(ui);
-        let pane_height = (ui.available_height() * 0.55).max(120.0);
+        let pane_height = (ui.available_height() * 0.6).max(120.0);
         let node = self.node;
         let selected = self.selected;
         let family = self.family;

@@ -16,9 +16,7 @@ use accelviz_core::trade::{Switches, TradeRow};
 use accelviz_core::{Family, Ray};
 use accelviz_scene::rays::RayKind;
 use egui::{Color32, RichText};
-use egui_plot::{
-    GridMark, Legend, Line, MarkerShape, Plot, PlotPoint, PlotPoints, Points, Text, VLine,
-};
+use egui_plot::{Legend, Line, MarkerShape, Plot, PlotPoint, PlotPoints, Points, VLine};
 use glam::DVec3;
 
 use crate::background::worker_threads;
@@ -29,7 +27,7 @@ use crate::mesh::trade::{TradeJob, TradeKey, TradeProgress, TradeResult};
 use crate::mesh::{MeshScene, ui::mesh_ui};
 use crate::stage::Stage;
 use crate::view3d::Export;
-use crate::views::scene_view::{narrow_x_axis, powers_of_ten};
+use crate::views::scene_view::{narrow_x_axis, power_of_ten_label, powers_of_ten};
 
 /// The lesson that steps a shown ray.
 const SHOWN_IN: &str = "12-mesh-bvh.ron";
@@ -257,7 +255,7 @@ pub struct TradeLesson {
     /// A PNG of the plot asked for: the plot's rectangle, waiting for the screenshot.
     plot_png: Option<egui::Rect>,
     /// Where the plot was drawn last.
-    plot_rect: Option<egui::Rect>,
+    pub plot_rect: Option<egui::Rect>,
     /// The window's picture, when it arrives (the integration reads it after a frame).
     screenshot: Arc<std::sync::Mutex<Option<Arc<egui::ColorImage>>>>,
 }
@@ -751,10 +749,6 @@ fn color_of(family: Family) -> Color32 {
     }
 }
 
-fn power_label(mark: GridMark, _: &std::ops::RangeInclusive<f64>) -> String {
-    number(10f64.powf(mark.value))
-}
-
 /// One point a structure, labelled with its name, coloured by family.
 #[allow(clippy::too_many_arguments)]
 fn scatter_ui(
@@ -789,13 +783,13 @@ fn scatter_ui(
     if log_x {
         plot = plot
             .x_grid_spacer(powers_of_ten)
-            .custom_x_axes(vec![narrow_x_axis(x_label).formatter(power_label)]);
+            .custom_x_axes(vec![narrow_x_axis(x_label).formatter(power_of_ten_label)]);
     } else {
         plot = plot
             .include_x(0.0)
             .custom_x_axes(vec![narrow_x_axis(x_label)]);
     }
-    plot.show(ui, |plot| {
+    let shown = plot.show(ui, |plot| {
         if diagonal {
             let top = rows
                 .iter()
@@ -828,21 +822,96 @@ fn scatter_ui(
                     .color(color),
             );
         }
-        for row in rows {
+    });
+    // The names beside their points, none over another, a point or the legend: at lecture
+    // size egui_plot's own texts piled the BVHs' names into one smear and ran off the right
+    // edge. A name with no free spot is left out, and said on hover.
+    let transform = shown.transform;
+    let frame = *transform.frame();
+    let painter = ui.painter_at(frame);
+    let font = egui::TextStyle::Small.resolve(ui.style());
+    let mut labels = crate::canvas::Labels::new(frame.shrink(2.0));
+    let legend_rows = Family::ALL
+        .iter()
+        .filter(|family| rows.iter().any(|row| row.structure.family() == **family))
+        .count() as f32;
+    let legend_row = ui.text_style_height(&egui::TextStyle::Body) + 4.0;
+    labels.reserve(egui::Rect::from_min_size(
+        frame.left_top(),
+        egui::vec2(11.0 * font.size + 24.0, legend_rows * legend_row + 12.0),
+    ));
+    let spots: Vec<egui::Pos2> = rows
+        .iter()
+        .map(|row| {
             let [px, py] = at(row);
-            plot.text(
-                // Unnamed: the names label the points, not the legend.
-                Text::new(
-                    "",
-                    PlotPoint::new(px, py),
-                    RichText::new(format!("  {}", row.structure.name())).small(),
-                )
-                .anchor(egui::Align2::LEFT_CENTER)
-                .color(family_color(row)),
-            );
+            transform.position_from_point(&PlotPoint::new(px, py))
+        })
+        .collect();
+    for spot in &spots {
+        labels.reserve(egui::Rect::from_center_size(*spot, egui::Vec2::splat(9.0)));
+    }
+    let plate = ui.visuals().extreme_bg_color;
+    let mut left_out = Vec::new();
+    for (row, spot) in rows.iter().zip(&spots) {
+        let name = row.structure.name();
+        let size = painter
+            .layout_no_wrap(name.to_string(), font.clone(), Color32::WHITE)
+            .size();
+        let offsets = label_offsets(size);
+        let placed = labels.place(
+            &painter,
+            &name,
+            font.clone(),
+            crate::canvas::readable_on(family_color(row), plate),
+            *spot,
+            &offsets,
+            Some(plate),
+        );
+        if placed.is_none() {
+            left_out.push((name, *spot));
         }
-    })
-    .response
+    }
+    let response = shown.response;
+    if let Some(pointer) = response.hover_pos() {
+        let near: Vec<String> = rows
+            .iter()
+            .zip(&spots)
+            .filter(|(_, spot)| spot.distance(pointer) < 8.0)
+            .map(|(row, _)| row.structure.name().to_string())
+            .collect();
+        if !near.is_empty() {
+            response.clone().on_hover_text_at_pointer(near.join(", "));
+        }
+    }
+    if !left_out.is_empty() {
+        painter.text(
+            frame.right_bottom() - egui::vec2(6.0, 4.0),
+            egui::Align2::RIGHT_BOTTOM,
+            format!(
+                "{} left unnamed where names would overlap: hover a point",
+                accelviz_core::format::counted(left_out.len(), "point", "points")
+            ),
+            font,
+            ui.visuals().weak_text_color(),
+        );
+    }
+    response
+}
+
+/// Where a point's name of `size` may go, nearest first: right of it, left, above, below,
+/// then the diagonals (the offsets of the name's centre from the point).
+fn label_offsets(size: egui::Vec2) -> Vec<egui::Vec2> {
+    let (x, y) = (size.x / 2.0 + 7.0, size.y / 2.0 + 5.0);
+    vec![
+        egui::vec2(x, 0.0),
+        egui::vec2(-x, 0.0),
+        egui::vec2(0.0, -y),
+        egui::vec2(0.0, y),
+        egui::vec2(x, -y),
+        egui::vec2(x, y),
+        egui::vec2(-x, -y),
+        egui::vec2(-x, y),
+    ]
 }
 
 /// Total time against rays, log-log: the structures fastest somewhere and the lecture's
@@ -864,13 +933,13 @@ fn total_vs_rays_ui(ui: &mut egui::Ui, height: f32, result: &TradeResult) -> egu
         .height(height.max(160.0))
         .legend(Legend::default().position(egui_plot::Corner::LeftTop))
         .custom_x_axes(vec![
-            narrow_x_axis("rays traced (log scale)").formatter(power_label),
+            narrow_x_axis("rays traced (log scale)").formatter(power_of_ten_label),
         ])
         .y_axis_label("build + rays, ms (log scale)")
         .y_axis_min_width(56.0)
         .x_grid_spacer(powers_of_ten)
         .y_grid_spacer(powers_of_ten)
-        .y_axis_formatter(power_label)
+        .y_axis_formatter(power_of_ten_label)
         .allow_scroll(false)
         .show(ui, |plot| {
             for (slot, &index) in shown.iter().enumerate() {
@@ -974,6 +1043,25 @@ impl Lesson for TradeLesson {
             _ => return Err(format!("this lesson keeps no '{key}'")),
         }
         Ok(())
+    }
+
+    /// The views by their tabs' names: a lecture slide opens the one that carries its point
+    /// (`lesson 16 show "total vs rays"`), not a table of every row.
+    fn show_named(&mut self, name: &str) -> bool {
+        match View::ALL.into_iter().find(|view| view.name() == name) {
+            Some(view) => {
+                self.view = view;
+                true
+            }
+            None => false,
+        }
+    }
+
+    fn named(&self) -> Vec<String> {
+        View::ALL
+            .iter()
+            .map(|view| view.name().to_owned())
+            .collect()
     }
 
     fn take_show_ray(&mut self) -> Option<ShowRay> {

@@ -9,7 +9,7 @@ use accelviz_core::{PrimitiveSet, Ray, ShapeSet, SplitRule, Structure, TraceOpti
 use accelviz_scene::document::SceneSettings;
 use accelviz_scene::scene2d::{Layout, generate};
 use egui::Color32;
-use egui_plot::{GridMark, Legend, Line, MarkerShape, Plot, PlotPoints, Points};
+use egui_plot::{Legend, Line, MarkerShape, Plot, PlotPoints, Points};
 use glam::DVec2;
 
 use crate::background::{Cached, Derived};
@@ -21,7 +21,8 @@ use crate::stage::{SceneTree, Stage, request_over_shapes};
 use crate::trace::{Trace, describe_step};
 use crate::views::compare::{count_rays, measured_rays};
 use crate::views::scene_view::{
-    building_note, draw_ray, draw_tested_shapes, narrow_x_axis, powers_of_ten, t_hint_ui,
+    building_note, draw_ray, draw_tested_shapes, narrow_x_axis, power_of_ten_label, powers_of_ten,
+    t_hint_ui,
 };
 
 /// The scene sizes of the growth curve.
@@ -124,23 +125,16 @@ impl TrivialLoop {
                 .map(|point| [log(point.count as f64), log(value(point))])
                 .collect()
         };
-        let power_of_ten = |mark: GridMark, _: &std::ops::RangeInclusive<f64>| {
-            if (mark.value - mark.value.round()).abs() < 1e-9 {
-                count(10f64.powf(mark.value).round() as usize)
-            } else {
-                String::new()
-            }
-        };
         let plot_bg = ui.visuals().extreme_bg_color;
         Plot::new("growth")
             .height(220.0)
             .legend(Legend::default().position(egui_plot::Corner::LeftTop))
             // Room above the curves for the legend.
             .custom_x_axes(vec![
-                narrow_x_axis("primitives n (log scale)").formatter(power_of_ten),
+                narrow_x_axis("primitives n (log scale)").formatter(power_of_ten_label),
             ])
             .y_axis_label("tests per ray (log)")
-            .y_axis_formatter(power_of_ten)
+            .y_axis_formatter(power_of_ten_label)
             .x_grid_spacer(powers_of_ten)
             .y_grid_spacer(powers_of_ten)
             .include_y(0.0)

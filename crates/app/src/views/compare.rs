@@ -123,7 +123,58 @@ impl Comparison {
         lines
     }
 
-    /// The panes side by side, `columns` a row, sharing one view, each titled with its
+    /// How many panes a row: `preferred`, unless another count shows the scene clearly larger
+    /// in the room there is (`height` points high, as wide as `ui`), each pane's caption
+    /// measured as [`Canvas::caption`] lays it out. Five panes of a wide scene in three
+    /// columns left each 60 points of scene under its caption at lecture size; in one row
+    /// they are three times that.
+    fn best_columns(
+        &self,
+        ui: &egui::Ui,
+        preferred: usize,
+        height: f32,
+        gap: f32,
+        extent: DVec2,
+    ) -> usize {
+        let panes = self.trees.len().max(1);
+        let font = crate::canvas::font(ui.ctx(), 14.0);
+        // The tallest and widest caption of any pane, as the canvas lays it out (lines 6
+        // points apart, 10 in from the edge).
+        let caption = (0..self.trees.len())
+            .map(|pane| {
+                let mut lines = vec![self.trees[pane].built.structure.name()];
+                lines.extend(self.summary(pane));
+                lines.iter().fold(Vec2::new(0.0, 8.0), |size, line| {
+                    let galley = ui.fonts_mut(|fonts| {
+                        fonts.layout_no_wrap(line.clone(), font.clone(), Color32::WHITE)
+                    });
+                    Vec2::new(
+                        size.x.max(galley.size().x + 16.0),
+                        size.y + galley.size().y + 6.0,
+                    )
+                })
+            })
+            .fold(Vec2::ZERO, Vec2::max);
+        let scale = |columns: usize| {
+            let rows = panes.div_ceil(columns);
+            let size = Vec2::new(
+                (ui.available_width() - gap * (columns - 1) as f32) / columns as f32,
+                (height - gap * (rows - 1) as f32) / rows as f32,
+            );
+            View2d::fitted_scale(extent, size, caption, 0.0).0
+        };
+        let preferred = preferred.clamp(1, panes);
+        let best = (1..=panes)
+            .max_by(|a, b| scale(*a).total_cmp(&scale(*b)))
+            .unwrap_or(preferred);
+        if scale(best) > scale(preferred) * 1.2 {
+            best
+        } else {
+            preferred
+        }
+    }
+
+    /// The panes side by side, `columns` a row (or as many as show the scene larger), sharing one view, each titled with its
     /// structure's name in `title_color(pane)` and drawn by `overlay` after its tree; the
     /// user's edits on any pane go to `scene`. While a newer comparison is `working`, the
     /// first pane says so.
@@ -138,12 +189,12 @@ impl Comparison {
         title_color: impl Fn(usize) -> Color32,
         overlay: impl Fn(usize, &SceneTree, &Canvas),
     ) {
-        let columns = columns.clamp(1, self.trees.len().max(1));
-        let rows = self.trees.len().div_ceil(columns).max(1);
         let gap = 6.0;
+        let bounds = scene.bounds();
+        let columns = self.best_columns(ui, columns, height, gap, bounds.extent());
+        let rows = self.trees.len().div_ceil(columns).max(1);
         let width = (ui.available_width() - gap * (columns - 1) as f32) / columns as f32;
         let height = (height - gap * (rows - 1) as f32) / rows as f32;
-        let bounds = scene.bounds();
         let mut view: View2d = scene.view;
         let mut canvases = Vec::with_capacity(self.trees.len());
         for row in 0..rows {

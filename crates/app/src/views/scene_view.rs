@@ -185,6 +185,20 @@ pub fn powers_of_ten(input: egui_plot::GridInput) -> Vec<egui_plot::GridMark> {
         .collect()
 }
 
+/// The tick label of a log axis at `mark` (a power of ten): `1`, `10`, `1 000`, `0.01`, one
+/// way on every axis (the trade lab mixed `1.000`, `100.0` and `1e6`); between powers, none.
+pub fn power_of_ten_label(mark: egui_plot::GridMark, _: &std::ops::RangeInclusive<f64>) -> String {
+    let power = mark.value.round();
+    if (mark.value - power).abs() > 1e-9 {
+        return String::new();
+    }
+    if power >= 0.0 {
+        accelviz_core::format::count(10f64.powf(power).round() as usize)
+    } else {
+        format!("{:.*}", (-power) as usize, 10f64.powf(power))
+    }
+}
+
 /// A plot's x axis labelled `label`, whose tick numbers show even in a narrow panel (egui_plot
 /// hides x numbers closer than 60 points apart, which in the inspector can hide them all).
 pub fn narrow_x_axis<'a>(label: &str) -> egui_plot::AxisHints<'a> {

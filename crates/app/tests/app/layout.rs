@@ -301,6 +301,8 @@ fn a_parents_name_goes_outside_its_box_and_a_childs_inside() {
 
 /// A fitted view keeps clear of the caption's room at the top and the notes' at the bottom:
 /// a ray's origin in the scene's corner was hidden under "5 shapes · the lesson's scene".
+/// Where a short, wide pane has more room beside its caption than below it (the recap's five
+/// panes: a scene 60 points high under four lines of caption), the scene goes beside it.
 #[test]
 fn a_fitted_view_keeps_clear_of_the_caption_and_the_notes() {
     use accelviz_app::canvas::View2d;
@@ -308,18 +310,50 @@ fn a_fitted_view_keeps_clear_of_the_caption_and_the_notes() {
     use glam::DVec2;
     let rect = egui::Rect::from_min_size(egui::pos2(10.0, 20.0), egui::vec2(800.0, 500.0));
     let bounds = Aabb::new(DVec2::new(0.0, 0.0), DVec2::new(40.0, 20.0));
-    let (top, bottom) = (60.0, 40.0);
-    let view = View2d::fitted_between(&bounds, rect, top, bottom);
-    let screen_y = |y: f64| rect.center().y - ((y - view.center.y) * view.points_per_unit) as f32;
-    let (highest, lowest) = (screen_y(bounds.max.y), screen_y(bounds.min.y));
-    assert!(highest >= rect.top() + top, "below the caption: {highest}");
+    let on_screen = |view: &View2d, point: DVec2| {
+        rect.center()
+            + egui::vec2(
+                ((point.x - view.center.x) * view.points_per_unit) as f32,
+                -((point.y - view.center.y) * view.points_per_unit) as f32,
+            )
+    };
+    let (caption, bottom) = (egui::vec2(300.0, 60.0), 40.0);
+    let view = View2d::fitted_between(&bounds, rect, caption, bottom);
+    let (top_left, bottom_right) = (
+        on_screen(&view, DVec2::new(bounds.min.x, bounds.max.y)),
+        on_screen(&view, DVec2::new(bounds.max.x, bounds.min.y)),
+    );
     assert!(
-        lowest <= rect.bottom() - bottom,
-        "above the notes: {lowest}"
+        top_left.y >= rect.top() + caption.y,
+        "below the caption: {top_left:?}"
+    );
+    assert!(
+        bottom_right.y <= rect.bottom() - bottom,
+        "above the notes: {bottom_right:?}"
     );
     // Centred between them.
-    let middle = (rect.top() + top + rect.bottom() - bottom) / 2.0;
-    assert!(((highest + lowest) / 2.0 - middle).abs() < 0.5);
+    let middle = (rect.top() + caption.y + rect.bottom() - bottom) / 2.0;
+    assert!(((top_left.y + bottom_right.y) / 2.0 - middle).abs() < 0.5);
+
+    // A square scene in a wide, short pane under a tall caption: beside it, larger.
+    let pane = egui::Rect::from_min_size(egui::pos2(0.0, 0.0), egui::vec2(420.0, 300.0));
+    let square = Aabb::new(DVec2::ZERO, DVec2::splat(100.0));
+    let caption = egui::vec2(180.0, 120.0);
+    // Below it, with the 24-point margins: 300 − 48 − 120 = 132 points for 100 units.
+    let below = 1.32;
+    let view = View2d::fitted_between(&square, pane, caption, 0.0);
+    assert!(
+        view.points_per_unit > below * 1.3,
+        "beside the caption the scene is larger: {} against {below}",
+        view.points_per_unit,
+    );
+    let left = pane.center().x + ((square.min.x - view.center.x) * view.points_per_unit) as f32;
+    let right = pane.center().x + ((square.max.x - view.center.x) * view.points_per_unit) as f32;
+    assert!(
+        left >= pane.left() + caption.x,
+        "right of the caption: {left}"
+    );
+    assert!(right <= pane.right(), "inside the pane: {right}");
 }
 
 /// The slots' batches drawn in a frame: their vertices, in drawing order.

@@ -665,3 +665,135 @@ fn the_build_questions_bar_says_which_node_and_how_many_wait() {
     press(&mut harness, Key::PageDown);
     assert_eq!(text(&harness), "node 2, 1 waiting");
 }
+
+/// The smallest a lesson slide may draw its scene, in points across at 1280 × 720 points:
+/// at 1366 × 768 pixels a fifth of the screen's height. The recap's five panes were 60.
+const LEAST_SCENE: f32 = 150.0;
+
+/// Every slide of the default script carries its point on screen at 1366 × 768 (a common
+/// projector, a student's laptop) and 1920 × 1080: the bar keeps the slide and step counters
+/// (its title was cut before them); a lesson slide's scenes, each pane's too, are drawn at
+/// least [`LEAST_SCENE`] across; a question slide keeps, at every step, its answer's
+/// explanation once revealed and the numbers the step names on screen (they were below it,
+/// under a dozen nodes' lines).
+#[test]
+fn every_slide_fits_what_carries_its_point_at_both_sizes() {
+    let mut failures = Vec::new();
+    let mut explained = 0;
+    for size in [egui::vec2(1366.0, 768.0), egui::vec2(1920.0, 1080.0)] {
+        let mut harness = common::app_harness_sized(size);
+        harness.state_mut().start_lecture();
+        harness.run();
+        harness.run();
+        let count = slide_count(&harness);
+        for index in 0..count {
+            let slide = format!("{}×{} slide {}", size.x, size.y, index + 1);
+            harness.state_mut().open_slide(index, false);
+            common::run_until_built(&mut harness, 40);
+            press(&mut harness, Key::Home);
+            harness.run();
+            let screen = harness.ctx.content_rect();
+            let on_screen = |harness: &Harness<'_, AccelvizApp>, text: &str| {
+                harness
+                    .query_by_label(text)
+                    .is_some_and(|node| node.rect().max.y <= screen.max.y + 1.0)
+            };
+            match slides(&harness)[index] {
+                Slide::Lesson { .. } => {
+                    for key in [Key::Home, Key::End] {
+                        press(&mut harness, key);
+                        harness.run();
+                        if harness.state().last_layout.lecture_place_cut {
+                            failures.push(format!("{slide} ({key:?}): the bar cuts its counters"));
+                        }
+                        match accelviz_app::canvas::smallest_scene(&harness.ctx) {
+                            Some(points) if points < LEAST_SCENE => failures.push(format!(
+                                "{slide} ({key:?}): a scene {points:.0} points across"
+                            )),
+                            _ => {}
+                        }
+                    }
+                }
+                Slide::Question { .. } => {
+                    let steps = harness.state().lecture.as_ref().unwrap().question_step();
+                    let steps = steps.map_or(1, |(_, of)| of);
+                    for step in 0..steps {
+                        if harness.state().last_layout.lecture_place_cut {
+                            failures
+                                .push(format!("{slide} step {step}: the bar cuts its counters"));
+                        }
+                        let lecture = harness.state().lecture.as_ref().unwrap();
+                        let session = lecture.question().unwrap();
+                        let question = session.questions()[0].clone();
+                        let at = session.step().min(question.asks.len() - 1);
+                        let (named, _) = question.numbers_named_by(at);
+                        for line in &named {
+                            if !on_screen(&harness, line) {
+                                failures.push(format!(
+                                    "{slide} step {step}: '{line}' is off the screen"
+                                ));
+                            }
+                        }
+                        press(&mut harness, Key::R);
+                        harness.run();
+                        let explanation = &question.asks[at].explanation;
+                        explained += 1;
+                        if !on_screen(&harness, explanation) {
+                            failures.push(format!(
+                                "{slide} step {step}: the explanation is off the screen: {explanation}"
+                            ));
+                        }
+                        press(&mut harness, Key::PageDown);
+                        harness.run();
+                        if harness.state().lecture.as_ref().unwrap().slide != index {
+                            break;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+    assert!(
+        explained >= 2 * 20,
+        "every step of the 11 questions, at both sizes: {explained}"
+    );
+}
+
+/// Not a check but a walk-through: every slide of the default script at 1366×768 and
+/// 1920×1080, at its first step, its last and (questions) with the answer shown, written to
+/// `target/lecture-walk/` for a person to look at. `cargo test -p accelviz-app --test app --
+/// --ignored lecture_walk`.
+#[test]
+#[ignore = "writes screenshots for a person to look at"]
+fn lecture_walk() {
+    let out = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../target/lecture-walk");
+    std::fs::create_dir_all(&out).unwrap();
+    let only: Option<Vec<usize>> = std::env::var("SLIDES")
+        .ok()
+        .map(|list| list.split(',').map(|n| n.parse().unwrap()).collect());
+    for size in [egui::vec2(1366.0, 768.0), egui::vec2(1920.0, 1080.0)] {
+        let mut harness = common::app_harness_sized(size);
+        harness.state_mut().start_lecture();
+        harness.run();
+        harness.run();
+        let count = slide_count(&harness);
+        for index in 0..count {
+            if only
+                .as_ref()
+                .is_some_and(|only| !only.contains(&(index + 1)))
+            {
+                continue;
+            }
+            harness.state_mut().open_slide(index, false);
+            common::run_until_built(&mut harness, 40);
+            for (name, key) in [("first", Key::Home), ("last", Key::End), ("shown", Key::R)] {
+                press(&mut harness, key);
+                harness.run();
+                let image = harness.render().unwrap();
+                let file = out.join(format!("{}x{}-{:02}-{name}.png", size.x, size.y, index + 1));
+                image.save(&file).unwrap();
+            }
+        }
+    }
+}

@@ -136,6 +136,22 @@ fn the_lab_measures_sorts_plots_and_exports() {
         harness.state_mut().view = view;
         harness.run();
         harness.snapshot(format!("trade_{}", view.name().replace(' ', "_")));
+        // The points' names: none over another, none cut at the plot's edge (the BVHs'
+        // names piled into one smear and ran off the right edge).
+        let plot = harness.state().plot_rect.expect("a plot");
+        let texts = texts_within(&harness, plot);
+        for (index, (rect, text)) in texts.iter().enumerate() {
+            assert!(
+                plot.contains_rect(*rect),
+                "{view:?}: '{text}' leaves the plot: {rect:?} of {plot:?}"
+            );
+            for (other, other_text) in &texts[index + 1..] {
+                assert!(
+                    rect.intersect(*other).area() <= 1.0,
+                    "{view:?}: '{text}' overlaps '{other_text}'"
+                );
+            }
+        }
     }
     // A crossover or one structure fastest everywhere; the break-even is the rows' own.
     for fastest in &result.break_even.fastest {
@@ -399,4 +415,29 @@ fn overlapping_rounds_name_no_winner() {
             .query_by_label_contains("no structure is clearly fastest")
             .is_some()
     );
+}
+
+/// The texts drawn in the last frame inside `area`, with their rectangles.
+fn texts_within<S>(
+    harness: &egui_kittest::Harness<'_, S>,
+    area: egui::Rect,
+) -> Vec<(egui::Rect, String)> {
+    fn walk(shape: &egui::Shape, found: &mut Vec<(egui::Rect, String)>) {
+        match shape {
+            egui::Shape::Text(text) => {
+                let rect = text.visual_bounding_rect();
+                if !text.galley.job.text.trim().is_empty() {
+                    found.push((rect, text.galley.job.text.clone()));
+                }
+            }
+            egui::Shape::Vec(shapes) => shapes.iter().for_each(|shape| walk(shape, found)),
+            _ => {}
+        }
+    }
+    let mut found = Vec::new();
+    for clipped in &harness.output().shapes {
+        walk(&clipped.shape, &mut found);
+    }
+    found.retain(|(rect, _)| area.contains(rect.center()));
+    found
 }
