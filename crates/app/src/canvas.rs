@@ -803,6 +803,38 @@ impl Canvas {
         );
     }
 
+    /// Labels the mark at `at` (a ring, a dot) by `text`, its nearest edge `clear` points from
+    /// the mark's centre: right of it, left, above or below, whichever is free. [`Canvas::label`]
+    /// sets a label's centre a few points off its anchor, which suits a shape's number on the
+    /// shape but puts a long label over a small mark.
+    pub fn label_beside(&self, at: DVec2, text: &str, color: Color32, clear: f32) {
+        let font = font(self.painter.ctx(), 13.0);
+        let size = self
+            .painter
+            .layout_no_wrap(text.to_owned(), font.clone(), color)
+            .size();
+        let (x, y) = (size.x / 2.0 + clear, size.y / 2.0 + clear);
+        self.labels.borrow_mut().place(
+            &self.painter,
+            text,
+            font,
+            readable_on(color, self.background),
+            self.to_screen(at),
+            &[
+                Vec2::new(x, 0.0),
+                Vec2::new(-x, 0.0),
+                Vec2::new(0.0, -y),
+                Vec2::new(0.0, y),
+            ],
+            None,
+        );
+    }
+
+    /// Keeps `rect` (on screen) free of the labels placed after: a mark they must not cover.
+    pub fn keep_clear(&self, rect: Rect) {
+        self.labels.borrow_mut().reserve(rect);
+    }
+
     /// Names the box drawn at `rect` (on screen) by `text`: inside it, or just outside when
     /// `has_named_inside` (boxes named inside it), on a plate of the canvas's background so
     /// shapes and lines under it do not hide it ([`Labels::place_for_box`]).

@@ -282,42 +282,55 @@ pub fn slip_count<V: Vector3>(cases: &[SharedEdge], test: HitTest) -> (usize, us
 /// a direction of few bits), so the exact answer is a touch at t = 1. `None` if no direction
 /// there makes the plain test miss.
 pub fn corner_graze<V: Vector>(bounds: &Aabb<V>) -> Option<CornerGraze<V::Scalar>> {
+    (1..=64u32)
+        .flat_map(|p| (1..=64u32).map(move |q| (p, q)))
+        .filter_map(|(p, q)| corner_ray_tested(bounds, p, q))
+        .find(|(graze, robust_hits)| graze.t_enter > graze.t_exit && *robust_hits)
+        .map(|(graze, _)| graze)
+}
+
+/// The slab test's numbers for the ray through the corner (min x, max y) of `bounds` with
+/// direction `(p, q) / 64` (through the middle of its other axes), starting one direction
+/// before the corner; whether or not the plain test misses. `None` if the origin cannot be
+/// held exactly. Lesson 17 gives f32 and f64 the same ray with it.
+pub fn corner_ray<V: Vector>(bounds: &Aabb<V>, p: u32, q: u32) -> Option<CornerGraze<V::Scalar>> {
+    corner_ray_tested(bounds, p, q).map(|(graze, _)| graze)
+}
+
+/// [`corner_ray`], and whether the conservative test hits the box.
+fn corner_ray_tested<V: Vector>(
+    bounds: &Aabb<V>,
+    p: u32,
+    q: u32,
+) -> Option<(CornerGraze<V::Scalar>, bool)> {
     let sixty_fourth = V::Scalar::from_f64(1.0 / 64.0);
-    for p in 1..=64u32 {
-        for q in 1..=64u32 {
-            // Up and right through the corner (min x, max y): left of the box before it,
-            // above the box after it.
-            let mut direction = V::splat(V::Scalar::ZERO);
-            direction[0] = V::Scalar::from_u32(p) * sixty_fourth;
-            direction[1] = V::Scalar::from_u32(q) * sixty_fourth;
-            let mut corner = bounds.min;
-            corner[1] = bounds.max[1];
-            for axis in 2..V::DIM {
-                // Through the middle of the box's other axes.
-                corner[axis] = (bounds.min[axis] + bounds.max[axis]) * V::Scalar::from_f64(0.5);
-            }
-            let origin = corner - direction;
-            // Exactly through the corner: the subtraction must not have rounded.
-            if origin + direction != corner {
-                continue;
-            }
-            let Ok(ray) = Ray::try_new(origin, direction) else {
-                continue;
-            };
-            let plain = slab_clip_scalar(bounds, &SlabRay::new(&ray, false), ray.t_max);
-            let robust = slab_clip_scalar(bounds, &SlabRay::new(&ray, true), ray.t_max);
-            if plain.0 > plain.1 && robust.0 <= robust.1 {
-                return Some(CornerGraze {
-                    origin: origin.to_f64_array(),
-                    direction: direction.to_f64_array(),
-                    t_enter: plain.0,
-                    t_exit: plain.1,
-                    t_exit_widened: robust.1,
-                });
-            }
-        }
+    // Up and right through the corner (min x, max y): left of the box before it, above the
+    // box after it.
+    let mut direction = V::splat(V::Scalar::ZERO);
+    direction[0] = V::Scalar::from_u32(p) * sixty_fourth;
+    direction[1] = V::Scalar::from_u32(q) * sixty_fourth;
+    let mut corner = bounds.min;
+    corner[1] = bounds.max[1];
+    for axis in 2..V::DIM {
+        // Through the middle of the box's other axes.
+        corner[axis] = (bounds.min[axis] + bounds.max[axis]) * V::Scalar::from_f64(0.5);
     }
-    None
+    let origin = corner - direction;
+    // Exactly through the corner: the subtraction must not have rounded.
+    if origin + direction != corner {
+        return None;
+    }
+    let ray = Ray::try_new(origin, direction).ok()?;
+    let plain = slab_clip_scalar(bounds, &SlabRay::new(&ray, false), ray.t_max);
+    let robust = slab_clip_scalar(bounds, &SlabRay::new(&ray, true), ray.t_max);
+    let graze = CornerGraze {
+        origin: origin.to_f64_array(),
+        direction: direction.to_f64_array(),
+        t_enter: plain.0,
+        t_exit: plain.1,
+        t_exit_widened: robust.1,
+    };
+    Some((graze, robust.0 <= robust.1))
 }
 
 /// A ray through a box's corner that the plain slab test misses ([`corner_graze`]).

@@ -12,14 +12,16 @@
 //! - a ray exactly through a box's corner, which the plain slab test misses and Ize's (2013)
 //!   widened `t_far` keeps.
 
-use accelviz_core::crack::{CornerGraze, EdgeTest, SharedEdge, corner_graze, slip_count};
+use accelviz_core::crack::{
+    CornerGraze, EdgeTest, SharedEdge, corner_graze, corner_ray, slip_count,
+};
 use accelviz_core::format::{count, number};
 use accelviz_core::primitive::clipped_polygon;
 use accelviz_core::slab::{SlabRay, axis_interval};
 use accelviz_core::trade::Precision;
 use accelviz_core::{Aabb, HitTest, Ray, slab_record};
 use accelviz_scene::rng::SplitMix64;
-use egui::{Color32, RichText, Stroke, Vec2};
+use egui::{Color32, Rect, RichText, Stroke, Vec2};
 use glam::{DVec2, DVec3, Vec3};
 
 use crate::canvas::{Canvas, View2d, faded, palette, readable};
@@ -536,14 +538,30 @@ impl CracksLesson {
             Stroke::new(2.0, Color32::WHITE),
         );
         // Where each triangle's test put the ray's point: the weight of its corner facing the
-        // edge times that corner's height above it.
-        for (index, colour) in colours.iter().enumerate() {
-            let Some(weight) = tested.across(index) else {
-                continue;
-            };
+        // edge times that corner's height above it. The rings and the ray's dot are kept
+        // clear first, so that no name covers them.
+        let ring_at = |index: usize| {
+            let weight = tested.across(index)?;
             let facing = seen[index][accelviz_core::crack::OPPOSITE[index]];
             let height = (facing - foot).dot(normal);
-            let at = foot + normal * (weight * height);
+            Some(foot + normal * (weight * height))
+        };
+        canvas.keep_clear(Rect::from_center_size(
+            canvas.to_screen(DVec2::ZERO),
+            Vec2::splat(10.0),
+        ));
+        for index in 0..2 {
+            if let Some(at) = ring_at(index) {
+                canvas.keep_clear(Rect::from_center_size(
+                    canvas.to_screen(at),
+                    Vec2::splat(20.0),
+                ));
+            }
+        }
+        for (index, colour) in colours.iter().enumerate() {
+            let (Some(weight), Some(at)) = (tested.across(index), ring_at(index)) else {
+                continue;
+            };
             let inside = weight >= 0.0;
             let screen = canvas.to_screen(at);
             canvas
@@ -554,14 +572,15 @@ impl CracksLesson {
                     .painter
                     .line_segment([screen, canvas.to_screen(foot)], Stroke::new(1.0, *colour));
             }
-            canvas.label(
+            canvas.label_beside(
                 at,
                 &format!(
-                    "{} puts it {}",
+                    "{}'s test puts it {}",
                     ["A", "B"][index],
                     if inside { "inside" } else { "outside" }
                 ),
                 *colour,
+                12.0,
             );
         }
         let ray_colour = if tested.hit.is_some() {
@@ -818,18 +837,24 @@ impl CracksLesson {
             }
             _ => {
                 let graze = corner_case();
-                let graze_f64 = corner_graze(&bounds);
-                ui.label(RichText::new("A ray exactly through the corner (0.25, 1.125)").strong());
+                // The same ray in f64: the columns compare the precisions, not two rays.
+                let graze_f64 = graze.and_then(|g| {
+                    let (p, q) = sixty_fourths(g.direction);
+                    corner_ray(&bounds, p, q)
+                });
+                ui.label(
+                    RichText::new(format!(
+                        "A ray exactly through the corner (0.25, 1.125), direction {}, in f32 and in f64",
+                        graze.map_or("—".into(), |g| direction_text(g.direction))
+                    ))
+                    .strong(),
+                );
                 egui::Grid::new("corner numbers")
                     .striped(true)
                     .show(ui, |ui| {
                         ui.label("");
                         ui.strong("f32");
                         ui.strong("f64");
-                        ui.end_row();
-                        ui.label("direction");
-                        ui.monospace(graze.map_or("—".into(), |g| direction_text(g.direction)));
-                        ui.monospace(graze_f64.map_or("—".into(), |g| direction_text(g.direction)));
                         ui.end_row();
                         let rows: [CornerRow; 3] = [
                             ("max t_near", |g| g.t_enter, |g| g.t_enter),
@@ -848,7 +873,22 @@ impl CracksLesson {
                             ui.end_row();
                         }
                     });
-                ui.label("Both would be exactly 1: the ray only touches the box at its corner. Rounded, max t_near came out above min t_far, so the plain test misses the box, and every triangle in it. Multiplying t_far by 1 + 2γ(3), the bound on three roundings, makes the test conservative: it never misses a box the exact ray touches (Ize 2013).");
+                ui.label("Both would be exactly 1: the ray only touches the box at its corner. Rounded in f32, max t_near came out above min t_far, so the plain test misses the box, and every triangle in it. Multiplying t_far by 1 + 2γ(3), the bound on three roundings, makes the test conservative: it never misses a box the exact ray touches (Ize 2013).");
+                if let Some(own) = graze_f64 {
+                    let said = if own.t_enter > own.t_exit {
+                        "In f64 this ray is missed too.".to_owned()
+                    } else {
+                        match corner_graze(&bounds) {
+                            Some(other) => format!(
+                                "In f64 this ray is met; f64 misses others, first the ray of direction {}: rounding is smaller, not gone.",
+                                direction_text(other.direction)
+                            ),
+                            None => "In f64 this ray is met, and so is every ray of the search."
+                                .to_owned(),
+                        }
+                    };
+                    ui.label(said);
+                }
                 if let Some(graze) = graze {
                     float_line_ui(ui, &graze);
                 }
@@ -881,6 +921,14 @@ fn aside_text(aside: f64) -> String {
 
 fn flat_pair(values: [f64; 2]) -> DVec2 {
     DVec2::from_array(values)
+}
+
+/// A corner ray's direction as the whole sixty-fourths it was built of.
+fn sixty_fourths(direction: [f64; 3]) -> (u32, u32) {
+    (
+        (direction[0] * 64.0).round() as u32,
+        (direction[1] * 64.0).round() as u32,
+    )
 }
 
 fn direction_text(direction: [f64; 3]) -> String {
@@ -1050,50 +1098,73 @@ impl Lesson for CracksLesson {
                 .strong(),
             );
             let rows = self.far_rows().to_vec();
-            egui::ScrollArea::horizontal()
-                .id_salt("far rows columns")
+            // Two narrow tables, the lesson's point first: how many slipped at each distance
+            // (five columns of short headings fit the inspector; in one wide table they sat
+            // off to the right, behind a scroll bar nobody saw), then what does grow.
+            let distance = |ui: &mut egui::Ui, power: i32| {
+                let label = format!("10^{power}");
+                if power == shown_power {
+                    ui.strong(label);
+                } else {
+                    ui.label(label);
+                }
+            };
+            ui.label(format!("Slipped through, of {} rays:", count(SLIP_CASES)));
+            egui::Grid::new("far rows slipped")
+                .striped(true)
                 .show(ui, |ui| {
-                    egui::Grid::new("far rows").striped(true).show(ui, |ui| {
-                        for heading in [
-                            "mesh at",
-                            "f32 spacing",
-                            "f32 hit point off",
-                            "f64 spacing",
-                            "f64 hit point off",
-                        ] {
-                            ui.strong(heading);
-                        }
-                        for (precision, test, aside) in SLIP_COLUMNS {
-                            ui.strong(format!(
-                                "slipped: {} {}, {}",
-                                test.name(),
-                                precision.name(),
-                                aside_text(aside)
-                            ));
+                    ui.strong("mesh\nat");
+                    for (precision, test, aside) in SLIP_COLUMNS {
+                        let heading = format!("{}\n{}", test.name(), precision.name());
+                        let heading = if aside == 0.0 {
+                            heading
+                        } else {
+                            format!("{heading}\n{}", aside_text(aside))
+                        };
+                        ui.strong(heading).on_hover_text(format!(
+                            "the {} test in {}, rays aimed {}",
+                            test.name(),
+                            precision.name(),
+                            aside_text(aside)
+                        ));
+                    }
+                    ui.end_row();
+                    for row in &rows {
+                        distance(ui, row.power);
+                        for value in row.slipped {
+                            let colour = if value > 0 {
+                                palette::MISS
+                            } else {
+                                palette::HIT
+                            };
+                            ui.colored_label(readable(ui, colour), count(value));
                         }
                         ui.end_row();
-                        for row in rows {
-                            let label = format!("10^{}", row.power);
-                            if row.power == shown_power {
-                                ui.strong(label);
-                            } else {
-                                ui.label(label);
-                            }
-                            for index in 0..2 {
-                                ui.monospace(number(row.spacing[index]));
-                                ui.monospace(number(row.hit_point_off[index]));
-                            }
-                            for value in row.slipped {
-                                let colour = if value > 0 {
-                                    palette::MISS
-                                } else {
-                                    palette::HIT
-                                };
-                                ui.colored_label(readable(ui, colour), count(value));
-                            }
-                            ui.end_row();
+                    }
+                });
+            ui.add_space(6.0);
+            ui.label("What grows: the spacing of the numbers, and how far off the surface the hit point o + t·d can be placed.");
+            egui::Grid::new("far rows spacing")
+                .striped(true)
+                .show(ui, |ui| {
+                    for heading in [
+                        "mesh at",
+                        "f32 spacing",
+                        "f32 point off",
+                        "f64 spacing",
+                        "f64 point off",
+                    ] {
+                        ui.strong(heading);
+                    }
+                    ui.end_row();
+                    for row in &rows {
+                        distance(ui, row.power);
+                        for index in 0..2 {
+                            ui.label(number(row.spacing[index]));
+                            ui.label(number(row.hit_point_off[index]));
                         }
-                    });
+                        ui.end_row();
+                    }
                 });
             ui.label("The tests work on differences (a corner minus the ray's start), which stay exact when the ray starts near the mesh: far from the origin the crack does not widen. At the edge itself rounding decides at every distance, and a ray 1e-6 beside it never slips. What grows is the spacing of the numbers themselves: the corners snap to it, and the hit point o + t·d can only be placed to within it, off the surface by up to about that spacing. A shadow or bounce ray from it must start at least that far off the surface.");
         }
@@ -1122,6 +1193,14 @@ impl Lesson for CracksLesson {
                         said(&tested[1])
                     );
                 }
+                // What the marks are, once for both views: the dot is the exact ray,
+                // the triangles and edge are drawn at their stored corners, and each
+                // ring is what that triangle's test computed, so the dot may sit on
+                // one side of the drawn edge while a test puts it on the other.
+                ui.label(
+                    RichText::new("Seen along the ray: the dot is where the exact ray meets the plane (green: the test hits); each ring is where A's or B's test put it, rounding and all; the edge is drawn at the stored corners.")
+                        .small(),
+                );
                 let available = ui.available_size();
                 // Each precision: its view seen along the ray, and under it the numbers.
                 let values_height =

@@ -12,7 +12,7 @@ use accelviz_core::grid::GridCells;
 use accelviz_core::{NoBuildObserver, ShapeSet, TraceOptions};
 use accelviz_scene::document::SceneSettings;
 use egui::RichText;
-use egui_plot::{Legend, Line, LineStyle, PlotPoints, VLine};
+use egui_plot::{Line, LineStyle, PlotPoints, VLine};
 use glam::DVec2;
 
 use crate::background::Derived;
@@ -25,7 +25,7 @@ use crate::trace::Trace;
 use crate::views::compare::{count_rays, interior_rays};
 use crate::views::grid_walk::{
     CellChoice, GridWalk, MOST_ALONG, WalkRow, cell_size_plot, cells_slider_ui, grid_structure,
-    measured_sizes, rule_along, shown_size_line,
+    measured_sizes, rule_along, shown_size_color, shown_size_line,
 };
 use crate::views::scene_view::t_hint_ui;
 
@@ -269,7 +269,9 @@ pub fn cost_plot_ui(ui: &mut egui::Ui, curve: &CostCurve, current: Option<u32>) 
         .iter()
         .map(|point| [f64::from(point.along), point.predicted])
         .collect();
-    let height = (ui.available_height() - 40.0).clamp(140.0, 260.0);
+    // The plot sits in a scrolled panel: its own height, not what is left under the table
+    // (that left it 130 points high, a third of it under the legend).
+    let height = 220.0;
     // Up to a few times the cheapest cost, so the valley shows: one cell, where every ray
     // tests everything, can be far above (said below the plot).
     let highest = curve
@@ -283,38 +285,42 @@ pub fn cost_plot_ui(ui: &mut egui::Ui, curve: &CostCurve, current: Option<u32>) 
         .min(highest * 1.05);
     // A new id for new bounds: a plot keeps the bounds it showed first.
     let plot_bg = ui.visuals().extreme_bg_color;
+    let ink = |color| crate::canvas::ink_on(color, plot_bg);
+    let keys = [
+        ("measured cost", ink(palette::CURRENT), "—"),
+        ("cells passed", ink(palette::X_AXIS), "—"),
+        ("primitive tests", ink(palette::HIT), "—"),
+        ("model's cost", ink(palette::SPHERE), "- -"),
+        ("density rule", ink(palette::RAY), "¦"),
+        ("shown", shown_size_color(plot_bg), "|"),
+    ];
     cell_size_plot(("grid cost curve", y_top.to_bits()), height, "per ray")
         .default_y_bounds(0.0, y_top)
-        .legend(Legend::default().position(egui_plot::Corner::RightTop))
         .show(ui, |plot| {
+            plot.line(Line::new(keys[0].0, measured).color(keys[0].1).width(2.5));
+            plot.line(Line::new(keys[1].0, cells).color(keys[1].1).width(1.5));
+            plot.line(Line::new(keys[2].0, tests).color(keys[2].1).width(1.5));
             plot.line(
-                Line::new("measured cost", measured)
-                    .color(crate::canvas::ink_on(palette::CURRENT, plot_bg))
-                    .width(2.5),
-            );
-            plot.line(
-                Line::new("cells passed", cells)
-                    .color(crate::canvas::ink_on(palette::X_AXIS, plot_bg))
-                    .width(1.5),
-            );
-            plot.line(
-                Line::new("primitive tests", tests)
-                    .color(crate::canvas::ink_on(palette::HIT, plot_bg))
-                    .width(1.5),
-            );
-            plot.line(
-                Line::new("model's cost", predicted)
-                    .color(crate::canvas::ink_on(palette::SPHERE, plot_bg))
+                Line::new(keys[3].0, predicted)
+                    .color(keys[3].1)
                     .style(LineStyle::dashed_loose())
                     .width(1.5),
             );
             plot.vline(
-                VLine::new("density rule", f64::from(curve.rule_along))
-                    .color(crate::canvas::ink_on(palette::RAY, plot_bg))
+                VLine::new(keys[4].0, f64::from(curve.rule_along))
+                    .color(keys[4].1)
                     .style(LineStyle::dashed_dense()),
             );
-            shown_size_line(plot, current);
+            shown_size_line(plot, current, plot_bg);
         });
+    // The key under the plot, where it covers no curve.
+    ui.horizontal_wrapped(|ui| {
+        for (name, color, mark) in keys {
+            ui.label(
+                RichText::new(format!("{mark} {name}")).color(crate::canvas::readable(ui, color)),
+            );
+        }
+    });
     if let Some(one) = curve.points.first().filter(|one| one.cost_per_ray > y_top) {
         ui.label(
             RichText::new(format!(

@@ -396,7 +396,7 @@ impl HashLesson {
             .tree()
             .and_then(|tree| tree.built.grid_cells())
             .map(GridCells::cells_along_longest);
-        let height = (ui.available_height() - 40.0).clamp(130.0, 220.0);
+        let height = 200.0;
         let plot_bg = ui.visuals().extreme_bg_color;
         cell_size_plot("hash memory", height, "KiB")
             .legend(Legend::default().position(egui_plot::Corner::LeftTop))
@@ -419,7 +419,7 @@ impl HashLesson {
                             .style(LineStyle::dashed_dense()),
                     );
                 }
-                shown_size_line(plot, current);
+                shown_size_line(plot, current, plot_bg);
             });
         let pays_from = curve
             .hashing_pays_from()
@@ -550,7 +550,6 @@ fn draw_places(canvas: &Canvas, tree: &SceneTree, table: &HashedCells) {
     let Some(cells) = tree.built.grid_cells() else {
         return;
     };
-    let font = crate::canvas::font(canvas.painter.ctx(), 12.0);
     for (place, bucket) in table.buckets.iter().enumerate() {
         if bucket.cell == Bucket::EMPTY {
             continue;
@@ -567,20 +566,14 @@ fn draw_places(canvas: &Canvas, tree: &SceneTree, table: &HashedCells) {
                 StrokeKind::Inside,
             );
         }
-        if rect.width() >= 26.0 && rect.height() >= 16.0 {
-            let text = if at_home {
-                format!("#{place}")
-            } else {
-                format!("#{}->{place}", table.home(bucket.cell))
-            };
-            canvas.painter.text(
-                rect.left_top() + Vec2::new(3.0, 2.0),
-                Align2::LEFT_TOP,
-                text,
-                font.clone(),
-                color,
-            );
-        }
+        // Inside its cell, on a plate over the shapes there, where no other label is; in a
+        // cell too small for it, none (at lecture size the names overwrote each other).
+        let text = if at_home {
+            format!("#{place}")
+        } else {
+            format!("#{}->{place}", table.home(bucket.cell))
+        };
+        canvas.box_label(rect, false, &text, color);
     }
 }
 

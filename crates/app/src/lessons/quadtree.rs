@@ -21,7 +21,9 @@ use crate::lesson_file::LessonText;
 use crate::stage::{SceneTree, Stage, request_over_shapes};
 use crate::trace::{Trace, describe_step};
 use crate::views::compare::Comparison;
-use crate::views::scene_view::{building_note, draw_ray, draw_shapes, draw_tested_shapes};
+use crate::views::scene_view::{
+    building_note, draw_ray, draw_shapes, draw_tested_shapes, number_shapes,
+};
 use crate::views::tree_view::{TreeLook, draw_tree, node_outline};
 
 /// What the timeline steps through.
@@ -331,6 +333,7 @@ impl QuadtreeLesson {
             let bounds = facts.bounds[node as usize];
             canvas.label(bounds.max, &quadrant_path(facts, node), palette::CURRENT);
         }
+        number_shapes(ui, canvas, &tree.shapes);
     }
 
     /// The traversal so far: the tree, the tested shapes, the current cell with its part of
@@ -376,6 +379,7 @@ impl QuadtreeLesson {
             );
             canvas.ray_mark(ray.origin, ray.direction, *t_far, palette::CURRENT, "", 0.0);
         }
+        number_shapes(ui, canvas, &tree.shapes);
     }
 
     /// The kD-tree beside: its cells, and the leaves its traversal of the same ray entered.
@@ -387,6 +391,7 @@ impl QuadtreeLesson {
         if let Ok(ray) = self.stage.scene.ray() {
             draw_ray(canvas, &ray, trace.hit.map(|hit| hit.t));
         }
+        number_shapes(ui, canvas, &tree.shapes);
         let counters = accelviz_core::counters_of(&trace.steps);
         canvas.caption(&[
             (

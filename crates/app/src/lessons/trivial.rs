@@ -21,8 +21,8 @@ use crate::stage::{SceneTree, Stage, request_over_shapes};
 use crate::trace::{Trace, describe_step};
 use crate::views::compare::{count_rays, measured_rays};
 use crate::views::scene_view::{
-    building_note, draw_ray, draw_tested_shapes, narrow_x_axis, power_of_ten_label, powers_of_ten,
-    t_hint_ui,
+    building_note, draw_ray, draw_tested_shapes, narrow_x_axis, number_shapes, power_of_ten_label,
+    powers_of_ten, t_hint_ui,
 };
 
 /// The scene sizes of the growth curve.
@@ -276,16 +276,7 @@ impl Lesson for TrivialLoop {
             Ok(ray) => draw_ray(&canvas, &ray, state.closest.map(|(_, t)| t)),
             Err(error) => canvas.caption(&[(format!("No ray: {error}"), palette::MISS)]),
         }
-        if shapes.len() <= 60 {
-            for (index, shape) in shapes.shapes.iter().enumerate() {
-                let bounds = shape.bounds();
-                canvas.label(
-                    DVec2::new(bounds.max.x, bounds.max.y),
-                    &index.to_string(),
-                    ui.visuals().weak_text_color(),
-                );
-            }
-        }
+        number_shapes(ui, &canvas, shapes);
         self.stage.scene.draw_handles(&canvas);
         canvas.caption(&[(
             format!(

@@ -17,7 +17,9 @@ use crate::background::{Cached, Derived};
 use crate::canvas::{Canvas, faded, palette};
 use crate::stage::{SceneTree, Stage, request_over_shapes};
 use crate::trace::Trace;
-use crate::views::scene_view::{building_note, draw_ray, draw_tested_shapes, narrow_x_axis};
+use crate::views::scene_view::{
+    building_note, draw_ray, draw_tested_shapes, narrow_x_axis, number_shapes,
+};
 use crate::views::tree_view::{TreeLook, draw_tree, node_outline};
 
 /// A lesson's grid and its ray's walk: built (on a worker when large), traced, and read into
@@ -140,6 +142,8 @@ impl GridWalk {
             },
         );
         over(canvas, tree);
+        // After the lesson's own labels, which come first where they compete for room.
+        number_shapes(ui, canvas, &tree.shapes);
         match scene.ray() {
             Ok(ray) => {
                 draw_ray(
@@ -729,13 +733,19 @@ pub fn cell_size_plot<'a>(id: impl egui::AsIdSalt, height: f32, y_label: &str) -
 }
 
 /// The size the lesson shows (`along` cells along the longer side), as a line on a
-/// [`cell_size_plot`].
-pub fn shown_size_line(plot: &mut PlotUi<'_>, along: Option<u32>) {
+/// [`cell_size_plot`] whose background is `plot_bg`: white on a dark plot, black on a light
+/// one.
+pub fn shown_size_line(plot: &mut PlotUi<'_>, along: Option<u32>, plot_bg: Color32) {
     if let Some(along) = along {
         plot.vline(
             VLine::new("shown", f64::from(along))
-                .color(Color32::WHITE)
+                .color(shown_size_color(plot_bg))
                 .width(1.5),
         );
     }
+}
+
+/// The colour of [`shown_size_line`] on `plot_bg`.
+pub fn shown_size_color(plot_bg: Color32) -> Color32 {
+    crate::canvas::ink_on(Color32::WHITE, plot_bg)
 }

@@ -146,6 +146,27 @@ pub fn label_shapes(ui: &egui::Ui, canvas: &Canvas, shapes: &ShapeSet<DVec2>) {
     }
 }
 
+/// The most shapes numbered on a canvas: beyond it the numbers are a carpet, and a lesson
+/// names no primitive a person could find among them.
+pub const NUMBERED_SHAPES: usize = 60;
+
+/// Writes each shape's number beside it (the number a lesson's text and status line name:
+/// "primitive 12"), laid out so that none covers another; not in scenes of more than
+/// [`NUMBERED_SHAPES`].
+pub fn number_shapes(ui: &egui::Ui, canvas: &Canvas, shapes: &ShapeSet<DVec2>) {
+    if shapes.shapes.len() > NUMBERED_SHAPES {
+        return;
+    }
+    for (index, shape) in shapes.shapes.iter().enumerate() {
+        let bounds = shape.bounds();
+        canvas.label(
+            DVec2::new(bounds.max.x, bounds.max.y),
+            &index.to_string(),
+            ui.visuals().weak_text_color(),
+        );
+    }
+}
+
 /// The hint every lesson that shows `t` gives once, under its numbers.
 pub fn t_hint_ui(ui: &mut egui::Ui) {
     ui.label(

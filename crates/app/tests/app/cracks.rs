@@ -81,7 +81,22 @@ fn every_part_draws_its_numbers() {
     assert!(harness.state_mut().show_named("far-away"));
     harness.state_mut().set_test(HitTest::Fast);
     harness.run();
-    harness.get_by_label("f32 hit point off");
+    harness.get_by_label("f32 point off");
+    // The slipped columns, the part's point, are on screen: they sat off to the right of
+    // one wide table, behind a scroll bar nobody saw.
+    for heading in [
+        "fast\nf32",
+        "fast\nf64",
+        "watertight\nf32",
+        "watertight\nf64",
+    ] {
+        harness.get_by_label(heading);
+        let (rect, clip) = drawn_text(&harness, heading).expect("drawn");
+        assert!(
+            clip.contains_rect(rect),
+            "'{heading}' is cut at its panel's edge: {rect:?} in {clip:?}"
+        );
+    }
     harness.snapshot("crack_far_away");
     assert!(harness.state_mut().show_named("slab-plane"));
     harness.run();
@@ -91,6 +106,31 @@ fn every_part_draws_its_numbers() {
     harness.state_mut().set_zoom(6.0);
     harness.run();
     harness.get_by_label("max t_near");
+    // f32 and f64 on one ray: its direction is said once, and what f64 makes of it.
+    harness.get_by_label_contains("in f32 and in f64");
+    assert!(harness.query_by_label("direction").is_none());
+    harness.get_by_label_contains("In f64 this ray");
     harness.snapshot("crack_corner");
     assert_eq!(harness.state().scene().part, Part::Corner);
+}
+
+/// Where the last frame drew `text`, and the rectangle it was clipped to.
+fn drawn_text<S>(
+    harness: &egui_kittest::Harness<'_, S>,
+    text: &str,
+) -> Option<(egui::Rect, egui::Rect)> {
+    fn walk(shape: &egui::Shape, text: &str) -> Option<egui::Rect> {
+        match shape {
+            egui::Shape::Text(shape) if shape.galley.job.text == text => {
+                Some(shape.visual_bounding_rect())
+            }
+            egui::Shape::Vec(shapes) => shapes.iter().find_map(|shape| walk(shape, text)),
+            _ => None,
+        }
+    }
+    harness
+        .output()
+        .shapes
+        .iter()
+        .find_map(|clipped| walk(&clipped.shape, text).map(|rect| (rect, clipped.clip_rect)))
 }

@@ -488,3 +488,65 @@ fn grids_and_octrees_in_3d_match_their_snapshots() {
     }
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// The shapes the text names are numbered on the canvas: lessons 18 to 20 say "the closest
+/// hit is primitive 12", and the canvas now writes 12 beside it (it numbered none).
+#[test]
+fn the_primitive_a_grid_lesson_names_is_numbered_on_its_canvas() {
+    use accelviz_app::lessons::hashing::HashLesson;
+    use accelviz_app::lessons::quadtree::QuadtreeLesson;
+    fn check<L: Lesson + 'static>(lesson: L, name: &str) {
+        let mut harness = lesson_harness_3d(lesson);
+        for _ in 0..4 {
+            harness.run();
+        }
+        let len = harness.state().stage().timeline.len;
+        harness.state_mut().stage_mut().timeline.shown = len;
+        harness.run();
+        harness.run();
+        let caption = harness.state().caption().unwrap_or_default();
+        let named: Vec<String> = caption
+            .split("primitive ")
+            .skip(1)
+            .filter_map(|rest| {
+                let digits: String = rest.chars().take_while(char::is_ascii_digit).collect();
+                (!digits.is_empty()).then_some(digits)
+            })
+            .collect();
+        assert!(
+            !named.is_empty(),
+            "{name}: the last step names a primitive: {caption}"
+        );
+        let drawn = drawn_texts(&harness);
+        for number in named {
+            assert!(
+                drawn.contains(&number),
+                "{name}: '{caption}' names primitive {number}, not numbered on the canvas"
+            );
+        }
+    }
+    check(
+        GridLesson::new(lesson_text("18-uniform-grid.ron")),
+        "lesson 18",
+    );
+    check(HashLesson::new(lesson_text("19-hashing.ron")), "lesson 19");
+    let mut quadtree = QuadtreeLesson::new(lesson_text("20-quadtree.ron"));
+    quadtree.set_mode(accelviz_app::lessons::quadtree::Mode::Traverse);
+    check(quadtree, "lesson 20");
+}
+
+/// The texts the last frame drew.
+fn drawn_texts<S>(harness: &egui_kittest::Harness<'_, S>) -> Vec<String> {
+    fn walk(shape: &egui::Shape, found: &mut Vec<String>) {
+        match shape {
+            egui::Shape::Text(text) => found.push(text.galley.job.text.clone()),
+            egui::Shape::Vec(shapes) => shapes.iter().for_each(|shape| walk(shape, found)),
+            _ => {}
+        }
+    }
+    let mut found = Vec::new();
+    for clipped in &harness.output().shapes {
+        walk(&clipped.shape, &mut found);
+    }
+    found
+}
