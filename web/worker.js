@@ -8,7 +8,8 @@
 //   {job: "read", name, bytes: Uint8Array}            -> {progress: per mille}..., {done: Float64Array}
 //   {job: "build", structure, triangles: Float64Array} -> {done: Uint8Array}
 //   {job: "trade", triangles: Float64Array, rays: Float64Array, query, rounds}
-//       -> {tasks, of, doing}..., {done: Uint8Array}   (the trade lab, off the page's frames)
+//       -> {tasks, of, doing, spent, left}..., {done: Uint8Array}   (the trade lab, off the page's frames;
+//          spent and left in milliseconds, left NaN while unknown)
 // Heat maps have a pool of workers that live as long as the page and keep the last tree:
 //   {job: "heat-tree", tree: Uint8Array, triangles: Float64Array}   (kept; no answer)
 //   {job: "heat-bands", id, key: Float64Array, first, step}
@@ -65,7 +66,7 @@ self.onmessage = async ({ data }) => {
       done = build_tree_aside(data.triangles, data.structure);
     } else if (data.job === 'trade') {
       done = measure_trade_aside(data.triangles, data.rays, data.query, data.rounds,
-        (tasks, of, doing) => self.postMessage({ tasks, of, doing }));
+        (tasks, of, doing, spent, left) => self.postMessage({ tasks, of, doing, spent, left }));
     } else {
       throw new Error(`unknown job ${data.job}`);
     }

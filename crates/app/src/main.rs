@@ -185,20 +185,18 @@ pub fn measure_trade_aside(
     rounds: u32,
     progress: &js_sys::Function,
 ) -> Result<Vec<u8>, String> {
-    accelviz_app::mesh::trade::work::measure(
-        triangles,
-        rays,
-        query,
-        rounds as usize,
-        &|done, total, doing| {
-            let _ = progress.call3(
-                &wasm_bindgen::JsValue::NULL,
-                &(done as f64).into(),
-                &(total as f64).into(),
-                &doing.into(),
-            );
-        },
-    )
+    accelviz_app::mesh::trade::work::measure(triangles, rays, query, rounds as usize, &|told| {
+        // Tasks done, tasks in all, the task next, milliseconds spent and left (NaN while
+        // unknown).
+        let arguments = js_sys::Array::of5(
+            &(told.done as f64).into(),
+            &(told.total as f64).into(),
+            &told.doing.as_str().into(),
+            &told.spent_ms.into(),
+            &told.left_ms.unwrap_or(f64::NAN).into(),
+        );
+        let _ = progress.apply(&wasm_bindgen::JsValue::NULL, &arguments);
+    })
 }
 
 /// For `web/worker.js`: a heat map's tree, taken in once (packed, over its triangles, nine

@@ -8,6 +8,7 @@ use accelviz_core::outcome::{Outcome, Reference};
 use accelviz_core::params::BuildParams;
 use accelviz_core::quality::{NodeEntries, SahCheck};
 use accelviz_core::trade::{Precision, Switches, TradeRow, TradeScene, TreeQuality, contenders};
+use accelviz_core::trade_lab::structures_a_group;
 use accelviz_core::{Query, Structure, TriangleSet, Vector3};
 use accelviz_scene::rays::{RayKind, RaySpec, parse_resolution, ray_line};
 use anyhow::{Context, Result, bail};
@@ -103,6 +104,9 @@ pub fn query_name(query: Query) -> &'static str {
     }
 }
 
+/// The trees whose SAH assumption the report checks against the rays.
+const SAH_CHECKED: [&str; 2] = ["bvh:sah-binned:16", "kd:sah"];
+
 pub fn run(args: &TradeoffArgs) -> Result<String> {
     let params = args.build.params()?;
     if args.rays == 0 {
@@ -135,82 +139,140 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
     let single = TradeScene::<Vec3>::new(&mesh.triangles, &rays);
     let double = TradeScene::<DVec3>::new(&mesh.triangles, &rays);
     let (reference32, reference64) = (references(&single)?, references(&double)?);
-    // Every structure built in both precisions once per round (a configuration is a structure
-    // and a precision); the first round's trees are kept.
-    let mut trees32: Vec<Option<Accel<Vec3, TriangleSet<Vec3>>>> =
-        specs.iter().map(|_| None).collect();
-    let mut trees64: Vec<Option<Accel<DVec3, TriangleSet<DVec3>>>> =
-        specs.iter().map(|_| None).collect();
-    let builds = interleaved("tradeoff: builds", repeat, specs.len() * 2, |index| {
-        let spec = AccelSpec::Tree(specs[index / 2]);
-        if index % 2 == 0 {
-            let (tree, _) = spec.build(&single.triangles, &params);
-            trees32[index / 2].get_or_insert(tree);
+    // The structures in groups whose trees fit the core's memory budget (all of them at once
+    // on a small mesh): within a group, every structure built in both precisions once per
+    // round (a configuration is a structure and a precision, the first round's trees kept),
+    // then every row (a structure and a switch setting) traced once per round, judged, and
+    // the group's trees let go. All nineteen structures' trees of a 269k-triangle mesh at
+    // once took 2 GB.
+    let group = structures_a_group(mesh.triangles.len(), specs.len());
+    let groups = specs.len().div_ceil(group);
+    let mut rows = Vec::with_capacity(specs.len() * Switches::ALL.len());
+    let mut checks: Vec<(String, SahCheck)> = Vec::new();
+    for (number, first) in (0..specs.len()).step_by(group).enumerate() {
+        let members: Vec<usize> = (first..(first + group).min(specs.len())).collect();
+        let part = if groups == 1 {
+            String::new()
         } else {
-            let (tree, _) = spec.build(&double.triangles, &params);
-            trees64[index / 2].get_or_insert(tree);
+            format!(" (group {} of {groups})", number + 1)
+        };
+        let mut trees32: Vec<Option<Accel<Vec3, TriangleSet<Vec3>>>> =
+            members.iter().map(|_| None).collect();
+        let mut trees64: Vec<Option<Accel<DVec3, TriangleSet<DVec3>>>> =
+            members.iter().map(|_| None).collect();
+        let builds = interleaved(
+            &format!("tradeoff: builds{part}"),
+            repeat,
+            members.len() * 2,
+            |index| {
+                let spec = AccelSpec::Tree(specs[members[index / 2]]);
+                if index % 2 == 0 {
+                    let (tree, _) = spec.build(&single.triangles, &params);
+                    trees32[index / 2].get_or_insert(tree);
+                } else {
+                    let (tree, _) = spec.build(&double.triangles, &params);
+                    trees64[index / 2].get_or_insert(tree);
+                }
+            },
+        );
+        let trees32: Vec<_> = trees32.into_iter().flatten().collect();
+        let trees64: Vec<_> = trees64.into_iter().flatten().collect();
+        let keys: Vec<(usize, Switches)> = (0..members.len())
+            .flat_map(|member| Switches::ALL.map(|switches| (member, switches)))
+            .collect();
+        let traces = interleaved(
+            &format!("tradeoff: traces{part}"),
+            repeat,
+            keys.len(),
+            |index| {
+                let (member, switches) = keys[index];
+                let options = switches.options(query);
+                let hits = match switches.precision {
+                    Precision::F64 => trees64[member].count_hits(&double.rays, &options, &workers),
+                    Precision::F32 => trees32[member].count_hits(&single.rays, &options, &workers),
+                };
+                std::hint::black_box(hits);
+            },
+        );
+        // Each tree's end-point overlap and memory, once (every switch setting of a tree
+        // shares them).
+        let quality32: Vec<TreeQuality> = trees32
+            .iter()
+            .map(|accel| quality(accel, single.triangles.triangles(), &params))
+            .collect();
+        let quality64: Vec<TreeQuality> = trees64
+            .iter()
+            .map(|accel| quality(accel, double.triangles.triangles(), &params))
+            .collect();
+        for (index, &(member, switches)) in keys.iter().enumerate() {
+            crate::progress::report(
+                &format!("tradeoff: each row's rays judged{part}"),
+                index,
+                keys.len(),
+            );
+            let options = switches.options(query);
+            let (evaluation, quality) = match switches.precision {
+                Precision::F64 => {
+                    let Accel::Tree(tree, ordered) = &trees64[member] else {
+                        bail!("the tradeoff compares trees only")
+                    };
+                    (
+                        double.evaluate(tree, ordered, &options, &reference64, &params),
+                        quality64[member],
+                    )
+                }
+                Precision::F32 => {
+                    let Accel::Tree(tree, ordered) = &trees32[member] else {
+                        bail!("the tradeoff compares trees only")
+                    };
+                    (
+                        single.evaluate(tree, ordered, &options, &reference32, &params),
+                        quality32[member],
+                    )
+                }
+            };
+            let builds = &builds[2 * member + usize::from(switches.precision == Precision::F64)];
+            rows.push(TradeRow::new(
+                (specs[members[member]], switches),
+                (builds, &traces[index]),
+                evaluation,
+                quality,
+                rays.len(),
+            ));
         }
-    });
-    let trees32: Vec<_> = trees32.into_iter().flatten().collect();
-    let trees64: Vec<_> = trees64.into_iter().flatten().collect();
-    // Every row (a structure and a switch setting) traced once per round.
-    let keys: Vec<(usize, Switches)> = (0..specs.len())
-        .flat_map(|spec| Switches::ALL.map(|switches| (spec, switches)))
-        .collect();
-    let traces = interleaved("tradeoff: traces", repeat, keys.len(), |index| {
-        let (spec, switches) = keys[index];
-        let options = switches.options(query);
-        let hits = match switches.precision {
-            Precision::F64 => trees64[spec].count_hits(&double.rays, &options, &workers),
-            Precision::F32 => trees32[spec].count_hits(&single.rays, &options, &workers),
-        };
-        std::hint::black_box(hits);
-    });
-    // Each tree's end-point overlap and memory, once (every switch setting of a tree shares
-    // them).
-    let quality32: Vec<TreeQuality> = trees32
-        .iter()
-        .map(|accel| quality(accel, single.triangles.triangles(), &params))
-        .collect();
-    let quality64: Vec<TreeQuality> = trees64
-        .iter()
-        .map(|accel| quality(accel, double.triangles.triangles(), &params))
-        .collect();
-    let mut rows = Vec::with_capacity(keys.len());
-    for (index, &(spec, switches)) in keys.iter().enumerate() {
-        crate::progress::report("tradeoff: each row's rays judged", index, keys.len());
-        let options = switches.options(query);
-        let (evaluation, quality) = match switches.precision {
-            Precision::F64 => {
-                let Accel::Tree(tree, ordered) = &trees64[spec] else {
-                    bail!("the tradeoff compares trees only")
-                };
-                (
-                    double.evaluate(tree, ordered, &options, &reference64, &params),
-                    quality64[spec],
-                )
+        // The SAH's chances against these rays', for the binned SAH's BVH and the kD SAH
+        // tree, while their trees are here.
+        for (member, &spec) in members.iter().enumerate() {
+            let name = specs[spec].name();
+            if !SAH_CHECKED.contains(&name.as_str()) {
+                continue;
             }
-            Precision::F32 => {
-                let Accel::Tree(tree, ordered) = &trees32[spec] else {
-                    bail!("the tradeoff compares trees only")
-                };
-                (
-                    single.evaluate(tree, ordered, &options, &reference32, &params),
-                    quality32[spec],
-                )
+            let accel = &trees32[member];
+            let Some(facts) = accel.binary_facts() else {
+                continue;
+            };
+            let mut entries = NodeEntries::new(facts.bounds.len());
+            let mut stacks = accelviz_core::TraversalStacks::default();
+            let options = Switches::BASE.options(query);
+            for ray in &single.rays {
+                accel.trace(ray, &options, &mut stacks, &mut entries);
             }
-        };
-        let builds = &builds[2 * spec + usize::from(switches.precision == Precision::F64)];
-        rows.push(TradeRow::new(
-            (specs[spec], switches),
-            (builds, &traces[index]),
-            evaluation,
-            quality,
-            rays.len(),
-        ));
+            checks.push((
+                name.to_string(),
+                SahCheck::of(&facts, &entries, &params.cost),
+            ));
+        }
     }
+    checks.sort_by_key(|(name, _)| SAH_CHECKED.iter().position(|checked| checked == name));
+    // Structures interleave with the others of their group only, measured one group after
+    // another: said, since a drift between groups is not spread over every row.
+    let grouping = if groups == 1 {
+        String::new()
+    } else {
+        format!(", structures in groups of {group} to bound memory (interleaved within a group)")
+    };
     let heading = format!(
-        "{} ({} triangles), {} {} rays (seed {}), {} hit, C_trav {}, C_isect {}, kD empty bonus {}, {} thread(s), median of {repeat} interleaved rounds (±: half their range; rows whose ranges overlap are not shown to differ)",
+        "{} ({} triangles), {} {} rays (seed {}), {} hit, C_trav {}, C_isect {}, kD empty bonus {}, {} thread(s), median of {repeat} interleaved rounds{grouping} (±: half their range; rows whose ranges overlap are not shown to differ)",
         args.mesh,
         mesh.triangles.len(),
         ray_specs.len(),
@@ -226,25 +288,6 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         write_examples(dir, &rows, &heading)?;
     }
     let break_even = BreakEvenReport::of(&rows, repeat);
-    // The SAH's chances against these rays', for the binned SAH's BVH and the kD SAH tree.
-    let checks: Vec<(String, SahCheck)> = ["bvh:sah-binned:16", "kd:sah"]
-        .iter()
-        .filter_map(|name| {
-            let index = specs.iter().position(|spec| spec.name() == *name)?;
-            let accel = &trees32[index];
-            let facts = accel.binary_facts()?;
-            let mut entries = NodeEntries::new(facts.bounds.len());
-            let mut stacks = accelviz_core::TraversalStacks::default();
-            let options = Switches::BASE.options(query);
-            for ray in &single.rays {
-                accel.trace(ray, &options, &mut stacks, &mut entries);
-            }
-            Some((
-                (*name).to_owned(),
-                SahCheck::of(&facts, &entries, &params.cost),
-            ))
-        })
-        .collect();
     if args.json {
         let mut lines: Vec<String> = rows
             .iter()

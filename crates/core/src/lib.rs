@@ -67,6 +67,7 @@ pub mod slab;
 pub mod stats;
 pub mod structure;
 pub mod trade;
+pub mod trade_lab;
 pub mod trade_summary;
 
 pub use aabb::{Aabb, Aabb2, Aabb3};

@@ -1,7 +1,7 @@
 //! Lesson 16, "The speed/accuracy trade": every structure of the catalogue and every switch
 //! (near first or file order, f32 or f64, the fast or the watertight triangle test) measured
 //! on the mesh shown and a chosen kind of rays, in the background ([`crate::mesh::trade`]:
-//! the core's `trade::Lab`, what `accelviz-cli tradeoff` runs), with its progress and a
+//! the core's `trade_lab::Lab`, what `accelviz-cli tradeoff` runs), with its progress and a
 //! cancel; a sortable table of what each costs and how often each is wrong; the plots (build
 //! against traversal, the SAH's prediction against the measured cost, the total time of a
 //! build and N rays with its crossovers); for each outcome of a row, "show me": that ray
@@ -449,6 +449,7 @@ impl TradeLesson {
             ui.separator();
             self.export_ui(ui);
         });
+        crate::mesh::ui::reading_ui(ui, &mut self.stage.scene);
         if let Some(progress) = self.progress() {
             ui.horizontal_wrapped(|ui| {
                 ui.add(
@@ -459,8 +460,13 @@ impl TradeLesson {
                 if ui.button("cancel").clicked() {
                     self.cancel();
                 }
-                ui.label(RichText::new(progress.doing).weak());
+                ui.label(format!(
+                    "{} so far, {}",
+                    crate::mesh::trade::duration_text(progress.spent_ms),
+                    progress.left_text()
+                ));
             });
+            ui.label(RichText::new(&progress.doing).weak());
             ui.ctx().request_repaint();
         }
         if let Some(problem) = &self.problem {

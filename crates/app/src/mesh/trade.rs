@@ -13,7 +13,8 @@ use std::sync::{Arc, Mutex};
 use accelviz_core::break_even::BreakEven;
 use accelviz_core::outcome::OutcomeCounts;
 use accelviz_core::params::BuildParams;
-use accelviz_core::trade::{Lab, Precision, Switches, TradeRow, contenders};
+use accelviz_core::trade::{Precision, Switches, TradeRow, contenders};
+use accelviz_core::trade_lab::Lab;
 use accelviz_core::{Order, Query, Ray, Structure};
 use accelviz_scene::rays::RayKind;
 use glam::DVec3;
@@ -167,12 +168,57 @@ pub struct TradeProgress {
     pub total: usize,
     /// What the task under way does.
     pub doing: String,
+    /// Milliseconds the tasks done took.
+    pub spent_ms: f64,
+    /// About how many are left ([`accelviz_core::trade_lab::Lab::time`]), once known.
+    pub left_ms: Option<f64>,
 }
 
 impl TradeProgress {
-    /// Done as a share, 0 to 1.
+    /// Done as a share, 0 to 1: of the time, once there is an estimate of what is left (a
+    /// kD-tree's build takes a hundred BVH builds, and a bar by tasks sat at 8 % for three
+    /// minutes of a nine-minute measurement); of the tasks until then.
     pub fn fraction(&self) -> f32 {
-        self.done as f32 / self.total.max(1) as f32
+        match self.left_ms {
+            Some(left) if self.spent_ms + left > 0.0 => {
+                (self.spent_ms / (self.spent_ms + left)) as f32
+            }
+            _ => self.done as f32 / self.total.max(1) as f32,
+        }
+    }
+
+    /// The time left in words: `about 2 min left`, or that it is not known yet.
+    pub fn left_text(&self) -> String {
+        match self.left_ms {
+            Some(left) => format!("about {} left", duration_text(left)),
+            None => "the time left is known once each kind of task has run".to_owned(),
+        }
+    }
+
+    /// The progress after `lab`'s tasks done so far.
+    fn of(lab: &Lab) -> Self {
+        let (done, total) = lab.progress();
+        let (spent_ms, left_ms) = lab.time();
+        Self {
+            done,
+            total,
+            doing: lab.doing(),
+            spent_ms,
+            left_ms,
+        }
+    }
+}
+
+/// A duration of `millis` as a person says it: `40 s`, `3 min`, `1 h 5 min`.
+pub fn duration_text(millis: f64) -> String {
+    let seconds = (millis / 1e3).max(0.0);
+    if seconds < 90.0 {
+        format!("{} s", seconds.ceil().max(1.0))
+    } else if seconds < 3600.0 {
+        format!("{} min", (seconds / 60.0).round())
+    } else {
+        let minutes = (seconds / 60.0).round() as u64;
+        format!("{} h {} min", minutes / 60, minutes % 60)
     }
 }
 
@@ -246,6 +292,8 @@ impl TradeJob {
                 done: 0,
                 total: 1,
                 doing: "starting".to_owned(),
+                spent_ms: 0.0,
+                left_ms: None,
             }),
             result: Mutex::new(None),
         });
@@ -355,13 +403,8 @@ impl Drop for TradeJob {
 }
 
 fn publish(shared: &Shared, lab: &Lab) {
-    let (done, total) = lab.progress();
     if let Ok(mut progress) = shared.progress.lock() {
-        *progress = TradeProgress {
-            done,
-            total,
-            doing: lab.doing(),
-        };
+        *progress = TradeProgress::of(lab);
     }
 }
 
@@ -547,19 +590,20 @@ fn ray_of(values: &[f64; 8]) -> Ray<DVec3> {
 
 /// What a Web Worker runs (`web/worker.js`, exported from `main.rs`).
 pub mod work {
-    use super::{Instant, clock, new_lab, pack_rows, ray_of};
+    use super::{Instant, TradeProgress, clock, new_lab, pack_rows, ray_of};
     use crate::mesh::aside::triangles_of;
 
     /// Measures `triangles` (nine numbers each) with `rays` (eight numbers each: origin,
     /// direction, `t_min`, `t_max`) for `query` (`closest` or `any`) over `rounds` rounds,
-    /// telling `progress` (tasks done, tasks in all, the task next) after each task; the rows
+    /// telling `progress` (tasks done and in all, the task next, the time spent and left)
+    /// after each task; the rows
     /// packed ([`super::pack_rows`]).
     pub fn measure(
         triangles: &[f64],
         rays: &[f64],
         query: &str,
         rounds: usize,
-        progress: &dyn Fn(usize, usize, &str),
+        progress: &dyn Fn(&TradeProgress),
     ) -> Result<Vec<u8>, String> {
         let query = match query {
             "closest" => accelviz_core::Query::Closest,
@@ -575,10 +619,7 @@ pub mod work {
             .collect();
         let mut lab = new_lab(&triangles_of(triangles), &rays, query, rounds);
         let now = clock(false, Instant::now());
-        let report = |lab: &accelviz_core::trade::Lab| {
-            let (done, total) = lab.progress();
-            progress(done, total, &lab.doing());
-        };
+        let report = |lab: &accelviz_core::trade_lab::Lab| progress(&TradeProgress::of(lab));
         report(&lab);
         while lab.step(&now) {
             report(&lab);
@@ -652,11 +693,14 @@ mod web_worker {
                 if let Some(done) = field(&data, "tasks").and_then(|value| value.as_f64()) {
                     let total = field(&data, "of").and_then(|value| value.as_f64());
                     let doing = field(&data, "doing").and_then(|value| value.as_string());
+                    let number = |name| field(&data, name).and_then(|value| value.as_f64());
                     if let Ok(mut progress) = heard.progress.lock() {
                         *progress = TradeProgress {
                             done: done as usize,
                             total: total.unwrap_or(done) as usize,
                             doing: doing.unwrap_or_default(),
+                            spent_ms: number("spent").unwrap_or(0.0),
+                            left_ms: number("left").filter(|left| left.is_finite()),
                         };
                     }
                 } else if let Some(bytes) = field(&data, "done") {
@@ -740,7 +784,11 @@ mod tests {
             &flat_rays,
             "closest",
             1,
-            &|done, total, _| heard.borrow_mut().push((done, total)),
+            &|progress: &TradeProgress| {
+                heard
+                    .borrow_mut()
+                    .push((progress.done, progress.total, progress.left_ms))
+            },
         )
         .expect("measures");
         let from_worker = unpack_rows(&bytes).expect("unpacks");
@@ -759,7 +807,12 @@ mod tests {
             heard.windows(2).all(|pair| pair[0].0 <= pair[1].0),
             "{heard:?}"
         );
-        assert_eq!(heard.last().map(|(done, total)| done == total), Some(true));
+        assert_eq!(
+            heard
+                .last()
+                .map(|(done, total, left)| (done == total, *left)),
+            Some((true, Some(0.0)))
+        );
         // Packed and unpacked, every field comes back; cut short or padded, an error.
         assert_eq!(unpack_rows(&pack_rows(&on_page)), Ok(on_page.clone()));
         for cut in [0, 7, 8, 20, bytes.len() / 2, bytes.len() - 1] {
@@ -769,7 +822,7 @@ mod tests {
         padded.push(0);
         assert!(unpack_rows(&padded).is_err());
         // Bad input: an error naming it.
-        assert!(work::measure(&[], &flat_rays, "nearest", 1, &|_, _, _| {}).is_err());
-        assert!(work::measure(&[], &[1.0; 7], "any", 1, &|_, _, _| {}).is_err());
+        assert!(work::measure(&[], &flat_rays, "nearest", 1, &|_| {}).is_err());
+        assert!(work::measure(&[], &[1.0; 7], "any", 1, &|_| {}).is_err());
     }
 }

@@ -68,6 +68,32 @@ pub fn mesh_ui(ui: &mut egui::Ui, scene: &mut MeshScene) -> bool {
     replaced
 }
 
+/// While a large mesh is read: its progress with a cancel button that keeps the mesh shown,
+/// and a repaint asked for each frame, so the mesh comes in when the read ends (a lesson that
+/// asked for none sat on "reading…" until the mouse moved). True while reading.
+pub fn reading_ui(ui: &mut egui::Ui, scene: &mut MeshScene) -> bool {
+    let Some(loading) = &scene.loading else {
+        return false;
+    };
+    let (name, progress) = (loading.name.clone(), loading.progress());
+    ui.horizontal(|ui| {
+        if ui
+            .button("cancel")
+            .on_hover_text("Stop reading, and keep the mesh on screen")
+            .clicked()
+        {
+            scene.loading = None;
+        }
+        ui.add(
+            egui::ProgressBar::new(progress)
+                .desired_width(260.0)
+                .text(format!("reading {name}: {:.0} %", progress * 100.0)),
+        );
+    });
+    ui.ctx().request_repaint();
+    true
+}
+
 /// While a large mesh is read or its structure built: a progress line with a cancel button
 /// that goes back to exactly what is on screen (the UI keeps drawing meanwhile): a read
 /// stops and the mesh shown stays; a build stops and the mesh, `structure` and `precision`

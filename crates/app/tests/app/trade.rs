@@ -441,3 +441,57 @@ fn texts_within<S>(
     found.retain(|(rect, _)| area.contains(rect.center()));
     found
 }
+
+/// A large OBJ opened in lesson 16 is read aside with its progress and a cancel, and the lab
+/// asks for frames while it reads, so the mesh comes in when the read ends (it sat on
+/// "reading…" until the mouse moved: nothing asked for a repaint).
+#[test]
+fn a_large_mesh_is_read_with_progress_cancel_and_frames() {
+    use accelviz_app::stage::SceneFile;
+    accelviz_app::background::set_background(true);
+    let text = accelviz_scene::obj::obj_text(&accelviz_scene::builtin::lumpy_grid_sphere(120_000));
+    let mut harness = lesson_harness_3d(lab());
+    harness.run_steps(2);
+    let open = |harness: &mut egui_kittest::Harness<'_, TradeLesson>| {
+        harness
+            .state_mut()
+            .scene_mut()
+            .open("large.obj", &text)
+            .expect("starts reading");
+        harness.run_steps(1);
+    };
+    open(&mut harness);
+    harness.get_by_label_contains("reading large.obj");
+    assert!(
+        harness.ctx.has_requested_repaint(),
+        "a frame is asked for while the file is read"
+    );
+    // The read's cancel comes first, above the measurement's (the lab measures the mesh on
+    // screen meanwhile).
+    let cancel = harness
+        .query_all_by_label("cancel")
+        .next()
+        .expect("a cancel");
+    cancel.click();
+    harness.run_steps(2);
+    assert!(
+        harness
+            .query_by_label_contains("reading large.obj")
+            .is_none()
+    );
+    assert!(harness.state_mut().scene_mut().loading.is_none());
+    // Let through: it arrives with no input but the frames the lesson asks for.
+    open(&mut harness);
+    let mut frames = 0;
+    while harness.state_mut().scene_mut().mesh.name != "large.obj" {
+        assert!(
+            harness.ctx.has_requested_repaint(),
+            "frame {frames}: no frame asked for"
+        );
+        harness.run_steps(1);
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        frames += 1;
+        assert!(frames < 3_000, "the mesh never arrived");
+    }
+    accelviz_app::background::set_background(false);
+}

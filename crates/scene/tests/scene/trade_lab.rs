@@ -1,4 +1,4 @@
-//! The trade lab's measurement ([`accelviz_core::trade::Lab`]), run task by task as a worker
+//! The trade lab's measurement ([`accelviz_core::trade_lab::Lab`]), run task by task as a worker
 //! thread or a browser runs it: its rows are what the parts measure when called directly,
 //! every ray gets one outcome, the clock it is given times it, and on a closed mesh the
 //! watertight rows leak nothing while a fast f32 row does.
@@ -9,7 +9,8 @@ use std::cell::Cell;
 
 use accelviz_core::outcome::Outcome;
 use accelviz_core::params::BuildParams;
-use accelviz_core::trade::{Lab, Precision, Switches, TradeScene, contenders};
+use accelviz_core::trade::{Precision, Switches, TradeScene, contenders};
+use accelviz_core::trade_lab::Lab;
 use accelviz_core::{Query, Ray, Structure, Width};
 use accelviz_scene::builtin::icosphere;
 use accelviz_scene::rays::RayKind;
@@ -126,4 +127,88 @@ fn the_lab_measures_what_its_parts_measure() {
     let (contenders, indices) = contenders(&rows);
     assert_eq!(contenders.len(), structures.len());
     assert!(indices.iter().all(|&i| rows[i].switches == Switches::BASE));
+}
+
+/// On a large mesh the lab measures its structures a group at a time and lets each group's
+/// trees go before the next is built (all nineteen structures' trees of a 269k-triangle mesh
+/// at once took 2 GB): a group holds at most its own trees, and the rows are the ones
+/// measured all at once. What is left is estimated from what each task took: unknown at
+/// first, nothing at the end.
+#[test]
+fn the_lab_in_groups_holds_one_groups_trees_and_measures_the_same_rows() {
+    use accelviz_core::trade_lab::{TREES_MEMORY_BUDGET, structures_a_group};
+    assert_eq!(
+        structures_a_group(5_120, 19),
+        19,
+        "a small mesh: all at once"
+    );
+    assert_eq!(
+        structures_a_group(269_000, 19),
+        2,
+        "the scanned head: two at a time"
+    );
+    let per_structure = TREES_MEMORY_BUDGET / structures_a_group(100_000, 19);
+    assert!(
+        per_structure >= 2 * 100_000 * 300,
+        "{per_structure} bytes a structure"
+    );
+
+    let mesh = icosphere(1);
+    let rays: Vec<Ray<DVec3>> = RayKind::Aimed
+        .rays(&mesh, 300, 5, None)
+        .unwrap()
+        .iter()
+        .map(|spec| spec.to_ray().unwrap())
+        .collect();
+    let structures = vec![
+        Structure::BvhMiddle {
+            width: Width::Binary,
+        },
+        Structure::KdMiddle,
+        Structure::KdSah,
+    ];
+    let clock = Cell::new(0.0);
+    let now = || {
+        clock.set(clock.get() + 1.0);
+        clock.get()
+    };
+    let measure = |group: usize| {
+        let mut lab = Lab::in_groups(
+            &mesh.triangles,
+            &rays,
+            structures.clone(),
+            Query::Closest,
+            BuildParams::default(),
+            2,
+            group,
+        );
+        assert_eq!(lab.time().1, None, "nothing is known before the first task");
+        let mut most = 0;
+        while lab.step(&now) {
+            most = most.max(lab.trees_held());
+        }
+        assert_eq!(lab.time().1, Some(0.0), "nothing left at the end");
+        (lab.rows().unwrap(), most)
+    };
+    let (together, held_together) = measure(3);
+    let (one_by_one, held_one_by_one) = measure(1);
+    assert_eq!(held_together, 6, "three structures in two precisions");
+    assert_eq!(
+        held_one_by_one, 2,
+        "one structure in two precisions at a time"
+    );
+    let counts = |rows: &[accelviz_core::trade::TradeRow]| {
+        rows.iter()
+            .map(|row| {
+                (
+                    row.structure,
+                    row.switches,
+                    row.outcomes,
+                    row.nodes_per_ray,
+                    row.bytes,
+                )
+            })
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(counts(&together), counts(&one_by_one));
 }
