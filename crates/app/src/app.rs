@@ -885,25 +885,41 @@ impl AccelvizApp {
     /// them in the page title on the web. Each mode says where it is.
     pub(crate) fn report_position(&mut self, ui: &Ui) {
         // Read at the end of the frame: a click in the lesson list may have changed the lesson.
-        let position = match (self.mode, &self.lecture) {
-            (Mode::Quiz, _) => self.quiz.position(),
-            (Mode::Lecture, Some(lecture)) => self.lecture_position(lecture),
-            (Mode::Lecture | Mode::Lessons, _) => self.lesson_position(),
-        };
+        let position = self.position();
         if self.reported.as_deref() == Some(position.line.as_str()) {
             return;
         }
         log::info!("{}", position.line);
-        // The desktop names the window; the browser's page title says the step as well.
-        let title = &position.title;
         if cfg!(target_arch = "wasm32") {
-            crate::files::set_page_title(&format!("accelviz: {title}"));
+            crate::files::set_page_title(&format!("accelviz: {}", position.title));
         } else {
-            let name = title.split(", step").next().unwrap_or(title).to_owned();
             ui.ctx()
-                .send_viewport_cmd(egui::ViewportCommand::Title(format!("accelviz: {name}")));
+                .send_viewport_cmd(egui::ViewportCommand::Title(self.window_title()));
         }
         self.reported = Some(position.line);
+    }
+
+    /// Where the app is, in the mode shown.
+    fn position(&self) -> Position {
+        match (self.mode, &self.lecture) {
+            (Mode::Quiz, _) => self.quiz.position(),
+            (Mode::Lecture, Some(lecture)) => self.lecture_position(lecture),
+            (Mode::Lecture | Mode::Lessons, _) => self.lesson_position(),
+        }
+    }
+
+    /// The desktop window's title. A playing lesson's step changes ten times a second: the
+    /// window keeps the lesson's name. A lecture's slide, question step, reveal and blank
+    /// change at the lecturer's pace, and the window says each (it was cut at the step, so
+    /// neither a reveal nor a blank showed); the browser's page title says the step as well.
+    pub fn window_title(&self) -> String {
+        let title = self.position().title;
+        let name = if self.mode == Mode::Lecture {
+            title.as_str()
+        } else {
+            title.split(", step").next().unwrap_or(&title)
+        };
+        format!("accelviz: {name}")
     }
 
     /// Where the lessons mode is: the lesson and its step.

@@ -853,16 +853,22 @@ impl Lesson for MeshTreeLesson {
             return;
         };
         let nodes = tree.build.built.facts.node_count() as u32;
+        if self.opened != Some(self.tree.generation()) {
+            self.opened = Some(self.tree.generation());
+            self.depth_range = opening_depths(nodes as usize);
+        }
         if let Some(pixel) = self.pending_pixel.take() {
             let camera = self
                 .view
                 .orbit
                 .camera(tree.build.sphere.0, tree.build.sphere.1);
+            // As the click did: the box under the pixel selected (lit orange) and its ray
+            // traced; a link that traced the ray alone lit the root instead.
+            let (origin, direction) = pixel.ray(&camera);
+            if let Some(node) = self.box_under(&tree, origin, direction) {
+                self.selected = Some(node);
+            }
             self.pick_pixel(pixel, &camera);
-        }
-        if self.opened != Some(self.tree.generation()) {
-            self.opened = Some(self.tree.generation());
-            self.depth_range = opening_depths(nodes as usize);
         }
         if self.selected.is_some_and(|node| node >= nodes) {
             self.selected = Some(0);

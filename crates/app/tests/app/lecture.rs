@@ -797,3 +797,20 @@ fn lecture_walk() {
         }
     }
 }
+
+/// The window's title says where the lecture is: the slide, the question's step, revealed and
+/// blank (it was cut at the step, so neither a reveal nor a blank ever showed there).
+#[test]
+fn the_window_title_says_the_slide_the_step_the_reveal_and_the_blank() {
+    let mut harness = lecturing();
+    first_question(&mut harness);
+    press(&mut harness, Key::R);
+    let title = harness.state().window_title();
+    assert!(
+        title.contains("step 1 of") && title.contains("revealed"),
+        "{title}"
+    );
+    press(&mut harness, Key::B);
+    let title = harness.state().window_title();
+    assert!(title.contains("blank"), "{title}");
+}

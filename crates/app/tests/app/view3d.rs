@@ -110,6 +110,22 @@ fn a_click_traces_through_its_pixels_centre() {
         (ray.origin, ray.direction),
         (expected.origin, expected.direction)
     );
+    // Its link opens the same: the ray, and the node the click selected (lit orange), which
+    // a link left at the root.
+    let selected = harness.state().selected;
+    assert_ne!(selected, Some(0), "the click selects the box under it");
+    let values = harness.state().share();
+    let mut shared = lesson_harness_3d(mesh_lesson());
+    for (key, value) in &values {
+        shared.state_mut().restore(key, value).expect("restores");
+    }
+    shared.run();
+    assert_eq!(shared.state().selected, selected);
+    let (_, shared_ray) = shared.state().picked().expect("the ray");
+    assert_eq!(
+        (shared_ray.origin, shared_ray.direction),
+        (ray.origin, ray.direction)
+    );
 }
 
 #[test]
