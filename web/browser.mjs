@@ -2,29 +2,9 @@
 // way this machine can run it (software WebGL2 through SwiftShader; see TOOLCHAIN notes).
 
 import { chromium } from 'playwright-core';
-import http from 'node:http';
-import fs from 'node:fs';
-import path from 'node:path';
 
-/** Serves `dir` (web/) on a free loopback port. */
-export function serve(dir) {
-  const types = { '.html': 'text/html', '.js': 'text/javascript', '.mjs': 'text/javascript', '.wasm': 'application/wasm' };
-  const server = http.createServer((request, response) => {
-    const urlPath = decodeURIComponent(new URL(request.url, 'http://x').pathname);
-    const file = path.join(dir, urlPath === '/' ? 'index.html' : urlPath);
-    if (!file.startsWith(dir) || !fs.existsSync(file) || fs.statSync(file).isDirectory()) {
-      response.writeHead(404).end('not found');
-      return;
-    }
-    const body = fs.readFileSync(file);
-    response.writeHead(200, {
-      'content-type': types[path.extname(file)] ?? 'application/octet-stream',
-      'content-length': body.length,
-    });
-    response.end(body);
-  });
-  return new Promise((resolve) => server.listen(0, '127.0.0.1', () => resolve(server)));
-}
+/** Serves `dir` (web/) on a free loopback port, compressed as `node web/serve.mjs` serves it. */
+export { serve } from './serve.mjs';
 
 /** Headless Chromium (`CHROMIUM`, else Debian's) drawing WebGL2 in software. */
 export function launchChromium() {

@@ -100,6 +100,14 @@ try {
   });
   page.on('pageerror', (error) => consoleErrors.push(`page error: ${error.message}`));
   fs.mkdirSync(shotDir, { recursive: true });
+  // The app arrives compressed (web/serve.mjs, as the README says to serve it): its
+  // encoding and the bytes on the wire, read from the response.
+  const wasmResponses = [];
+  page.on('response', async (response) => {
+    if (!response.url().endsWith('accelviz_bg.wasm')) return;
+    const headers = await response.allHeaders();
+    wasmResponses.push({ encoding: headers['content-encoding'] ?? 'identity', bytes: Number(headers['content-length']) });
+  });
 
   // WebGPU made unavailable, so the app runs on WebGL2 (as in browsers without WebGPU).
   await page.addInitScript(() => {
@@ -110,6 +118,9 @@ try {
   await page.waitForFunction(() => document.title.includes('step'), null, { timeout: 120_000 });
   check(true, `the app started in ${((Date.now() - loadStart) / 1000).toFixed(1)} s: "${await page.title()}"`);
   check(!(await page.$('#loading')), 'the loading note is gone');
+  const wasm = wasmResponses[0];
+  check(wasm && wasm.encoding !== 'identity',
+    `the wasm arrives compressed: ${wasm ? `${wasm.encoding}, ${(wasm.bytes / 1e6).toFixed(2)} MB on the wire` : 'no response seen'}`);
   check(logLines.some((line) => line.includes('backend: Gl')), 'the app runs on WebGL2');
   await page.waitForTimeout(500);
   const first = decodePng(await page.screenshot({ path: path.join(shotDir, 'web-start.png') }));

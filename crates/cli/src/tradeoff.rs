@@ -653,7 +653,7 @@ impl BreakEvenReport {
             .map(|step| 10f64.powf(3.0 + 0.1 * step as f64))
             .collect();
         Lines {
-            title: format!("Build + N rays: the fastest overall ({mesh})"),
+            title: format!("Build + N rays, medians of the rounds ({mesh})"),
             x_label: "rays traced (log scale)".into(),
             y_label: "total time, ms (log scale)".into(),
             lines: shown
