@@ -45,6 +45,29 @@ const CODE_PART: lesson::Part =
 const TREE_PART: lesson::Part = lesson::Part::new("tree", "the tree's numbers and diagram");
 const PARTS: [lesson::Part; 3] = [BUILD_PART, CODE_PART, TREE_PART];
 
+/// The monospace size at which the longest line of [`PSEUDO_CODE`] fits `width`: the style's
+/// size where it fits, else smaller, but not under three quarters of it.
+fn code_size(ui: &egui::Ui, width: f32) -> f32 {
+    let style_size = egui::TextStyle::Monospace.resolve(ui.style()).size;
+    let font = egui::FontId::monospace(style_size);
+    let widest = PSEUDO_CODE
+        .iter()
+        .map(|line| {
+            ui.fonts_mut(|fonts| {
+                fonts
+                    .layout_no_wrap((*line).to_owned(), font.clone(), Color32::WHITE)
+                    .size()
+                    .x
+            })
+        })
+        .fold(0.0, f32::max);
+    if widest <= width || widest <= 0.0 {
+        style_size
+    } else {
+        (style_size * width / widest).max(0.75 * style_size)
+    }
+}
+
 /// The colour of the part of the ray on the near side, and on the far side.
 const NEAR_COLOR: Color32 = Color32::from_rgb(80, 170, 255);
 const FAR_COLOR: Color32 = Color32::from_rgb(200, 120, 255);
@@ -454,13 +477,16 @@ impl KdLesson {
             .fill(ui.visuals().extreme_bg_color)
             .inner_margin(6.0)
             .show(ui, |ui| {
-                // Code lines keep their shape: in a narrow panel (the app scaled up) they
-                // scroll sideways rather than widen the panel.
+                // Code lines keep their shape: the font shrinks (to three quarters at most) so
+                // the longest line fits the panel, which a student would otherwise have to
+                // scroll to find; in a narrower panel still, the lines scroll sideways rather
+                // than widen it.
+                let size = code_size(ui, ui.available_width());
                 egui::ScrollArea::horizontal()
                     .id_salt("pseudo-code")
                     .show(ui, |ui| {
                         for (line, code) in PSEUDO_CODE.iter().enumerate() {
-                            let mut text = RichText::new(*code).monospace();
+                            let mut text = RichText::new(*code).monospace().size(size);
                             if lines.contains(&line) {
                                 text = text.background_color(faded(palette::CURRENT, 110)).strong();
                             }

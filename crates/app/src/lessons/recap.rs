@@ -9,7 +9,7 @@
 use std::sync::Arc;
 
 use accelviz_core::format::{count, number};
-use accelviz_core::{Counters, Family, ShapeSet, SplitRule, Structure, TraceOptions};
+use accelviz_core::{Family, ShapeSet, SplitRule, Structure};
 use accelviz_scene::document::SceneSettings;
 use egui::{Color32, RichText};
 use glam::DVec2;
@@ -20,7 +20,7 @@ use crate::editor::Editing;
 use crate::lesson::Lesson;
 use crate::lesson_file::LessonText;
 use crate::stage::{Stage, request_over_shapes};
-use crate::views::compare::{Comparison, Measured, count_rays, interior_rays};
+use crate::views::compare::{Comparison, Measured, interior_rays};
 
 /// The five families, in pane order: the lecture's two first.
 pub const FAMILIES: [Family; 5] = [
@@ -54,34 +54,20 @@ pub fn structures(settings: &SceneSettings) -> [Structure; 5] {
 }
 
 /// The recap's measurement: the five structures over the scene, counted on rays from around
-/// it (`comparison`'s) and on rays from points inside it in every direction (a camera in the
-/// scene, a bounce): in a walled scene a ray from outside stops at the wall, whatever the
-/// structure, and only rays from inside show how each finds its way through.
+/// it and on rays from points inside it in every direction (a camera in the scene, a bounce;
+/// the comparison's `inside`): in a walled scene a ray from outside stops at the wall,
+/// whatever the structure, and only rays from inside show how each finds its way through.
 pub struct Recap {
-    /// The structures and their counts on the rays from outside.
+    /// The structures and their counts on both sets of rays.
     pub comparison: Comparison,
-    /// Each structure's counts on the rays from inside.
-    pub inside: Vec<Counters>,
-    /// How many rays from inside.
-    pub inside_rays: usize,
 }
 
 impl Recap {
     /// Builds the five structures over `shapes` and counts both sets of rays through them.
     pub fn build(shapes: Arc<ShapeSet<DVec2>>, settings: SceneSettings) -> Self {
-        let comparison = Comparison::build(&structures(&settings), shapes.clone(), settings);
-        let rays = interior_rays(&shapes);
-        let options = TraceOptions::default();
-        let inside = comparison
-            .trees
-            .iter()
-            .map(|tree| count_rays(tree, &rays, &options))
-            .collect();
-        Self {
-            comparison,
-            inside,
-            inside_rays: rays.len(),
-        }
+        let comparison = Comparison::build(&structures(&settings), shapes.clone(), settings)
+            .with_inside(&interior_rays(&shapes));
+        Self { comparison }
     }
 
     /// The five structures' figures on both sets of rays, in pane order.
@@ -89,8 +75,12 @@ impl Recap {
         let comparison = &self.comparison;
         Figures {
             outside: [0, 1, 2, 3, 4].map(|pane| comparison.measured(pane)),
-            inside: [0, 1, 2, 3, 4]
-                .map(|pane| comparison.measured_with(pane, &self.inside[pane], self.inside_rays)),
+            inside: [0, 1, 2, 3, 4].map(|pane| match &comparison.inside {
+                Some(inside) => {
+                    comparison.measured_with(pane, &inside.counters[pane], inside.ray_count)
+                }
+                None => comparison.measured(pane),
+            }),
         }
     }
 }
@@ -294,6 +284,16 @@ impl RecapLesson {
         Some(self.recap.get()?.figures())
     }
 
+    /// Each pane's caption under its structure's name, as drawn (once measured).
+    pub fn pane_captions(&self) -> Option<Vec<Vec<String>>> {
+        let comparison = &self.recap.get()?.comparison;
+        Some(
+            (0..comparison.trees.len())
+                .map(|pane| comparison.summary(pane))
+                .collect(),
+        )
+    }
+
     /// Opens preset `index` of the lesson file's presets (its scene and name).
     pub fn show_preset(&mut self, index: usize) {
         self.stage.show_preset(index);
@@ -393,7 +393,7 @@ impl Lesson for RecapLesson {
             RichText::new(format!(
                 "Measured on {} seeded rays from around the scene to points in it (a camera outside), and {} from points inside it in every direction (a camera in the scene, a bounce). Cost per ray = C_trav · nodes (or cells) + C_isect · tests, with C_trav = {} and C_isect = {}.",
                 comparison.ray_count,
-                recap.inside_rays,
+                comparison.inside.as_ref().map_or(0, |inside| inside.ray_count),
                 number(settings.traversal_cost),
                 number(settings.intersection_cost)
             ))

@@ -102,6 +102,14 @@ impl QuizMode {
         let line = self.session().map_or_else(
             || "accelviz: quiz".to_owned(),
             |session| {
+                if session.is_finished() {
+                    return format!(
+                        "accelviz: quiz seed {}, done, score {} of {}",
+                        session.seed(),
+                        session.score(),
+                        session.answered()
+                    );
+                }
                 let wants = match session.ask().map(|ask| &ask.expected) {
                     Some(accelviz_quiz::Expected::Number { .. }) => "a number",
                     Some(_) => "a choice",

@@ -30,6 +30,18 @@ pub struct Comparison {
     pub counters: Vec<Counters>,
     /// How many rays were measured.
     pub ray_count: usize,
+    /// Counts on a second set of rays, from points inside the scene (the recap's): each
+    /// pane's caption then gives its cost per ray from outside and from inside, so a slide
+    /// that shows only the panes does not show the walls' answer alone.
+    pub inside: Option<InsideRays>,
+}
+
+/// Each structure's counters on rays from points inside the scene, in every direction.
+pub struct InsideRays {
+    /// Counters summed over the rays, by tree.
+    pub counters: Vec<Counters>,
+    /// How many rays.
+    pub ray_count: usize,
 }
 
 impl Comparison {
@@ -62,7 +74,22 @@ impl Comparison {
             trees,
             counters,
             ray_count: rays.len(),
+            inside: None,
         }
+    }
+
+    /// Also counts `rays`, from points inside the scene, through every tree.
+    pub fn with_inside(mut self, rays: &[Ray<DVec2>]) -> Self {
+        let options = TraceOptions::default();
+        self.inside = Some(InsideRays {
+            counters: self
+                .trees
+                .iter()
+                .map(|tree| count_rays(tree, rays, &options))
+                .collect(),
+            ray_count: rays.len(),
+        });
+        self
     }
 
     /// What pane `pane`'s structure costs per measured ray, and what it holds.
@@ -111,12 +138,27 @@ impl Comparison {
                 stats.max_leaf_size,
                 stats.mean_leaf_size
             ),
-            format!(
+        ];
+        match &self.inside {
+            None => lines.push(format!(
                 "per ray: {:.1} nodes, {:.1} tests",
                 self.per_ray(pane, |c| c.nodes_visited),
                 self.per_ray(pane, |c| c.primitive_tests)
-            ),
-        ];
+            )),
+            Some(inside) => {
+                let per_ray = |count: u64| count as f64 / inside.ray_count.max(1) as f64;
+                lines.push(format!(
+                    "outside: {:.1} nodes, {:.1} tests a ray",
+                    self.per_ray(pane, |c| c.nodes_visited),
+                    self.per_ray(pane, |c| c.primitive_tests)
+                ));
+                lines.push(format!(
+                    "inside: {:.1} nodes, {:.1} tests a ray",
+                    per_ray(inside.counters[pane].nodes_visited),
+                    per_ray(inside.counters[pane].primitive_tests)
+                ));
+            }
+        }
         if let Some(note) = self.trees[pane].limits_note() {
             lines.push(note);
         }

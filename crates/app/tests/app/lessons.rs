@@ -181,6 +181,28 @@ fn the_recap_presets_show_when_each_structure_wins() {
             "{name}: the hashed grid walks the dense grid's cells"
         );
         assert!(verdict.contains(winner), "{name}: {verdict}");
+        // A lecture slide shows the panes alone: each caption gives both sets of rays, so
+        // the walls' answer (a ray from outside stops at the first cell) is never shown alone.
+        let captions = lesson.pane_captions().expect("measured");
+        for (pane, caption) in captions.iter().enumerate() {
+            let (outside, inside) = (figures.outside[pane], figures.inside[pane]);
+            let wanted = [
+                format!(
+                    "outside: {:.1} nodes, {:.1} tests a ray",
+                    outside.nodes_per_ray, outside.tests_per_ray
+                ),
+                format!(
+                    "inside: {:.1} nodes, {:.1} tests a ray",
+                    inside.nodes_per_ray, inside.tests_per_ray
+                ),
+            ];
+            for line in wanted {
+                assert!(
+                    caption.contains(&line),
+                    "{name}, pane {pane}: {caption:?} lacks {line}"
+                );
+            }
+        }
     }
 }
 
