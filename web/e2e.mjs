@@ -14,7 +14,10 @@ import { dropFile, launchChromium, serve } from './browser.mjs';
 
 const webDir = path.dirname(fileURLToPath(import.meta.url));
 const shotDir = process.env.E2E_SHOTS ?? path.join(webDir, '..', 'target', 'e2e');
-const viewport = { width: 1280, height: 800 };
+// E2E_VIEWPORT=WxH walks the same page at another size (1366x768, a projector's or a
+// laptop's; 1920x1080): the checks are the same, the screenshots show how it fits.
+const [viewportWidth, viewportHeight] = (process.env.E2E_VIEWPORT ?? '1280x800').split('x').map(Number);
+const viewport = { width: viewportWidth, height: viewportHeight };
 
 /** Decodes an 8-bit RGB or RGBA PNG (what Chromium's screenshots are) to pixels. */
 function decodePng(buffer) {
