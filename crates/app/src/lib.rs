@@ -13,6 +13,7 @@ pub mod background;
 pub mod canvas;
 pub mod editor;
 pub mod files;
+pub mod fonts;
 pub mod lecture;
 pub mod lesson;
 pub mod lesson_file;

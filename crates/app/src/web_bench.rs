@@ -8,7 +8,7 @@
 
 use accelviz_core::params::BuildParams;
 use accelviz_core::{
-    LeafOrdered, NoObserver, Ray3, Structure, TraceOptions, TraversalStacks, Tree, TriangleSet,
+    LeafOrdered, Ray3, Structure, TraceOptions, TraversalStacks, Tree, TriangleSet, compiled,
 };
 use accelviz_scene::Mesh;
 use accelviz_scene::rays::RaySource;
@@ -43,7 +43,7 @@ impl Tracer {
         // Timed as the CLI times a build: the tree and the copy of the triangles in its leaf
         // order that traversal reads.
         let started = Instant::now();
-        let tree = structure.build(&set, &BuildParams::default());
+        let tree = compiled::build_tree_f32(structure, &set, &BuildParams::default());
         let primitives = tree.leaf_ordered(&set);
         let build_millis = started.elapsed().as_secs_f64() * 1e3;
         Ok(Self {
@@ -86,12 +86,12 @@ impl Tracer {
         let mut hit_count = 0;
         for (numbers, distance) in rays.chunks_exact(RAY_NUMBERS).zip(distances) {
             let Ok(ray) = ray_of(numbers) else { continue };
-            let hit = self.tree.trace(
+            let hit = compiled::trace_triangles_f32(
+                &self.tree,
                 &self.primitives,
                 &ray,
                 &options,
                 &mut self.stacks,
-                &mut NoObserver,
             );
             *distance = hit.map_or(f32::INFINITY, |hit| hit.t);
             hit_count += u32::from(hit.is_some());
@@ -127,7 +127,7 @@ pub fn bench_rays(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use accelviz_core::brute_force;
+    use accelviz_core::{NoObserver, brute_force};
 
     /// Two unit squares facing +z, at z = 0 and z = 1, as nine numbers a triangle.
     fn squares() -> Vec<f64> {

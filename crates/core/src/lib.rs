@@ -30,6 +30,8 @@
 //! - [`quality`]: what a tree is worth beyond its SAH cost (end-point overlap).
 //! - [`outcome`]: a traced ray's answer against a reference that is sure of itself on the
 //!   same rounded inputs: agree, tie, graze, leak, false hit or wrong.
+//! - [`compiled`]: a triangle mesh's builds and traversals compiled in this crate, for the
+//!   callers compiled for size (the browser app).
 //! - [`camera`]: which ray goes through which pixel (the benchmark's camera rays, the app's
 //!   3D view and clicks); [`heatmap`]: every pixel's traversal cost, counted by the one
 //!   traversal.
@@ -43,6 +45,7 @@ pub mod brute;
 pub mod build_observer;
 pub mod bvh;
 pub mod camera;
+pub mod compiled;
 pub mod crack;
 pub mod curve;
 pub mod facts;

@@ -12,7 +12,7 @@ use std::sync::{Arc, Mutex};
 
 use accelviz_core::camera::{Camera, Projection};
 use accelviz_core::heatmap::{HeatMap, PixelCost, trace_rows, trace_rows_in_packets};
-use accelviz_core::{NoObserver, Order, Query, TraceOptions, TraversalStacks};
+use accelviz_core::{Order, Query, TraceOptions, TraversalStacks, compiled};
 use accelviz_scene::rays::{RayKind, pixel_secondary_rays};
 use glam::DVec3;
 use web_time::Instant;
@@ -336,7 +336,15 @@ fn trace_band(tree: &MeshTree, key: &HeatKey, band: usize) -> [Vec<PixelCost>; 2
                 |rays, counters| {
                     let mut hits = [None; accelviz_core::bvh::MAX_PACKET];
                     let hits = &mut hits[..rays.len()];
-                    built.trace_packet(ordered, rays, &options, &mut stacks, counters, hits);
+                    compiled::trace_packet_counted(
+                        built,
+                        ordered,
+                        rays,
+                        &options,
+                        &mut stacks,
+                        counters,
+                        hits,
+                    );
                 },
             );
         } else {
@@ -354,14 +362,21 @@ fn trace_band(tree: &MeshTree, key: &HeatKey, band: usize) -> [Vec<PixelCost>; 2
                 &mut out,
                 |ray, counters| {
                     let Some(hit) =
-                        built.trace(ordered, ray, &primary, &mut stacks, &mut NoObserver)
+                        compiled::trace_triangles(built, ordered, ray, &primary, &mut stacks)
                     else {
                         return;
                     };
                     for secondary in
                         pixel_secondary_rays(key.ray_kind, &tree.mesh, &bounds, ray, hit)
                     {
-                        built.trace(ordered, &secondary, &options, &mut stacks, counters);
+                        compiled::trace_triangles_counted(
+                            built,
+                            ordered,
+                            &secondary,
+                            &options,
+                            &mut stacks,
+                            counters,
+                        );
                     }
                 },
             );

@@ -7,7 +7,7 @@ use accelviz_core::camera::bounding_sphere_of_box;
 use accelviz_core::params::BuildParams;
 use accelviz_core::trade::Precision;
 use accelviz_core::{
-    Built, LeafOrdered, NoBuildObserver, Ray, Structure, TraceOptions, Tree, TreeStats, TriangleSet,
+    Built, LeafOrdered, Ray, Structure, TraceOptions, Tree, TreeStats, TriangleSet, compiled,
 };
 use accelviz_scene::Mesh;
 use glam::{DVec3, Vec3};
@@ -80,7 +80,7 @@ impl MeshTree {
             .map(|corners| corners.map(|corner| corner.as_dvec3().to_array()))
             .collect();
         let build = Self::measured(&mesh, |params| {
-            Built::new(structure, &in_f32, params, &mut NoBuildObserver).converted()
+            compiled::build_triangles_f32(structure, &in_f32, params).converted()
         });
         Self {
             triangles: TriangleSet::<DVec3>::from_f64(&rounded),
@@ -126,7 +126,7 @@ impl MeshTree {
         structure: Structure,
     ) -> MeshBuild {
         Self::measured(mesh, |params| {
-            Built::new(structure, triangles, params, &mut NoBuildObserver)
+            compiled::build_triangles(structure, triangles, params)
         })
     }
 

@@ -7,6 +7,7 @@ mod bounds;
 mod common;
 mod contrast;
 mod cracks;
+mod fonts;
 mod grids;
 mod interaction;
 mod large_mesh;

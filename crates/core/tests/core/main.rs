@@ -3,6 +3,7 @@
 
 mod brute_agreement;
 mod common;
+mod compiled;
 mod cost_curves;
 mod cracks;
 mod grid_walk;
