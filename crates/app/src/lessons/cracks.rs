@@ -493,9 +493,53 @@ impl CracksLesson {
             widest.max(point.abs().max_element())
         });
         let fit = Aabb::new(DVec2::splat(-extent), DVec2::splat(extent));
-        let mut canvas = Canvas::allocate(ui, size, view, &fit, false);
+        // What the view shows, under it rather than on it: a caption on the view covered
+        // a third of it at a lecture's text size. The view's width in world units, and so
+        // the caption, depends on the view's size, which the caption's height decides:
+        // laid out once for the whole height, the caption's rows hardly change after.
+        let caption = |canvas_size: Vec2| {
+            let (fitted, _) = View2d::fitted_scale(fit.extent(), canvas_size, Vec2::ZERO, 0.0);
+            let width = f64::from(canvas_size.x) / (fitted * 10f64.powf(zoom));
+            format!(
+                "{} · {} test · seen along the ray · {} across = {} of the coordinates' ulp ({})",
+                tested.precision.name(),
+                tested.test.name(),
+                number(width),
+                number(width / tested.coordinate_ulp),
+                number(tested.coordinate_ulp),
+            )
+        };
+        let caption_font = egui::TextStyle::Small.resolve(ui.style());
+        let caption_height = ui
+            .painter()
+            .layout(caption(size), caption_font, Color32::WHITE, size.x)
+            .size()
+            .y;
+        let size = Vec2::new(
+            size.x,
+            (size.y - caption_height - ui.spacing().item_spacing.y).max(40.0),
+        );
+        ui.vertical(|ui| {
+            ui.set_max_width(size.x);
+            Self::along_canvas_ui(ui, view, size, &fit, &seen, tested, zoom);
+            ui.label(RichText::new(caption(size)).small());
+        });
+    }
+
+    /// The view along the ray of [`Self::along_ui`]: the triangles as seen, the edge, where
+    /// each test put the ray and the exact ray's dot.
+    fn along_canvas_ui(
+        ui: &mut egui::Ui,
+        view: &mut View2d,
+        size: Vec2,
+        fit: &Aabb<DVec2>,
+        seen: &[[DVec2; 3]; 2],
+        tested: &EdgeTest,
+        zoom: f64,
+    ) {
+        let mut canvas = Canvas::allocate(ui, size, view, fit, false);
         // The zoom is the slider's: about the aimed point, whatever the wheel did.
-        let fitted = View2d::fitted(&fit, canvas.rect);
+        let fitted = View2d::fitted(fit, canvas.rect);
         let mut shown = canvas.view;
         shown.center = DVec2::ZERO;
         shown.points_per_unit = fitted.points_per_unit * 10f64.powf(zoom);
@@ -591,15 +635,6 @@ impl CracksLesson {
         canvas
             .painter
             .circle_filled(canvas.to_screen(DVec2::ZERO), 4.0, ray_colour);
-        let width = 2.0 * half.x / 0.6;
-        canvas.note(&format!(
-            "{} · {} test · seen along the ray · {} across = {} of the coordinates' ulp ({})",
-            tested.precision.name(),
-            tested.test.name(),
-            number(width),
-            number(width / tested.coordinate_ulp),
-            number(tested.coordinate_ulp),
-        ));
         canvas.finish();
     }
 
