@@ -16,17 +16,19 @@ use crate::ray::{Ray, RayError};
 /// How the camera maps the image plane to rays.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Projection {
-    /// A pinhole: every ray starts at the eye; `vertical_fov` (radians) is the angle from
-    /// the image's top edge to its bottom edge.
+    /// A pinhole: every ray starts at the eye; `fov` (radians) is the angle across the
+    /// image's shorter side: top to bottom of a landscape image, left to right of a portrait
+    /// one. So what fills a square image fills any other, not only one as wide as high (a
+    /// tall, narrow view with a fixed vertical angle cut a framed scene at its sides).
     Perspective {
-        /// The vertical field of view in radians, in (0, π).
-        vertical_fov: f64,
+        /// The field of view across the image's shorter side in radians, in (0, π).
+        fov: f64,
     },
-    /// Parallel rays along the view direction, from a plane through the eye; the image is
-    /// `2 · half_height` world units high.
+    /// Parallel rays along the view direction, from a plane through the eye; the image's
+    /// shorter side is `2 · half_size` world units long.
     Orthographic {
-        /// Half the image's height in world units.
-        half_height: f64,
+        /// Half the image's shorter side in world units.
+        half_size: f64,
     },
 }
 
@@ -55,21 +57,21 @@ pub struct Basis {
 }
 
 impl Camera {
-    /// The vertical field of view of [`Camera::framing`]: 45°.
+    /// The field of view of [`Camera::framing`] (across the image's shorter side): 45°.
     pub const FRAMING_FOV_DEGREES: f64 = 45.0;
 
     /// The benchmark's camera (`bench --camera WxH`, `heatmap`): a 45° pinhole looking at the
     /// box's centre from the +z side, slightly raised (direction (0.25, 0.35, 1)), from just
-    /// far enough that the box's bounding sphere fills the frame's height.
+    /// far enough that the box's bounding sphere fills the frame's shorter side.
     pub fn framing(bounds: &Aabb<DVec3>) -> Self {
         let (center, radius) = bounding_sphere_of_box(bounds);
-        let vertical_fov = Self::FRAMING_FOV_DEGREES.to_radians();
-        let distance = radius / (vertical_fov / 2.0).sin();
+        let fov = Self::FRAMING_FOV_DEGREES.to_radians();
+        let distance = radius / (fov / 2.0).sin();
         Self {
             eye: center + DVec3::new(0.25, 0.35, 1.0).normalize() * distance,
             target: center,
             up: DVec3::Y,
-            projection: Projection::Perspective { vertical_fov },
+            projection: Projection::Perspective { fov },
         }
     }
 
@@ -83,16 +85,18 @@ impl Camera {
     }
 
     /// Half the image's size at unit distance in front of a pinhole (perspective), or in
-    /// world units (orthographic): `(half_width, half_height)`.
-    fn half_extent(&self, width: usize, height: usize) -> (f64, f64) {
-        let half_height = match self.projection {
-            Projection::Perspective { vertical_fov } => (vertical_fov / 2.0).tan(),
-            Projection::Orthographic { half_height } => half_height,
+    /// world units (orthographic), for an image of `aspect = width / height`:
+    /// `(half_width, half_height)`, the shorter side's half the projection's.
+    fn half_extent(&self, aspect: f64) -> (f64, f64) {
+        let half_shorter = match self.projection {
+            Projection::Perspective { fov } => (fov / 2.0).tan(),
+            Projection::Orthographic { half_size } => half_size,
         };
-        (
-            half_height * width as f64 / height.max(1) as f64,
-            half_height,
-        )
+        if aspect >= 1.0 {
+            (half_shorter * aspect, half_shorter)
+        } else {
+            (half_shorter, half_shorter / aspect)
+        }
     }
 
     /// The ray through the image point `(x, y)` in pixels (`(column + 0.5, row + 0.5)` is a
@@ -101,7 +105,8 @@ impl Camera {
     /// plane at unit distance).
     pub fn ray_through(&self, x: f64, y: f64, width: usize, height: usize) -> (DVec3, DVec3) {
         let Basis { right, up, forward } = self.basis();
-        let (half_width, half_height) = self.half_extent(width, height);
+        let (half_width, half_height) =
+            self.half_extent(width.max(1) as f64 / height.max(1) as f64);
         let horizontal = (x / width.max(1) as f64 * 2.0 - 1.0) * half_width;
         let vertical = (1.0 - y / height.max(1) as f64 * 2.0) * half_height;
         match self.projection {
@@ -145,18 +150,16 @@ impl Camera {
         // Right-handed view space (looking down −z) to clip space with depth 0 at `near` and
         // 1 at `far`, as wgpu expects.
         let depth_scale = 1.0 / (near - far);
+        let (half_width, half_height) = self.half_extent(aspect);
         let projection = match self.projection {
-            Projection::Perspective { vertical_fov } => {
-                let focal = 1.0 / (vertical_fov / 2.0).tan();
-                DMat4::from_cols(
-                    DVec4::new(focal / aspect, 0.0, 0.0, 0.0),
-                    DVec4::new(0.0, focal, 0.0, 0.0),
-                    DVec4::new(0.0, 0.0, far * depth_scale, -1.0),
-                    DVec4::new(0.0, 0.0, near * far * depth_scale, 0.0),
-                )
-            }
-            Projection::Orthographic { half_height } => DMat4::from_cols(
-                DVec4::new(1.0 / (half_height * aspect), 0.0, 0.0, 0.0),
+            Projection::Perspective { .. } => DMat4::from_cols(
+                DVec4::new(1.0 / half_width, 0.0, 0.0, 0.0),
+                DVec4::new(0.0, 1.0 / half_height, 0.0, 0.0),
+                DVec4::new(0.0, 0.0, far * depth_scale, -1.0),
+                DVec4::new(0.0, 0.0, near * far * depth_scale, 0.0),
+            ),
+            Projection::Orthographic { .. } => DMat4::from_cols(
+                DVec4::new(1.0 / half_width, 0.0, 0.0, 0.0),
                 DVec4::new(0.0, 1.0 / half_height, 0.0, 0.0),
                 DVec4::new(0.0, 0.0, depth_scale, 0.0),
                 DVec4::new(0.0, 0.0, near * depth_scale, 1.0),
@@ -201,7 +204,7 @@ mod tests {
         for camera in [
             Camera::framing(&unit_box()),
             Camera {
-                projection: Projection::Orthographic { half_height: 2.0 },
+                projection: Projection::Orthographic { half_size: 2.0 },
                 ..Camera::framing(&unit_box())
             },
         ] {
@@ -217,11 +220,15 @@ mod tests {
     #[test]
     fn drawn_points_lie_on_their_pixels_rays() {
         // Project points along rays through several pixels: each lands on its pixel.
-        let (width, height) = (64usize, 48usize);
-        for projection in [
-            Projection::Perspective { vertical_fov: 0.9 },
-            Projection::Orthographic { half_height: 1.7 },
-        ] {
+        for ((width, height), projection) in
+            [(64usize, 48usize), (48, 64)].into_iter().flat_map(|size| {
+                [
+                    Projection::Perspective { fov: 0.9 },
+                    Projection::Orthographic { half_size: 1.7 },
+                ]
+                .map(|projection| (size, projection))
+            })
+        {
             let camera = Camera {
                 eye: DVec3::new(3.0, 2.0, 5.0),
                 target: DVec3::new(0.1, -0.2, 0.3),
@@ -242,6 +249,29 @@ mod tests {
                 );
                 assert!((0.0..=1.0).contains(&ndc.z), "depth {}", ndc.z);
             }
+        }
+    }
+
+    #[test]
+    fn the_framed_sphere_fits_landscape_and_portrait_images() {
+        let camera = Camera::framing(&unit_box());
+        let (center, radius) = bounding_sphere_of_box(&unit_box());
+        let seen_at = (radius / (camera.eye - center).length()).asin();
+        let forward = camera.basis().forward;
+        for (width, height) in [(64usize, 48usize), (48, 64), (20, 100), (100, 100)] {
+            // The middles of the left and top edges: the sphere fits between the edges, and
+            // touches those of the shorter side.
+            let left = camera
+                .ray_through(0.0, height as f64 / 2.0, width, height)
+                .1;
+            let top = camera.ray_through(width as f64 / 2.0, 0.0, width, height).1;
+            let [across, down] = [left, top].map(|edge| edge.normalize().dot(forward).acos());
+            assert!(
+                across >= seen_at - 1e-12 && down >= seen_at - 1e-12,
+                "{width}x{height}: {across} and {down} against {seen_at}"
+            );
+            let shorter = if width >= height { down } else { across };
+            assert!((shorter - seen_at).abs() < 1e-12, "{width}x{height}");
         }
     }
 

@@ -595,8 +595,8 @@ impl HeatKey {
     pub fn to_numbers(&self) -> Vec<f64> {
         let camera = &self.camera;
         let (projection, size) = match camera.projection {
-            Projection::Perspective { vertical_fov } => (0.0, vertical_fov),
-            Projection::Orthographic { half_height } => (1.0, half_height),
+            Projection::Perspective { fov } => (0.0, fov),
+            Projection::Orthographic { half_size } => (1.0, half_size),
         };
         let kind = RayKind::ALL
             .iter()
@@ -651,8 +651,8 @@ impl HeatKey {
             }
         };
         let projection = match projection {
-            0.0 => Projection::Perspective { vertical_fov: size },
-            1.0 => Projection::Orthographic { half_height: size },
+            0.0 => Projection::Perspective { fov: size },
+            1.0 => Projection::Orthographic { half_size: size },
             other => return Err(format!("unknown projection {other}")),
         };
         let ray_kind = *RayKind::ALL

@@ -40,7 +40,7 @@ impl Default for Orbit {
     }
 }
 
-/// The vertical field of view of the perspective camera.
+/// The perspective camera's field of view, across the view's shorter side.
 const FIELD_OF_VIEW_DEGREES: f64 = 45.0;
 
 impl Orbit {
@@ -57,11 +57,11 @@ impl Orbit {
         let projection = if self.orthographic {
             // As much of the scene as the perspective camera shows at the target's distance.
             Projection::Orthographic {
-                half_height: distance * (FIELD_OF_VIEW_DEGREES.to_radians() / 2.0).tan(),
+                half_size: distance * (FIELD_OF_VIEW_DEGREES.to_radians() / 2.0).tan(),
             }
         } else {
             Projection::Perspective {
-                vertical_fov: FIELD_OF_VIEW_DEGREES.to_radians(),
+                fov: FIELD_OF_VIEW_DEGREES.to_radians(),
             }
         };
         Camera {
@@ -312,8 +312,8 @@ impl View3d {
                     eye: (camera.eye - center) / radius,
                     target: (camera.target - center) / radius,
                     projection: match camera.projection {
-                        Projection::Orthographic { half_height } => Projection::Orthographic {
-                            half_height: half_height / radius,
+                        Projection::Orthographic { half_size } => Projection::Orthographic {
+                            half_size: half_size / radius,
                         },
                         perspective => perspective,
                     },

@@ -65,7 +65,7 @@ fn every_pixel_ray_finds_brute_forces_hit_and_rows_can_be_traced_piece_by_piece(
         eye: DVec3::new(0.3, 4.0, 0.2),
         target: DVec3::ZERO,
         up: DVec3::Z,
-        projection: Projection::Orthographic { half_height: 1.4 },
+        projection: Projection::Orthographic { half_size: 1.4 },
     };
     let (width, height) = (16, 12);
     let options = TraceOptions::default();
