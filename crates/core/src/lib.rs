@@ -24,6 +24,8 @@
 //! - [`structure`]: the catalogue of every structure (`bvh:middle` … `octree`), built
 //!   into a [`Tree`]; [`build_observer`]: how a builder reports each node and why it made each
 //!   leaf; [`facts`]: what views show about a tree (boxes, cells, paths, depths), computed once.
+//! - [`bytes`]: a built tree as bytes and back (each family writes its own; `Built::to_bytes`),
+//!   for memory that is not shared: a Web Worker's build, a GPU's layout.
 //! - [`break_even`]: which structure is fastest overall for N rays (build + N × trace).
 //! - [`crack`]: the cases behind the trade: a ray at a shared edge, far from the origin, through
 //!   a box's corner; decided by the core's own tests.
@@ -43,7 +45,9 @@ pub mod bounding;
 pub mod break_even;
 pub mod brute;
 pub mod build_observer;
+mod built_bytes;
 pub mod bvh;
+pub mod bytes;
 pub mod camera;
 pub mod compiled;
 pub mod crack;

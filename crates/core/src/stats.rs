@@ -80,3 +80,55 @@ impl TreeStats {
         stats
     }
 }
+
+impl TreeStats {
+    /// Writes the measurements ([`crate::bytes`]), for a caller that sends them with a tree
+    /// rather than measure it again.
+    pub fn write_bytes(&self, out: &mut crate::bytes::ByteWriter) {
+        for count in [
+            self.node_count,
+            self.leaf_count,
+            self.max_depth,
+            self.min_leaf_size,
+            self.max_leaf_size,
+            self.primitive_references,
+            self.empty_leaf_count,
+        ] {
+            out.usize(count);
+        }
+        for value in [self.mean_leaf_size, self.empty_leaf_share, self.sah_cost] {
+            out.f64(value);
+        }
+    }
+
+    /// The measurements [`TreeStats::write_bytes`] wrote.
+    pub fn read_bytes(
+        input: &mut crate::bytes::ByteReader<'_>,
+    ) -> Result<Self, crate::bytes::BytesError> {
+        let mut counts = [0usize; 7];
+        for count in &mut counts {
+            *count = input.usize()?;
+        }
+        let [
+            node_count,
+            leaf_count,
+            max_depth,
+            min_leaf_size,
+            max_leaf_size,
+            primitive_references,
+            empty_leaf_count,
+        ] = counts;
+        Ok(Self {
+            node_count,
+            leaf_count,
+            max_depth,
+            min_leaf_size,
+            max_leaf_size,
+            mean_leaf_size: input.f64()?,
+            primitive_references,
+            empty_leaf_count,
+            empty_leaf_share: input.f64()?,
+            sah_cost: input.f64()?,
+        })
+    }
+}

@@ -9,20 +9,14 @@
 //! the builder's thread measured of it, and [`unpack`]ed into the same `Built` (tested: equal
 //! field for field), its facts made again from the tree.
 
-use accelviz_core::Tree;
-use accelviz_core::bvh::{Bvh, BvhNode, WideBvh};
-use accelviz_core::grid::{DenseCells, Grid, GridCells, GridLimits, HashedCells};
-use accelviz_core::kd::{KdBudgetExceeded, KdLimits, KdNode, KdTree};
-use accelviz_core::octree::{Octree, OctreeLimits, OctreeNode};
-use accelviz_core::{Built, Family, LeafReason, SahCost, Structure, TreeFacts, TreeStats};
-use glam::DVec3;
+use accelviz_core::bytes::{ByteReader, ByteWriter, BytesError};
+use accelviz_core::{Built, TreeStats};
 
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::{Arc, Mutex};
 
 use accelviz_scene::Mesh;
 
-use super::bytes::{Reader, Writer, aabb_at, f32_at, f64_at, u32_at};
 use super::tree::MeshBuild;
 use crate::view3d::DrawTriangle;
 
@@ -149,7 +143,7 @@ pub const BUILD_ASIDE_FROM: usize = 50_000;
 #[cfg(target_arch = "wasm32")]
 pub fn build_in_worker(
     mesh: Arc<Mesh>,
-    structure: Structure,
+    structure: accelviz_core::Structure,
     sender: std::sync::mpsc::Sender<crate::mesh::MeshTree>,
 ) -> Result<worker::WorkerJob, String> {
     let triangles = js_sys::Float64Array::from(flat_triangles(&mesh.triangles));
@@ -168,7 +162,8 @@ pub fn build_in_worker(
                 outcome.and_then(|bytes| unpack(&js_sys::Uint8Array::new(&bytes).to_vec()));
             let tree = match unpacked {
                 Ok(aside) => {
-                    let triangles = accelviz_core::TriangleSet::<DVec3>::from_f64(&mesh.triangles);
+                    let triangles =
+                        accelviz_core::TriangleSet::<glam::DVec3>::from_f64(&mesh.triangles);
                     crate::mesh::MeshTree::with_built(mesh, triangles, aside)
                 }
                 Err(problem) => {
@@ -190,328 +185,61 @@ pub fn build_in_worker(
     )
 }
 
-/// Marks packed bytes, and their layout's version.
-const MAGIC: &[u8; 8] = b"accelvz1";
-
-/// `built` as bytes (little-endian).
+/// `built` as bytes: the core's bytes of the structure ([`Built::write_bytes`]), then what the
+/// builder's thread measured of it and the triangles as the 3D view draws them.
 pub fn pack(built: &MeshBuild) -> Vec<u8> {
-    let mut out = Writer::default();
-    out.bytes.extend_from_slice(MAGIC);
-    let name = built.built.structure.name();
-    out.u64(name.len() as u64);
-    out.bytes.extend_from_slice(name.as_bytes());
+    let mut out = ByteWriter::new();
+    built.built.write_bytes(&mut out);
+    built.stats.write_bytes(&mut out);
     out.f64(built.build_millis);
-    out.u64(built.root_triangles as u64);
-    let stats = &built.stats;
-    for count in [
-        stats.node_count,
-        stats.leaf_count,
-        stats.max_depth,
-        stats.min_leaf_size,
-        stats.max_leaf_size,
-        stats.primitive_references,
-        stats.empty_leaf_count,
-    ] {
-        out.u64(count as u64);
-    }
-    for value in [stats.mean_leaf_size, stats.empty_leaf_share, stats.sah_cost] {
-        out.f64(value);
-    }
-    // A wide BVH travels as its binary tree and is collapsed again (deterministic, and quick).
-    match &built.built.tree {
-        Tree::Bvh(bvh)
-        | Tree::Bvh4(WideBvh { binary: bvh, .. })
-        | Tree::Bvh8(WideBvh { binary: bvh, .. }) => {
-            out.u64(0);
-            out.u64(bvh.nodes.len() as u64);
-            for node in &bvh.nodes {
-                out.aabb(&node.bounds);
-                out.u32(node.first);
-                out.u32(node.count);
-            }
-            out.u32s(&bvh.primitive_indices);
-        }
-        Tree::Kd(kd) => {
-            out.u64(1);
-            out.aabb(&kd.bounds);
-            out.u64(kd.nodes.len() as u64);
-            for node in &kd.nodes {
-                out.f64(node.split);
-                out.u32(node.axis);
-                out.u32(node.first);
-                out.u32(node.count);
-            }
-            out.u32s(&kd.primitive_indices);
-            out.u64(kd.limits.depth_limit as u64);
-            out.u64(kd.limits.leaves_at_depth_limit as u64);
-            let (tag, usual, budget) = match kd.limits.lowered_from {
-                None => (0, 0, 0),
-                Some((usual, KdBudgetExceeded::Nodes(budget))) => (1, usual, budget),
-                Some((usual, KdBudgetExceeded::References(budget))) => (2, usual, budget),
-            };
-            for number in [tag, usual, budget] {
-                out.u64(number as u64);
-            }
-        }
-        // A grid travels as its dense table; the cells are made again from its box and
-        // resolution, and a hashed grid's table again from the dense one (deterministic).
-        Tree::Grid(Grid { cells, limits, .. }) | Tree::HashedGrid(Grid { cells, limits, .. }) => {
-            let (dense, places) = match &built.built.tree {
-                Tree::Grid(grid) => (grid.store.clone(), 0),
-                Tree::HashedGrid(grid) => (
-                    grid.store.to_dense(cells.cell_count()),
-                    grid.store.buckets.len(),
-                ),
-                _ => unreachable!("a grid"),
-            };
-            out.u64(2);
-            out.aabb(&cells.bounds);
-            for count in cells.resolution {
-                out.u32(count);
-            }
-            out.f64(limits.density_asked);
-            out.f64(limits.density_used);
-            out.u64(places as u64);
-            out.u32s(&dense.cell_start);
-            out.u32s(&dense.references);
-        }
-        Tree::Octree(tree) => {
-            out.u64(3);
-            out.aabb(&tree.bounds);
-            out.u64(tree.nodes.len() as u64);
-            for node in &tree.nodes {
-                out.u32(node.first);
-                out.u32(node.count);
-            }
-            out.u32s(&tree.primitive_indices);
-            let limits = &tree.limits;
-            out.u64(limits.depth_limit as u64);
-            out.u64(limits.leaves_at_depth_limit as u64);
-            out.u64(limits.lowered_from.map_or(0, |usual| usual as u64 + 1));
-        }
-    }
-    let reasons = &built.built.facts.leaf_reasons;
-    out.u64(reasons.len() as u64);
-    for reason in reasons {
-        // A tag and two numbers each.
-        let (tag, a, b) = match *reason {
-            None => (0, 0.0, 0.0),
-            Some(LeafReason::SmallEnough {
-                count,
-                max_leaf_size,
-            }) => (1, count as f64, max_leaf_size as f64),
-            Some(LeafReason::LeafCheaper {
-                leaf_cost,
-                split_cost: None,
-            }) => (2, leaf_cost, 0.0),
-            Some(LeafReason::LeafCheaper {
-                leaf_cost,
-                split_cost: Some(split_cost),
-            }) => (3, leaf_cost, split_cost),
-            Some(LeafReason::Inseparable { count }) => (4, count as f64, 0.0),
-            Some(LeafReason::DepthLimit { limit }) => (5, limit as f64, 0.0),
-            Some(LeafReason::GridCell) => (6, 0.0, 0.0),
-        };
-        out.bytes.push(tag);
-        out.f64(a);
-        out.f64(b);
-    }
+    out.usize(built.root_triangles);
     let (center, radius) = built.sphere;
-    for value in center.to_array().into_iter().chain([radius]) {
-        out.f64(value);
-    }
-    out.u64(built.drawn.len() as u64);
-    out.bytes.reserve(built.drawn.len() * 40);
+    out.vector(center);
+    out.f64(radius);
+    out.usize(built.drawn.len());
+    out.reserve(built.drawn.len() * DRAWN_TRIANGLE_BYTES);
     for triangle in &built.drawn {
-        for value in triangle.corners.iter().flatten() {
-            out.bytes.extend_from_slice(&value.to_le_bytes());
+        for &value in triangle.corners.iter().flatten() {
+            out.f32(value);
         }
-        out.bytes.extend_from_slice(&triangle.color);
+        out.raw(&triangle.color);
     }
-    out.bytes
+    out.into_bytes()
 }
+
+/// A drawn triangle's bytes: nine `f32` corners and four colour bytes.
+const DRAWN_TRIANGLE_BYTES: usize = 9 * 4 + 4;
 
 /// What [`pack`] made, back; or why the bytes are not that.
 pub fn unpack(bytes: &[u8]) -> Result<MeshBuild, String> {
-    let mut input = Reader { rest: bytes };
-    if input.take(MAGIC.len())? != MAGIC {
-        return Err("not a structure packed by this version of accelviz".to_owned());
-    }
-    let name_length = input.usize()?;
-    let name = std::str::from_utf8(input.take(name_length)?)
-        .map_err(|_| "the structure's name is not text".to_owned())?;
-    let structure = Structure::parse(name).map_err(|error| error.to_string())?;
-    let build_millis = input.f64()?;
-    let root_triangles = input.usize()?;
-    let mut counts = [0usize; 7];
-    for count in &mut counts {
-        *count = input.usize()?;
-    }
-    let [mean_leaf_size, empty_leaf_share, sah_cost] = [input.f64()?, input.f64()?, input.f64()?];
-    let [
-        node_count,
-        leaf_count,
-        max_depth,
-        min_leaf_size,
-        max_leaf_size,
-        primitive_references,
-        empty_leaf_count,
-    ] = counts;
-    let stats = TreeStats {
-        node_count,
-        leaf_count,
-        max_depth,
-        min_leaf_size,
-        max_leaf_size,
-        mean_leaf_size,
-        primitive_references,
-        empty_leaf_count,
-        empty_leaf_share,
-        sah_cost,
-    };
-    let tree = match input.u64()? {
-        0 => {
-            let nodes = input.items(|node: &[u8; 56]| BvhNode {
-                bounds: aabb_at(node, 0),
-                first: u32_at(node, 48),
-                count: u32_at(node, 52),
-            })?;
-            let binary = Bvh {
-                nodes,
-                primitive_indices: input.u32s()?,
+    let read = || -> Result<MeshBuild, BytesError> {
+        let mut input = ByteReader::new(bytes);
+        let built = Built::read_bytes(&mut input)?;
+        let stats = TreeStats::read_bytes(&mut input)?;
+        let build_millis = input.f64()?;
+        let root_triangles = input.usize()?;
+        let sphere = (input.vector()?, input.f64()?);
+        let drawn = input.items(DRAWN_TRIANGLE_BYTES, |input| {
+            let mut corner = || -> Result<[f32; 3], BytesError> {
+                Ok([input.f32()?, input.f32()?, input.f32()?])
             };
-            Tree::from_binary(binary, structure.width(), &SahCost::default())
-        }
-        1 => {
-            let bounds = input.aabb()?;
-            let nodes = input.items(|node: &[u8; 20]| KdNode {
-                split: f64_at(node, 0),
-                axis: u32_at(node, 8),
-                first: u32_at(node, 12),
-                count: u32_at(node, 16),
-            })?;
-            let primitive_indices = input.u32s()?;
-            let depth_limit = input.usize()?;
-            let leaves_at_depth_limit = input.usize()?;
-            let (tag, usual, budget) = (input.u64()?, input.usize()?, input.usize()?);
-            let lowered_from = match tag {
-                0 => None,
-                1 => Some((usual, KdBudgetExceeded::Nodes(budget))),
-                2 => Some((usual, KdBudgetExceeded::References(budget))),
-                _ => return Err(format!("unknown kD budget {tag}")),
-            };
-            Tree::Kd(KdTree {
-                bounds,
-                nodes,
-                primitive_indices,
-                limits: KdLimits {
-                    depth_limit,
-                    leaves_at_depth_limit,
-                    lowered_from,
-                },
+            let corners = [corner()?, corner()?, corner()?];
+            Ok(DrawTriangle {
+                corners,
+                color: input.array()?,
             })
-        }
-        2 => {
-            let bounds = input.aabb()?;
-            let resolution = [input.u32()?, input.u32()?, input.u32()?];
-            let limits = GridLimits {
-                density_asked: input.f64()?,
-                density_used: input.f64()?,
-            };
-            let places = input.usize()?;
-            let dense = DenseCells {
-                cell_start: input.u32s()?,
-                references: input.u32s()?,
-            };
-            let cells = GridCells::with_resolution(bounds, resolution);
-            if dense.cell_start.len() != cells.cell_count() + 1 {
-                return Err("the grid's table does not fit its cells".to_owned());
-            }
-            match structure.family() {
-                Family::HashedGrid => Tree::HashedGrid(Grid {
-                    store: HashedCells::from_dense(&dense, cells.resolution, places),
-                    cells,
-                    limits,
-                }),
-                _ => Tree::Grid(Grid {
-                    store: dense,
-                    cells,
-                    limits,
-                }),
-            }
-        }
-        3 => {
-            let bounds = input.aabb()?;
-            let nodes = input.items(|node: &[u8; 8]| OctreeNode {
-                first: u32_at(node, 0),
-                count: u32_at(node, 4),
-            })?;
-            let primitive_indices = input.u32s()?;
-            let depth_limit = input.usize()?;
-            let leaves_at_depth_limit = input.usize()?;
-            let lowered_from = input.usize()?.checked_sub(1);
-            Tree::Octree(Octree {
-                bounds,
-                nodes,
-                primitive_indices,
-                limits: OctreeLimits {
-                    depth_limit,
-                    leaves_at_depth_limit,
-                    lowered_from,
-                },
-            })
-        }
-        other => return Err(format!("unknown tree kind {other}")),
+        })?;
+        input.finish()?;
+        Ok(MeshBuild {
+            built,
+            stats,
+            root_triangles,
+            build_millis,
+            sphere,
+            drawn,
+        })
     };
-    let reasons = input.items(|reason: &[u8; 17]| {
-        let (a, b) = (f64_at(reason, 1), f64_at(reason, 9));
-        match reason[0] {
-            1 => Some(LeafReason::SmallEnough {
-                count: a as usize,
-                max_leaf_size: b as usize,
-            }),
-            2 => Some(LeafReason::LeafCheaper {
-                leaf_cost: a,
-                split_cost: None,
-            }),
-            3 => Some(LeafReason::LeafCheaper {
-                leaf_cost: a,
-                split_cost: Some(b),
-            }),
-            4 => Some(LeafReason::Inseparable { count: a as usize }),
-            5 => Some(LeafReason::DepthLimit { limit: a as usize }),
-            6 => Some(LeafReason::GridCell),
-            // 0, or a tag this version does not know: no reason given.
-            _ => None,
-        }
-    })?;
-    let sphere = (
-        DVec3::new(input.f64()?, input.f64()?, input.f64()?),
-        input.f64()?,
-    );
-    let drawn = input.items(|triangle: &[u8; 40]| {
-        let corner = |at: usize| [0, 4, 8].map(|offset| f32_at(triangle, at + offset));
-        DrawTriangle {
-            corners: [corner(0), corner(12), corner(24)],
-            color: [triangle[36], triangle[37], triangle[38], triangle[39]],
-        }
-    })?;
-    if !input.rest.is_empty() {
-        return Err(format!("{} bytes too many", input.rest.len()));
-    }
-    let facts = TreeFacts::with_leaf_reasons(&tree, reasons);
-    Ok(MeshBuild {
-        built: Built {
-            structure,
-            tree,
-            facts,
-        },
-        stats,
-        root_triangles,
-        build_millis,
-        sphere,
-        drawn,
-    })
+    read().map_err(|error| format!("the structure sent back: {error}"))
 }
 
 /// A mesh's triangles as nine numbers each (the corners in order), to send to a worker.
@@ -700,6 +428,7 @@ pub mod worker {
 mod tests {
     use super::*;
     use crate::mesh::MeshTree;
+    use accelviz_core::Structure;
     use std::sync::Arc;
 
     #[test]

@@ -9,7 +9,6 @@
 //! `tree`.
 
 pub mod aside;
-mod bytes;
 pub mod heat;
 pub mod overlay;
 pub mod scene;

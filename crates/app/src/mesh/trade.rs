@@ -20,7 +20,7 @@ use accelviz_scene::rays::RayKind;
 use glam::DVec3;
 use web_time::Instant;
 
-use super::bytes::{Reader, Writer};
+use accelviz_core::bytes::{ByteReader, ByteWriter, BytesError};
 
 /// What a measurement is of.
 #[derive(Clone, Debug, PartialEq)]
@@ -435,9 +435,9 @@ const ROWS_MAGIC: &[u8; 8] = b"accelvt1";
 
 /// `rows` as bytes (little-endian): what a Web Worker sends back.
 pub fn pack_rows(rows: &[TradeRow]) -> Vec<u8> {
-    let mut out = Writer::default();
-    out.bytes.extend_from_slice(ROWS_MAGIC);
-    out.u64(rows.len() as u64);
+    let mut out = ByteWriter::new();
+    out.raw(ROWS_MAGIC);
+    out.usize(rows.len());
     for row in rows {
         out.string(&row.structure.name());
         let Switches {
@@ -459,7 +459,7 @@ pub fn pack_rows(rows: &[TradeRow]) -> Vec<u8> {
         }
         out.u32(u32::from(row.epo.is_some()));
         out.f64(row.epo.unwrap_or(0.0));
-        out.u64(row.bytes as u64);
+        out.usize(row.bytes);
         for value in [
             row.nodes_per_ray,
             row.primitives_per_ray,
@@ -486,7 +486,7 @@ pub fn pack_rows(rows: &[TradeRow]) -> Vec<u8> {
             }
         }
     }
-    out.bytes
+    out.into_bytes()
 }
 
 /// Rows from [`pack_rows`]' bytes; cut short, padded or not rows at all: an error.
@@ -494,14 +494,20 @@ pub fn unpack_rows(bytes: &[u8]) -> Result<Vec<TradeRow>, String> {
     let Some(rest) = bytes.strip_prefix(ROWS_MAGIC) else {
         return Err("not the trade lab's rows".to_owned());
     };
-    let mut input = Reader { rest };
+    unpack_rows_after_mark(rest).map_err(|error| format!("the trade lab's rows: {error}"))
+}
+
+/// [`unpack_rows`] after the mark.
+fn unpack_rows_after_mark(rest: &[u8]) -> Result<Vec<TradeRow>, BytesError> {
+    let mut input = ByteReader::new(rest);
     // Each row is at least this many bytes: a count cannot ask for more.
     let count = input.count(8 + 3 * 4 + 5 * 8 + 12 + 8 + 6 * 8 + 6 * 8 + 6 * 68)?;
     let mut rows = Vec::with_capacity(count);
     for _ in 0..count {
         let name = input.string()?;
-        let structure = Structure::parse(&name).map_err(|error| error.to_string())?;
-        let flag = |input: &mut Reader| input.u32().map(|value| value != 0);
+        let structure =
+            Structure::parse(&name).map_err(|error| BytesError::Invalid(error.to_string()))?;
+        let flag = |input: &mut ByteReader| input.u32().map(|value| value != 0);
         let switches = Switches {
             order: if flag(&mut input)? {
                 Order::FileOrder
@@ -565,9 +571,7 @@ pub fn unpack_rows(bytes: &[u8]) -> Result<Vec<TradeRow>, String> {
             examples,
         });
     }
-    if !input.is_done() {
-        return Err("the rows go on after their end".to_owned());
-    }
+    input.finish()?;
     Ok(rows)
 }
 

@@ -13,6 +13,7 @@ pub(crate) mod build_binned;
 mod build_median;
 mod build_middle;
 pub(crate) mod build_sweep;
+mod bytes;
 mod collapse;
 mod packet_traverse;
 mod traverse;

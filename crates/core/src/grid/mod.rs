@@ -9,6 +9,7 @@
 //! [`Observer`](crate::observer::Observer). [`validate`] checks any grid.
 
 mod build;
+mod bytes;
 mod cells;
 mod traverse;
 mod tree;

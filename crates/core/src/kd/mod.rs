@@ -10,6 +10,7 @@ pub(crate) mod build_median;
 pub(crate) mod build_middle;
 mod build_sah;
 mod build_sah_presorted;
+mod bytes;
 pub(crate) mod events;
 mod traverse;
 mod tree;

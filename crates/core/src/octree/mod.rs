@@ -8,6 +8,7 @@
 //! any octree.
 
 mod build;
+mod bytes;
 mod traverse;
 mod tree;
 mod validate;

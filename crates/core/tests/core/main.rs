@@ -15,3 +15,4 @@ mod octree_order;
 mod parallel_build;
 mod precision;
 mod slab_extremes;
+mod tree_bytes;
