@@ -15,7 +15,7 @@ use accelviz_scene::rays::RaySource;
 use glam::{DVec3, Vec3};
 use web_time::Instant;
 
-use crate::mesh::aside::triangles_of;
+use crate::mesh::packed::triangles_of;
 
 /// Numbers per ray: origin x, y, z, then direction x, y, z.
 pub const RAY_NUMBERS: usize = 6;

@@ -102,7 +102,7 @@ pub fn read_obj_aside(
     bytes: &[u8],
     progress: &js_sys::Function,
 ) -> Result<Vec<f64>, String> {
-    accelviz_app::mesh::aside::work::read_obj(name, bytes, &|permille| {
+    accelviz_app::mesh::work::read_obj(name, bytes, &|permille| {
         let _ = progress.call1(&wasm_bindgen::JsValue::NULL, &permille.into());
     })
 }
@@ -112,7 +112,7 @@ pub fn read_obj_aside(
 #[cfg(target_arch = "wasm32")]
 #[wasm_bindgen::prelude::wasm_bindgen]
 pub fn build_tree_aside(triangles: &[f64], structure: &str) -> Result<Vec<u8>, String> {
-    accelviz_app::mesh::aside::work::build(triangles, structure)
+    accelviz_app::mesh::work::build(triangles, structure)
 }
 
 /// For `web/worker.js`: the trade lab's measurement of `triangles` (nine numbers each) with

@@ -399,8 +399,8 @@ mod web {
 
     use super::{HeatKey, Shared, band_of_numbers, put_band};
     use crate::mesh::MeshTree;
-    use crate::mesh::aside::worker::{Spawned, field};
-    use crate::mesh::aside::{flat_triangles, pack};
+    use crate::mesh::packed::{flat_triangles, pack};
+    use crate::mesh::worker::{Spawned, field};
 
     thread_local! {
         static POOL: RefCell<Option<Pool>> = const { RefCell::new(None) };
@@ -720,7 +720,7 @@ pub mod work {
 
     use super::{HeatKey, band_count, band_numbers, trace_band};
     use crate::mesh::MeshTree;
-    use crate::mesh::aside::{triangles_of, unpack};
+    use crate::mesh::packed::{triangles_of, unpack};
 
     /// A heat map's tree in a worker: taken in once, then traced band by band for any camera.
     pub struct Tracer {
@@ -728,7 +728,7 @@ pub mod work {
     }
 
     impl Tracer {
-        /// The [`pack`](crate::mesh::aside::pack)ed `tree` over `triangles` (nine numbers
+        /// The [`pack`](crate::mesh::packed::pack)ed `tree` over `triangles` (nine numbers
         /// each), or why they are not one.
         pub fn new(tree: &[u8], triangles: &[f64]) -> Result<Self, String> {
             let mesh = Mesh {
@@ -778,8 +778,8 @@ mod tests {
         let tree = Arc::new(MeshTree::build(mesh.clone(), structure));
         // One tracer, as a worker holds: taken in once, traced for every key.
         let tracer = work::Tracer::new(
-            &super::super::aside::pack(&tree.build),
-            super::super::aside::flat_triangles(&mesh.triangles),
+            &super::super::packed::pack(&tree.build),
+            super::super::packed::flat_triangles(&mesh.triangles),
         )
         .expect("takes the tree in");
         // 21 rows: the last band is short.
@@ -894,7 +894,7 @@ mod tests {
         assert!(band_of_numbers(&key, 0, &[0; 5]).is_err());
         assert!(band_of_numbers(&key, 2, &vec![0; 2 * 3 * 8 * 16]).is_err());
         assert!(band_of_numbers(&key, 1, &vec![0; 2 * 3 * 8 * 16]).is_ok());
-        let tree = super::super::aside::pack(
+        let tree = super::super::packed::pack(
             &MeshTree::build(
                 Arc::new(accelviz_scene::builtin::teapot()),
                 accelviz_core::Structure::parse("bvh:sah-binned").expect("in the catalogue"),
@@ -904,7 +904,7 @@ mod tests {
         assert!(work::Tracer::new(&tree[..10], &[]).is_err());
         assert!(work::Tracer::new(&tree, &[]).is_err());
         let triangles =
-            super::super::aside::flat_triangles(&accelviz_scene::builtin::teapot().triangles)
+            super::super::packed::flat_triangles(&accelviz_scene::builtin::teapot().triangles)
                 .to_vec();
         let tracer = work::Tracer::new(&tree, &triangles).expect("takes the tree in");
         assert_eq!(work::Tracer::band_count(&numbers), Ok(2));

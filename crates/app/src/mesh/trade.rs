@@ -252,7 +252,7 @@ pub struct TradeJob {
     on_ui_thread: OnUiThread,
     /// The browser's Web Worker measuring (dropped, it stops).
     #[cfg(target_arch = "wasm32")]
-    _web_worker: Option<super::aside::worker::Spawned>,
+    _web_worker: Option<super::worker::Spawned>,
     key: TradeKey,
     /// See [`set_steady_clock`].
     steady: bool,
@@ -595,7 +595,7 @@ fn ray_of(values: &[f64; 8]) -> Ray<DVec3> {
 /// What a Web Worker runs (`web/worker.js`, exported from `main.rs`).
 pub mod work {
     use super::{Instant, TradeProgress, clock, new_lab, pack_rows, ray_of};
-    use crate::mesh::aside::triangles_of;
+    use crate::mesh::packed::triangles_of;
 
     /// Measures `triangles` (nine numbers each) with `rays` (eight numbers each: origin,
     /// direction, `t_min`, `t_max`) for `query` (`closest` or `any`) over `rounds` rounds,
@@ -644,8 +644,8 @@ mod web_worker {
     use accelviz_core::Ray;
     use glam::DVec3;
 
-    use super::super::aside::flat_triangles;
-    use super::super::aside::worker::{Spawned, field};
+    use super::super::packed::flat_triangles;
+    use super::super::worker::{Spawned, field};
     use super::{
         OnUiThread, Shared, Source, TradeProgress, TradeResult, flat_ray, new_lab, query_name,
         unpack_rows,
@@ -757,7 +757,7 @@ pub fn query_name(query: Query) -> &'static str {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::mesh::aside::flat_triangles;
+    use crate::mesh::packed::flat_triangles;
 
     /// A row with its timings set to nothing, so that two measurements compare.
     fn untimed(row: &TradeRow) -> TradeRow {

@@ -17,7 +17,7 @@ use crate::stage::KD_BUDGET;
 use crate::view3d::{DrawTriangle, relative};
 
 /// What building a structure over a mesh makes, on the builder's thread (a worker thread, or
-/// a Web Worker whence it comes [`pack`](super::aside::pack)ed): the structure, what is measured of it, and the
+/// a Web Worker whence it comes [`pack`](super::packed::pack)ed): the structure, what is measured of it, and the
 /// mesh as drawn.
 #[derive(Clone, Debug, PartialEq)]
 pub struct MeshBuild {
