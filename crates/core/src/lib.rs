@@ -74,6 +74,7 @@ pub mod slab;
 pub mod stats;
 pub mod structure;
 pub mod trade;
+mod trade_bytes;
 pub mod trade_lab;
 pub mod trade_summary;
 

@@ -11,16 +11,13 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 
 use accelviz_core::break_even::BreakEven;
-use accelviz_core::outcome::OutcomeCounts;
 use accelviz_core::params::BuildParams;
-use accelviz_core::trade::{Precision, Switches, TradeRow, contenders};
+use accelviz_core::trade::{TradeRow, contenders};
 use accelviz_core::trade_lab::Lab;
-use accelviz_core::{Order, Query, Ray, Structure};
+use accelviz_core::{Query, Ray, Structure};
 use accelviz_scene::rays::RayKind;
 use glam::DVec3;
 use web_time::Instant;
-
-use accelviz_core::bytes::{ByteReader, ByteWriter, BytesError};
 
 /// What a measurement is of.
 #[derive(Clone, Debug, PartialEq)]
@@ -430,152 +427,13 @@ fn new_lab(triangles: &[[[f64; 3]; 3]], rays: &[Ray<DVec3>], query: Query, round
     )
 }
 
-/// Marks packed rows, and their layout's version.
-const ROWS_MAGIC: &[u8; 8] = b"accelvt1";
-
-/// `rows` as bytes (little-endian): what a Web Worker sends back.
-pub fn pack_rows(rows: &[TradeRow]) -> Vec<u8> {
-    let mut out = ByteWriter::new();
-    out.raw(ROWS_MAGIC);
-    out.usize(rows.len());
-    for row in rows {
-        out.string(&row.structure.name());
-        let Switches {
-            order,
-            precision,
-            watertight,
-        } = row.switches;
-        out.u32(u32::from(order == Order::FileOrder));
-        out.u32(u32::from(precision == Precision::F64));
-        out.u32(u32::from(watertight));
-        for value in [
-            row.build_ms,
-            row.build_spread_percent,
-            row.build_range_ms.0,
-            row.build_range_ms.1,
-            row.sah_cost,
-        ] {
-            out.f64(value);
-        }
-        out.u32(u32::from(row.epo.is_some()));
-        out.f64(row.epo.unwrap_or(0.0));
-        out.usize(row.bytes);
-        for value in [
-            row.nodes_per_ray,
-            row.primitives_per_ray,
-            row.mrays_per_s,
-            row.trace_spread_percent,
-            row.ms_per_ray_range.0,
-            row.ms_per_ray_range.1,
-        ] {
-            out.f64(value);
-        }
-        for count in row.outcomes.counts() {
-            out.u64(count);
-        }
-        for example in &row.examples {
-            out.u32(u32::from(example.is_some()));
-            let ray = example.unwrap_or(Ray {
-                origin: DVec3::ZERO,
-                direction: DVec3::ZERO,
-                t_min: 0.0,
-                t_max: 0.0,
-            });
-            for value in flat_ray(&ray) {
-                out.f64(value);
-            }
-        }
-    }
-    out.into_bytes()
-}
-
-/// Rows from [`pack_rows`]' bytes; cut short, padded or not rows at all: an error.
+/// Rows a Web Worker sent back ([`TradeRow::rows_from_bytes`]), or why they are not rows.
 pub fn unpack_rows(bytes: &[u8]) -> Result<Vec<TradeRow>, String> {
-    let Some(rest) = bytes.strip_prefix(ROWS_MAGIC) else {
-        return Err("not the trade lab's rows".to_owned());
-    };
-    unpack_rows_after_mark(rest).map_err(|error| format!("the trade lab's rows: {error}"))
-}
-
-/// [`unpack_rows`] after the mark.
-fn unpack_rows_after_mark(rest: &[u8]) -> Result<Vec<TradeRow>, BytesError> {
-    let mut input = ByteReader::new(rest);
-    // Each row is at least this many bytes: a count cannot ask for more.
-    let count = input.count(8 + 3 * 4 + 5 * 8 + 12 + 8 + 6 * 8 + 6 * 8 + 6 * 68)?;
-    let mut rows = Vec::with_capacity(count);
-    for _ in 0..count {
-        let name = input.string()?;
-        let structure =
-            Structure::parse(&name).map_err(|error| BytesError::Invalid(error.to_string()))?;
-        let flag = |input: &mut ByteReader| input.u32().map(|value| value != 0);
-        let switches = Switches {
-            order: if flag(&mut input)? {
-                Order::FileOrder
-            } else {
-                Order::NearFirst
-            },
-            precision: if flag(&mut input)? {
-                Precision::F64
-            } else {
-                Precision::F32
-            },
-            watertight: flag(&mut input)?,
-        };
-        let mut numbers = [0.0; 5];
-        for value in &mut numbers {
-            *value = input.f64()?;
-        }
-        let [
-            build_ms,
-            build_spread_percent,
-            build_low,
-            build_high,
-            sah_cost,
-        ] = numbers;
-        let has_epo = flag(&mut input)?;
-        let epo = input.f64()?;
-        let bytes = input.usize()?;
-        let mut numbers = [0.0; 6];
-        for value in &mut numbers {
-            *value = input.f64()?;
-        }
-        let [nodes, primitives, mrays, spread, ray_low, ray_high] = numbers;
-        let mut counts = [0; 6];
-        for count in &mut counts {
-            *count = input.u64()?;
-        }
-        let mut examples = [None; 6];
-        for example in &mut examples {
-            let present = flag(&mut input)?;
-            let mut values = [0.0; 8];
-            for value in &mut values {
-                *value = input.f64()?;
-            }
-            *example = present.then(|| ray_of(&values));
-        }
-        rows.push(TradeRow {
-            structure,
-            switches,
-            build_ms,
-            build_spread_percent,
-            build_range_ms: (build_low, build_high),
-            sah_cost,
-            epo: has_epo.then_some(epo),
-            bytes,
-            nodes_per_ray: nodes,
-            primitives_per_ray: primitives,
-            mrays_per_s: mrays,
-            trace_spread_percent: spread,
-            ms_per_ray_range: (ray_low, ray_high),
-            outcomes: OutcomeCounts::from_counts(counts),
-            examples,
-        });
-    }
-    input.finish()?;
-    Ok(rows)
+    TradeRow::rows_from_bytes(bytes).map_err(|error| format!("the trade lab's rows: {error}"))
 }
 
 /// A ray as eight numbers: origin, direction, `t_min`, `t_max`.
+#[cfg(any(target_arch = "wasm32", test))]
 fn flat_ray(ray: &Ray<DVec3>) -> [f64; 8] {
     let [ox, oy, oz] = ray.origin.to_array();
     let [dx, dy, dz] = ray.direction.to_array();
@@ -594,14 +452,14 @@ fn ray_of(values: &[f64; 8]) -> Ray<DVec3> {
 
 /// What a Web Worker runs (`web/worker.js`, exported from `main.rs`).
 pub mod work {
-    use super::{Instant, TradeProgress, clock, new_lab, pack_rows, ray_of};
+    use super::{Instant, TradeProgress, TradeRow, clock, new_lab, ray_of};
     use crate::mesh::packed::triangles_of;
 
     /// Measures `triangles` (nine numbers each) with `rays` (eight numbers each: origin,
     /// direction, `t_min`, `t_max`) for `query` (`closest` or `any`) over `rounds` rounds,
     /// telling `progress` (tasks done and in all, the task next, the time spent and left)
     /// after each task; the rows
-    /// packed ([`super::pack_rows`]).
+    /// as bytes ([`TradeRow::rows_to_bytes`]).
     pub fn measure(
         triangles: &[f64],
         rays: &[f64],
@@ -630,7 +488,7 @@ pub mod work {
         }
         report(&lab);
         lab.rows()
-            .map(|rows| pack_rows(&rows))
+            .map(|rows| TradeRow::rows_to_bytes(&rows))
             .ok_or_else(|| "the measurement ended without its rows".to_owned())
     }
 }
@@ -818,7 +676,10 @@ mod tests {
             Some((true, Some(0.0)))
         );
         // Packed and unpacked, every field comes back; cut short or padded, an error.
-        assert_eq!(unpack_rows(&pack_rows(&on_page)), Ok(on_page.clone()));
+        assert_eq!(
+            unpack_rows(&TradeRow::rows_to_bytes(&on_page)),
+            Ok(on_page.clone())
+        );
         for cut in [0, 7, 8, 20, bytes.len() / 2, bytes.len() - 1] {
             assert!(unpack_rows(&bytes[..cut]).is_err(), "cut at {cut}");
         }
