@@ -1,4 +1,4 @@
-//! Plots as standalone SVG: scatter plots of labelled points in two colour families, with
+//! Plots as standalone SVG: scatter plots of labelled points, a colour for each family, with
 //! round-number ticks and an optional `y = x` line, and lines on log-log axes with marks.
 //! Sized and lettered to be read on a projected slide.
 
@@ -9,7 +9,7 @@ pub struct Point {
     pub x: f64,
     pub y: f64,
     pub label: String,
-    /// Which family (and colour): 0 or 1.
+    /// Which family (and colour): an index into [`Scatter::families`].
     pub family: usize,
 }
 
@@ -18,8 +18,8 @@ pub struct Scatter {
     pub title: String,
     pub x_label: String,
     pub y_label: String,
-    /// The families' names, for the legend.
-    pub families: [String; 2],
+    /// The families' names, for the legend, in the order of their colours.
+    pub families: Vec<String>,
     pub points: Vec<Point>,
     /// Draw the line `y = x` (for predicted against measured).
     pub diagonal: bool,
@@ -33,7 +33,6 @@ const LEFT: f64 = 100.0;
 const RIGHT: f64 = 40.0;
 const TOP: f64 = 70.0;
 const BOTTOM: f64 = 80.0;
-const COLOURS: [&str; 2] = ["#1f6fb4", "#d1542b"];
 
 /// Ticks of a logarithmic axis over `[low, high]` (both positive): 1, 2 and 5 times powers of
 /// ten.
@@ -304,7 +303,17 @@ impl Scatter {
             );
         }
         // Points, then their labels placed clear of each other (and of the legend).
-        let mut boxes = vec![[LEFT, TOP, LEFT + 140.0, TOP + 70.0]];
+        let legend_width = self
+            .families
+            .iter()
+            .map(|family| 8.6 * family.chars().count() as f64)
+            .fold(0.0, f64::max);
+        let mut boxes = vec![[
+            LEFT,
+            TOP,
+            LEFT + 44.0 + legend_width,
+            TOP + 14.0 + 26.0 * self.families.len() as f64,
+        ]];
         let plot_bounds = [
             LEFT + 2.0,
             TOP + 2.0,
@@ -314,7 +323,7 @@ impl Scatter {
         for point in &finite {
             let (px, py) = (to_x(point.x), to_y(point.y));
             boxes.push([px - 7.0, py - 7.0, px + 7.0, py + 7.0]);
-            let colour = COLOURS[point.family.min(1)];
+            let colour = series_colour(point.family);
             let _ = writeln!(
                 svg,
                 r#"<circle cx="{px:.1}" cy="{py:.1}" r="7" fill="{colour}" fill-opacity="0.85"/>"#
@@ -322,7 +331,7 @@ impl Scatter {
         }
         for point in &finite {
             let (px, py) = (to_x(point.x), to_y(point.y));
-            let colour = COLOURS[point.family.min(1)];
+            let colour = series_colour(point.family);
             let width = 8.6 * point.label.chars().count() as f64;
             let (x, y, anchor) = place_label((px, py), width, &mut boxes, plot_bounds);
             if (x - px).abs() + (y - py).abs() > 20.0 {
@@ -345,7 +354,7 @@ impl Scatter {
                 svg,
                 r#"<circle cx="{:.1}" cy="{y:.1}" r="7" fill="{}"/><text x="{:.1}" y="{:.1}" font-size="16">{}</text>"#,
                 LEFT + 20.0,
-                COLOURS[index],
+                series_colour(index),
                 LEFT + 34.0,
                 y + 5.0,
                 escape(family)
@@ -370,10 +379,16 @@ pub struct Lines {
     pub log: bool,
 }
 
-/// Colours of [`Lines`], told apart on a projector and by most colour-blind readers.
-const LINE_COLOURS: [&str; 8] = [
+/// Colours of a [`Scatter`]'s families and of [`Lines`], told apart on a projector and by
+/// most colour-blind readers.
+const SERIES_COLOURS: [&str; 8] = [
     "#1f6fb4", "#d1542b", "#2a9d3c", "#8e44ad", "#b8860b", "#17a2b8", "#555555", "#e83e8c",
 ];
+
+/// The colour of series `index` (repeating after eight).
+fn series_colour(index: usize) -> &'static str {
+    SERIES_COLOURS[index % SERIES_COLOURS.len()]
+}
 
 impl Lines {
     /// The plot as an SVG document.
@@ -459,7 +474,7 @@ impl Lines {
         // The lines, then their names at their right ends, kept apart.
         let mut ends: Vec<(f64, usize)> = Vec::new();
         for (index, (_, points)) in self.lines.iter().enumerate() {
-            let colour = LINE_COLOURS[index % LINE_COLOURS.len()];
+            let colour = series_colour(index);
             let path: Vec<String> = points
                 .iter()
                 .filter(|(x, y)| !log || (*x > 0.0 && *y > 0.0))
@@ -483,7 +498,7 @@ impl Lines {
         for (y, index) in ends {
             let y = y.max(last + 18.0);
             last = y;
-            let colour = LINE_COLOURS[index % LINE_COLOURS.len()];
+            let colour = series_colour(index);
             let _ = writeln!(
                 svg,
                 r#"<text x="{:.1}" y="{:.1}" font-size="15" fill="{colour}">{}</text>"#,
@@ -516,7 +531,7 @@ mod tests {
             title: "t <1>".into(),
             x_label: "x".into(),
             y_label: "y".into(),
-            families: ["BVH".into(), "kD".into()],
+            families: vec!["BVH".into(), "kD".into()],
             points: vec![
                 Point {
                     x: 1.0,
@@ -549,6 +564,34 @@ mod tests {
         );
         assert!(svg.contains("t &lt;1&gt;") && svg.contains("b&amp;c"));
         assert!(!svg.contains("skipped") && !svg.contains("NaN"));
+    }
+
+    #[test]
+    fn every_family_has_its_own_colour_and_legend_entry() {
+        let names = ["BVH", "kD-tree", "uniform grid", "hashed grid", "octree"];
+        let plot = Scatter {
+            title: "t".into(),
+            x_label: "x".into(),
+            y_label: "y".into(),
+            families: names.iter().map(|name| name.to_string()).collect(),
+            points: (0..names.len())
+                .map(|family| Point {
+                    x: family as f64,
+                    y: 1.0 + family as f64,
+                    label: format!("p{family}"),
+                    family,
+                })
+                .collect(),
+            diagonal: false,
+            log_x: false,
+        };
+        let svg = plot.to_svg();
+        for (family, name) in names.iter().enumerate() {
+            let colour = series_colour(family);
+            assert!(svg.contains(&format!(">{name}</text>")), "{name}: {svg}");
+            // Its point, its label and its legend dot in its colour, and no other family's.
+            assert_eq!(svg.matches(colour).count(), 3, "{name} in {colour}: {svg}");
+        }
     }
 
     #[test]

@@ -307,8 +307,21 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         .iter()
         .filter(|row| row.switches == Switches::BASE)
         .collect();
-    let family = |row: &TradeRow| usize::from(row.structure.family() == accelviz_core::Family::Kd);
-    let families = ["BVH".to_owned(), "kD-tree".to_owned()];
+    // Every family the rows hold, in the catalogue's order, a colour each.
+    let present: Vec<accelviz_core::Family> = accelviz_core::Family::ALL
+        .into_iter()
+        .filter(|family| base.iter().any(|row| row.structure.family() == *family))
+        .collect();
+    let family = |row: &TradeRow| {
+        present
+            .iter()
+            .position(|family| *family == row.structure.family())
+            .unwrap_or(0)
+    };
+    let families: Vec<String> = present
+        .iter()
+        .map(|family| family.label().to_owned())
+        .collect();
     let cost_label = "cost per ray: C_trav·nodes + C_isect·primitives";
     // One point per structure: `x` of the row against its measured cost.
     let points = |x: fn(&TradeRow) -> f64| -> Vec<Point> {

@@ -923,6 +923,20 @@ fn tradeoff_writes_the_table_and_the_plots() {
             svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"),
             "{plot}"
         );
+        // The legend names every family of the rows (grids and octrees were drawn and listed
+        // as BVHs).
+        for family in accelviz_core::Family::ALL {
+            if accelviz_core::Structure::compared()
+                .iter()
+                .any(|structure| structure.family() == family)
+            {
+                assert!(
+                    svg.contains(&format!(">{}</text>", family.label())),
+                    "{plot}: {}",
+                    family.label()
+                );
+            }
+        }
         for structure in [
             "bvh:sah-binned:4",
             "bvh:sah-sweep",
