@@ -86,14 +86,6 @@ pub struct BenchArgs {
     json: bool,
 }
 
-/// The precision as the command line spells it.
-fn precision_name(precision: Precision) -> &'static str {
-    match precision {
-        Precision::F32 => "f32",
-        Precision::F64 => "f64",
-    }
-}
-
 /// The figures of one structure traced with one instruction set.
 struct Figures {
     accel: String,
@@ -211,7 +203,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
             figures.first().map_or(0, |figures| figures.rays),
             crate::tradeoff::query_name(options.query),
             options.order.name(),
-            precision_name(args.trace.precision),
+            Precision::name(args.trace.precision),
             if args.trace.robust { "robust" } else { "fast" },
             args.repeat.max(1)
         ));
@@ -288,7 +280,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .integer("hits", f.hits as u64)
                 .integer("misses", (f.rays - f.hits) as u64)
                 .string("order", options.order.name())
-                .string("precision", precision_name(args.trace.precision))
+                .string("precision", Precision::name(args.trace.precision))
                 .boolean("robust", args.trace.robust)
                 .boolean("mailbox", args.trace.mailbox)
                 .integer("threads", f.threads as u64)

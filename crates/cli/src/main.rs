@@ -69,14 +69,20 @@ pub enum OrderArg {
     FileOrder,
 }
 
-/// Arithmetic precision.
-#[derive(Clone, Copy, Debug, Default, ValueEnum, PartialEq, Eq)]
-pub enum Precision {
-    /// 32-bit floats (fast).
-    #[default]
-    F32,
-    /// 64-bit floats (accurate).
-    F64,
+/// Arithmetic precision: the core's, one for the whole project.
+pub use accelviz_core::trade::Precision;
+
+/// `--precision`'s values, parsed into the core's [`Precision`] (it knows nothing of clap).
+fn precision_parser() -> impl clap::builder::TypedValueParser<Value = Precision> {
+    use clap::builder::{PossibleValue, PossibleValuesParser, TypedValueParser};
+    PossibleValuesParser::new([
+        PossibleValue::new("f32").help("32-bit floats (fast)"),
+        PossibleValue::new("f64").help("64-bit floats (accurate)"),
+    ])
+    .map(|name| match name.as_str() {
+        "f64" => Precision::F64,
+        _ => Precision::F32,
+    })
 }
 
 /// Switches shared by `query` and `bench`.
@@ -87,7 +93,7 @@ pub struct TraceArgs {
     #[arg(long, value_enum)]
     order: Option<OrderArg>,
     /// Arithmetic precision of the structure, the triangles and the rays.
-    #[arg(long, value_enum, default_value_t)]
+    #[arg(long, value_parser = precision_parser(), default_value = "f32")]
     precision: Precision,
     /// Watertight triangle test (Woop et al. 2013) and conservative box test (Ize 2013).
     #[arg(long)]

@@ -60,7 +60,7 @@ pub struct SahArgs {
     #[arg(long)]
     bins: Option<usize>,
     /// Arithmetic precision of the scene and the build.
-    #[arg(long, value_enum, default_value_t)]
+    #[arg(long, value_parser = crate::precision_parser(), default_value = "f32")]
     precision: Precision,
     #[command(flatten)]
     build: BuildArgs,

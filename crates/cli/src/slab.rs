@@ -19,7 +19,7 @@ pub struct SlabArgs {
     #[arg(long)]
     json: bool,
     /// Arithmetic precision.
-    #[arg(long, value_enum, default_value_t = Precision::F64)]
+    #[arg(long, value_parser = crate::precision_parser(), default_value = "f64")]
     precision: Precision,
     /// Widen every t_far conservatively (Ize 2013).
     #[arg(long)]
