@@ -14,7 +14,8 @@ use crate::json::JsonObject;
 use crate::parallel::Workers;
 use crate::spec::{Accel, AccelSpec};
 use crate::timing::{Samples, interleaved};
-use crate::{BuildArgs, Precision, TraceArgs, load_mesh};
+use crate::{BuildArgs, Precision, TraceArgs};
+use accelviz_scene::builtin::load_mesh;
 
 /// Builds timed for one sample of a structure's build time, at least: the sample is their
 /// median. With one build a sample, the bunny's two-thread
@@ -55,7 +56,7 @@ pub struct BenchArgs {
     /// What rays: random, camera, aimed, shadow (from camera hits to a point light), ao
     /// (short rays from camera hits), bounce (a diffuse bounce from each camera hit).
     /// Default: camera with --camera, aimed with --aimed, else random.
-    #[arg(long, value_parser = crate::tradeoff::parse_ray_kind, conflicts_with = "rays_file")]
+    #[arg(long, value_parser = RayKind::parse, conflicts_with = "rays_file")]
     ray_kind: Option<RayKind>,
     #[command(flatten)]
     trace: TraceArgs,
@@ -201,7 +202,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
             mesh.name,
             mesh.triangles.len(),
             figures.first().map_or(0, |figures| figures.rays),
-            crate::tradeoff::query_name(options.query),
+            options.query.name(),
             options.order.name(),
             Precision::name(args.trace.precision),
             if args.trace.robust { "robust" } else { "fast" },
@@ -259,7 +260,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .integer("rays", f.rays as u64)
                 .string("ray_source", &ray_source)
                 .string("ray_kind", source.kind().map_or("file", RayKind::name))
-                .string("query", crate::tradeoff::query_name(options.query))
+                .string("query", options.query.name())
                 .number("trace_ms", trace_ms)
                 .number("trace_ms_min", f.trace.min())
                 .number("trace_ms_max", f.trace.max())

@@ -14,7 +14,8 @@ use clap::{Args, ValueEnum};
 
 use crate::json::JsonObject;
 use crate::spec::AccelSpec;
-use crate::{BuildArgs, Precision, TraceArgs, load_mesh};
+use crate::{BuildArgs, Precision, TraceArgs};
+use accelviz_scene::builtin::load_mesh;
 
 /// A counter as the command line spells it.
 #[derive(Clone, Copy, Debug, Default, ValueEnum, PartialEq, Eq)]
@@ -53,7 +54,7 @@ pub struct HeatmapArgs {
     /// Whose cost each pixel shows: camera (its own ray), or the secondary rays from its
     /// ray's hit: shadow (to a point light), ao (4 short rays), bounce (one diffuse bounce).
     /// Pixels that miss the mesh, or whose light is behind the surface, show nothing.
-    #[arg(long, default_value = "camera", value_parser = crate::tradeoff::parse_ray_kind)]
+    #[arg(long, default_value = "camera", value_parser = RayKind::parse)]
     ray_kind: RayKind,
     /// Threads tracing rows of pixels.
     #[arg(long, default_value_t = 1)]
@@ -131,7 +132,7 @@ pub fn run(args: &HeatmapArgs) -> Result<String> {
 
     let options = args.trace.options_for(Some(args.ray_kind));
     let order = options.order.name();
-    let query = crate::tradeoff::query_name(options.query);
+    let query = options.query.name();
     Ok(if args.json {
         let object = JsonObject::new()
             .string("accel", &spec.name())

@@ -103,7 +103,7 @@ pub struct TraceArgs {
     mailbox: bool,
     /// closest, or any (is anything in the way?). Default: any for shadow and ao rays,
     /// closest otherwise.
-    #[arg(long, value_parser = tradeoff::parse_query)]
+    #[arg(long, value_parser = accelviz_core::Query::parse)]
     query: Option<accelviz_core::Query>,
 }
 
@@ -240,19 +240,6 @@ pub fn structure_help(what: &str) -> String {
     )
 }
 
-/// Loads `--mesh`: a path, or `builtin:NAME`.
-pub fn load_mesh(mesh: &str) -> Result<Mesh> {
-    if let Some(name) = mesh.strip_prefix("builtin:") {
-        return accelviz_scene::builtin::by_name(name).with_context(|| {
-            format!(
-                "unknown built-in mesh '{name}'; built-in meshes are: {}",
-                accelviz_scene::builtin::names().join(", ")
-            )
-        });
-    }
-    Ok(accelviz_scene::obj::load_obj(mesh)?)
-}
-
 /// Converts rays to the chosen precision, naming the line of any that cannot be.
 pub fn convert_rays<V: Vector3>(
     rays: &[RaySpec],
@@ -318,7 +305,7 @@ fn query(args: &QueryArgs) -> Result<String> {
     let spec = AccelSpec::parse(&args.accel)?;
     let params = args.build.params()?;
     let workers = parallel::Workers::new(args.threads)?;
-    let mesh = load_mesh(&args.mesh)?;
+    let mesh = accelviz_scene::builtin::load_mesh(&args.mesh)?;
     // The first pass checks every line, so that bad input stops the query before any output.
     let mut ray_count = 0usize;
     let mut reader = RayReader::open(&args.rays)?;

@@ -11,7 +11,8 @@ use clap::{Args, ValueEnum};
 use glam::{DVec2, DVec3, Vec2, Vec3};
 
 use crate::json::{JsonObject, number};
-use crate::{BuildArgs, Precision, load_mesh};
+use crate::{BuildArgs, Precision};
+use accelviz_scene::builtin::load_mesh;
 
 /// Which kind of tree.
 #[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]

@@ -20,7 +20,8 @@ use crate::parallel::Workers;
 use crate::plot::{Lines, Point, Scatter};
 use crate::spec::{Accel, AccelSpec};
 use crate::timing::interleaved;
-use crate::{BuildArgs, convert_rays, load_mesh};
+use crate::{BuildArgs, convert_rays};
+use accelviz_scene::builtin::load_mesh;
 
 #[derive(Args, Debug)]
 pub struct TradeoffArgs {
@@ -37,7 +38,7 @@ pub struct TradeoffArgs {
     /// camera's), aimed (exactly at triangle corners and edge points, where fast tests and
     /// f32 slip through: a seeded random sample of `--rays` of the 18 a triangle), shadow (from camera hits to a point light), ao (short rays from
     /// camera hits), bounce (a diffuse bounce from each camera hit).
-    #[arg(long, default_value = "random", value_parser = parse_ray_kind)]
+    #[arg(long, default_value = "random", value_parser = RayKind::parse)]
     ray_kind: RayKind,
     /// The same as `--ray-kind aimed`.
     #[arg(long, conflicts_with = "ray_kind")]
@@ -49,7 +50,7 @@ pub struct TradeoffArgs {
     camera: Option<String>,
     /// closest or any (is anything in the way?). Default: any for shadow and ao rays, closest
     /// otherwise.
-    #[arg(long, value_parser = parse_query)]
+    #[arg(long, value_parser = Query::parse)]
     query: Option<Query>,
     /// Write tradeoff.md, tradeoff.csv and the plots build-vs-traversal.svg,
     /// predicted-vs-measured.svg, total-vs-rays.svg and sah-assumption.svg here (created if
@@ -74,34 +75,6 @@ pub struct TradeoffArgs {
     threads: usize,
     #[command(flatten)]
     build: BuildArgs,
-}
-
-/// Parses `--ray-kind`.
-pub fn parse_ray_kind(name: &str) -> Result<RayKind, String> {
-    RayKind::from_name(name).ok_or_else(|| {
-        let names: Vec<&str> = RayKind::ALL.iter().map(|kind| kind.name()).collect();
-        format!(
-            "'{name}' is not a ray kind; ray kinds are {}",
-            names.join(", ")
-        )
-    })
-}
-
-/// Parses `--query`.
-pub fn parse_query(name: &str) -> Result<Query, String> {
-    match name {
-        "closest" => Ok(Query::Closest),
-        "any" => Ok(Query::Any),
-        _ => Err(format!("'{name}' is not a query; queries are closest, any")),
-    }
-}
-
-/// A query's name as `--query` spells it.
-pub fn query_name(query: Query) -> &'static str {
-    match query {
-        Query::Any => "any",
-        _ => "closest",
-    }
 }
 
 /// The trees whose SAH assumption the report checks against the rays.
@@ -278,7 +251,7 @@ pub fn run(args: &TradeoffArgs) -> Result<String> {
         ray_specs.len(),
         kind.name(),
         args.seed,
-        query_name(query),
+        query.name(),
         params.cost.traversal_cost,
         params.cost.intersection_cost,
         params.cost.empty_bonus,
@@ -507,7 +480,7 @@ fn json(row: &TradeRow, params: &BuildParams, kind: RayKind, query: Query) -> St
         .string("precision", row.switches.precision.name())
         .string("test", row.switches.test_name())
         .string("ray_kind", kind.name())
-        .string("query", query_name(query))
+        .string("query", query.name())
         .number("build_ms", row.build_ms)
         .number("sah_cost", row.sah_cost)
         .number("epo", row.epo.unwrap_or(f64::NAN))

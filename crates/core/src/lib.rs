@@ -88,7 +88,7 @@ pub use params::{BuildParams, GridParams, KdBudget};
 pub use primitive::{
     HitTest, LeafOrdered, LeafPrimitives, PrimitiveSet, Shape, ShapeSet, Sphere, TriangleSet,
 };
-pub use query::{Hit, Order, Query, TraceOptions};
+pub use query::{Hit, Order, Query, QueryNameError, TraceOptions};
 pub use ray::{Ray, Ray2, Ray3, RayError};
 pub use sah::SahCost;
 pub use slab::{SlabRay, SlabRecord, slab_clip, slab_record};

@@ -44,7 +44,34 @@ pub enum Query {
     FirstInCell,
 }
 
+/// A name that is not one of [`Query::NAMED`]'s.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("'{0}' is not a query; queries are closest, any")]
+pub struct QueryNameError(pub String);
+
 impl Query {
+    /// The queries picked by name (the CLI's `--query`, a message to the trade lab's worker):
+    /// the closest hit and any hit. The lecture's first-in-cell rule is asked by the kD
+    /// lessons and the quiz, never by name.
+    pub const NAMED: [Query; 2] = [Query::Closest, Query::Any];
+
+    /// `"closest"`, `"any"` or `"first-in-cell"`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Query::Closest => "closest",
+            Query::Any => "any",
+            Query::FirstInCell => "first-in-cell",
+        }
+    }
+
+    /// The query of [`Query::NAMED`] that `name` names.
+    pub fn parse(name: &str) -> Result<Query, QueryNameError> {
+        Query::NAMED
+            .into_iter()
+            .find(|query| query.name() == name)
+            .ok_or_else(|| QueryNameError(name.to_owned()))
+    }
+
     /// The child order this query is best traced in, when nothing else is asked: near first
     /// for a closest hit (a hit in the near child culls the far one), file order for any hit.
     /// An any-hit ray that hits nothing, most shadow rays, visits every child it hits in
@@ -116,5 +143,21 @@ impl TraceOptions {
             },
             ..self
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn named_queries_parse_back_and_others_are_refused() {
+        for query in Query::NAMED {
+            assert_eq!(Query::parse(query.name()), Ok(query));
+        }
+        assert_eq!(
+            Query::parse("first-in-cell").map_err(|error| error.to_string()),
+            Err("'first-in-cell' is not a query; queries are closest, any".to_owned())
+        );
     }
 }

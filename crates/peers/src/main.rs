@@ -29,7 +29,7 @@ use accelviz_core::Query;
 use accelviz_embree::{Embree, Version};
 use accelviz_scene::Mesh;
 use accelviz_scene::rays::{RayKind, RaySource, RaySpec};
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use clap::Parser;
 
 /// Established BVH libraries on accelviz's triangles and rays.
@@ -54,11 +54,11 @@ struct Args {
     camera: Option<String>,
     /// What rays, as `accelviz-cli bench --ray-kind`: random, camera, aimed, shadow, ao,
     /// bounce. Default: camera with --camera, else random.
-    #[arg(long, value_parser = parse_ray_kind)]
+    #[arg(long, value_parser = RayKind::parse)]
     ray_kind: Option<RayKind>,
     /// closest, or any (is anything in the way?). Default: any for shadow and ao rays,
     /// closest otherwise.
-    #[arg(long, value_parser = parse_query)]
+    #[arg(long, value_parser = Query::parse)]
     query: Option<Query>,
     /// Which peers, comma-separated: obvhs, bvh, parry3d, embree3, embree4, embree3-packet,
     /// embree4-packet (16-wide coherent packets), tinybvh (its 8-wide BVH8_CPU; needs an
@@ -84,29 +84,9 @@ struct Figures {
     hits: usize,
 }
 
-fn parse_ray_kind(name: &str) -> Result<RayKind, String> {
-    RayKind::from_name(name).ok_or_else(|| format!("'{name}' is not a ray kind"))
-}
-
-fn parse_query(name: &str) -> Result<Query, String> {
-    match name {
-        "closest" => Ok(Query::Closest),
-        "any" => Ok(Query::Any),
-        _ => Err(format!("'{name}' is not a query: closest or any")),
-    }
-}
-
 /// A ray's end as an f32 (an unbounded ray's is the largest f32).
 fn t_max_f32(ray: &RaySpec) -> f32 {
     ray.t_max.min(f32::MAX as f64) as f32
-}
-
-fn load_mesh(mesh: &str) -> Result<Mesh> {
-    if let Some(name) = mesh.strip_prefix("builtin:") {
-        return accelviz_scene::builtin::by_name(name)
-            .with_context(|| format!("unknown built-in mesh '{name}'"));
-    }
-    Ok(accelviz_scene::obj::load_obj(mesh)?)
 }
 
 fn to_f32(v: [f64; 3]) -> [f32; 3] {
@@ -360,13 +340,6 @@ fn run_embree(
     })
 }
 
-fn query_name(query: Query) -> &'static str {
-    match query {
-        Query::Any => "any",
-        _ => "closest",
-    }
-}
-
 fn main() -> std::process::ExitCode {
     match run(Args::parse()) {
         Ok(text) => {
@@ -381,7 +354,7 @@ fn main() -> std::process::ExitCode {
 }
 
 fn run(args: Args) -> Result<String> {
-    let mesh = load_mesh(&args.mesh)?;
+    let mesh = accelviz_scene::builtin::load_mesh(&args.mesh)?;
     let kind = args.ray_kind.unwrap_or(if args.camera.is_some() {
         RayKind::Camera
     } else {
@@ -457,7 +430,7 @@ fn run(args: Args) -> Result<String> {
         if args.json {
             out.push_str(&format!(
                 "{{\"accel\":\"{}\",\"mesh\":\"{}\",\"triangles\":{},\"build_ms\":{},\"rays\":{},\"ray_source\":\"{ray_source}\",\"ray_kind\":\"{}\",\"query\":\"{}\",\"isa\":\"{}\",\"trace_ms\":{},\"mrays_per_s\":{mrays},\"hits\":{},\"threads\":1}}\n",
-                f.name, mesh.name, mesh.triangles.len(), f.build_ms, rays.len(), kind.name(), query_name(query), isa.unwrap_or("native"), f.trace_ms, f.hits
+                f.name, mesh.name, mesh.triangles.len(), f.build_ms, rays.len(), kind.name(), query.name(), isa.unwrap_or("native"), f.trace_ms, f.hits
             ));
         } else {
             out.push_str(&format!(

@@ -283,6 +283,17 @@ pub fn by_name(name: &str) -> Option<Mesh> {
         .map(|builtin| (builtin.make)())
 }
 
+/// The mesh `spec` names as the command line names one: `builtin:NAME` (see [`by_name`]),
+/// or the path of an OBJ file.
+pub fn load_mesh(spec: &str) -> Result<Mesh, crate::LoadError> {
+    match spec.strip_prefix("builtin:") {
+        Some(name) => by_name(name).ok_or_else(|| crate::LoadError::UnknownBuiltin {
+            name: name.to_owned(),
+        }),
+        None => crate::obj::load_obj(spec),
+    }
+}
+
 /// The entry of [`BUILTINS`] that `spec` (`builtin:NAME`) names, or why there is none (the
 /// message lists them).
 pub fn named(spec: &str) -> Result<&'static Builtin, String> {
@@ -596,6 +607,22 @@ pub fn soup() -> Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_mesh_is_named_by_builtin_name_or_path_and_an_unknown_one_is_listed() {
+        assert_eq!(load_mesh("builtin:cube").ok(), by_name("cube"));
+        let unknown = load_mesh("builtin:nope").unwrap_err().to_string();
+        assert!(
+            unknown.starts_with("unknown built-in mesh 'nope'; built-in meshes are: ")
+                && unknown.contains("teapot"),
+            "{unknown}"
+        );
+        let missing = load_mesh("/no/such.obj").unwrap_err().to_string();
+        assert!(
+            missing.starts_with("/no/such.obj: cannot read"),
+            "{missing}"
+        );
+    }
 
     #[test]
     fn sizes() {

@@ -32,6 +32,15 @@ pub enum LoadError {
         /// chains would print it twice.)
         cause: std::io::Error,
     },
+    /// `builtin:NAME` names no built-in mesh; the message lists them.
+    #[error(
+        "unknown built-in mesh '{name}'; built-in meshes are: {}",
+        crate::builtin::names().join(", ")
+    )]
+    UnknownBuiltin {
+        /// The name after `builtin:`.
+        name: String,
+    },
     /// The content is wrong at a place.
     #[error("{location}: {problem}")]
     Invalid {

@@ -633,6 +633,11 @@ impl<'a> SurfaceAim<'a> {
     }
 }
 
+/// A name that is not a [`RayKind`]'s; the message lists theirs.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[error("'{0}' is not a ray kind; ray kinds are {names}", names = RayKind::ALL.map(RayKind::name).join(", "))]
+pub struct RayKindError(pub String);
+
 /// The kinds of rays accelviz makes, from a seed, the same on every machine: what a renderer
 /// traces, from the coherent to the incoherent (`--ray-kind` wherever rays are made).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -686,6 +691,11 @@ impl RayKind {
     /// The kind of that [`RayKind::name`].
     pub fn from_name(name: &str) -> Option<RayKind> {
         RayKind::ALL.into_iter().find(|kind| kind.name() == name)
+    }
+
+    /// The kind `name` names, or an error that lists them (`--ray-kind`).
+    pub fn parse(name: &str) -> Result<RayKind, RayKindError> {
+        RayKind::from_name(name).ok_or_else(|| RayKindError(name.to_owned()))
     }
 
     /// One line on what the rays are.
@@ -1044,6 +1054,19 @@ mod tests {
     }
 
     use super::*;
+
+    #[test]
+    fn a_ray_kind_is_parsed_by_name_and_an_unknown_one_lists_them() {
+        for kind in RayKind::ALL {
+            assert_eq!(RayKind::parse(kind.name()), Ok(kind));
+        }
+        let error = RayKind::parse("sideways").unwrap_err().to_string();
+        assert!(
+            error.starts_with("'sideways' is not a ray kind; ray kinds are random, ")
+                && error.contains("camera"),
+            "{error}"
+        );
+    }
 
     #[test]
     fn parses_rays_and_names_bad_lines() {

@@ -1089,7 +1089,7 @@ impl Lesson for TradeLesson {
             count(result.triangles),
             count(result.rays),
             result.key.ray_kind.name(),
-            crate::mesh::trade::query_name(result.query),
+            result.query.name(),
             accelviz_core::format::counted(result.key.rounds, "round", "rounds"),
             result.millis / 1e3,
             result.place,

@@ -467,11 +467,7 @@ pub mod work {
         rounds: usize,
         progress: &dyn Fn(&TradeProgress),
     ) -> Result<Vec<u8>, String> {
-        let query = match query {
-            "closest" => accelviz_core::Query::Closest,
-            "any" => accelviz_core::Query::Any,
-            other => return Err(format!("query '{other}' is not closest or any")),
-        };
+        let query = accelviz_core::Query::parse(query).map_err(|error| error.to_string())?;
         if !rays.len().is_multiple_of(8) {
             return Err("rays come as eight numbers each".to_owned());
         }
@@ -505,8 +501,7 @@ mod web_worker {
     use super::super::packed::flat_triangles;
     use super::super::worker::{Spawned, field};
     use super::{
-        OnUiThread, Shared, Source, TradeProgress, TradeResult, flat_ray, new_lab, query_name,
-        unpack_rows,
+        OnUiThread, Shared, Source, TradeProgress, TradeResult, flat_ray, new_lab, unpack_rows,
     };
 
     /// Starts measuring `triangles` with `rays` for `source` in a Web Worker of its own: its
@@ -595,20 +590,12 @@ mod web_worker {
                 ("job", "trade".into()),
                 ("triangles", triangles.into()),
                 ("rays", rays.into()),
-                ("query", query_name(query).into()),
+                ("query", query.name().into()),
                 ("rounds", (rounds as f64).into()),
             ],
             &buffers,
         )?;
         Ok(spawned)
-    }
-}
-
-/// A query's name, as the CLI's `--query` spells it.
-pub fn query_name(query: Query) -> &'static str {
-    match query {
-        Query::Any => "any",
-        Query::Closest | Query::FirstInCell => "closest",
     }
 }
 
