@@ -10,11 +10,11 @@ use accelviz_scene::rays::{RayKind, RaySource, pixel_tiles};
 use anyhow::{Result, bail};
 use clap::Args;
 
+use crate::args::{BuildArgs, Precision, TraceArgs};
 use crate::json::JsonObject;
 use crate::parallel::Workers;
 use crate::spec::{Accel, AccelSpec};
 use crate::timing::{Samples, interleaved};
-use crate::{BuildArgs, Precision, TraceArgs};
 use accelviz_scene::builtin::load_mesh;
 
 /// Builds timed for one sample of a structure's build time, at least: the sample is their
@@ -25,9 +25,9 @@ const BUILDS_PER_SAMPLE: usize = 5;
 
 #[derive(Args, Debug)]
 pub struct BenchArgs {
-    #[arg(long, default_value = "builtin:lumpy-sphere", help = crate::mesh_help())]
+    #[arg(long, default_value = "builtin:lumpy-sphere", help = crate::args::mesh_help())]
     mesh: String,
-    #[arg(long, help = crate::structure_help("Comma-separated structures (bvh:sah-binned:8,kd:sah)"))]
+    #[arg(long, help = crate::args::structure_help("Comma-separated structures (bvh:sah-binned:8,kd:sah)"))]
     accel: String,
     /// How many rays: random ones (origins outside the mesh's box, aimed at random points in
     /// it), or of `--ray-kind`.
@@ -64,7 +64,7 @@ pub struct BenchArgs {
     build: BuildArgs,
     /// Rounds: every structure is built and traced once per round, the rounds interleaved,
     /// and each figure is the median of its rounds with the range it moved in (`±%`).
-    #[arg(long, default_value_t = 5, value_parser = crate::parse_rounds)]
+    #[arg(long, default_value_t = 5, value_parser = crate::args::parse_rounds)]
     repeat: usize,
     /// Comma-separated instruction sets to trace with, each measured in the same rounds:
     /// portable, avx2, avx512 (x86-64), simd128 (WebAssembly). Default: the best this
@@ -271,7 +271,7 @@ pub fn run(args: &BenchArgs) -> Result<String> {
                 .number("avg_prims_tested", avg_prims)
                 .number("avg_mailbox_skips", f.counters.mailbox_skips as f64 / rays)
                 .integer("max_stack", f.max_stack as u64)
-                .raw("outcomes", &outcomes_json(&f.outcomes))
+                .raw("outcomes", &crate::json::outcomes_json(&f.outcomes))
                 .raw(
                     "sah_check",
                     &f.sah_check
@@ -335,7 +335,7 @@ fn measure<V: Vector3>(
     args: &BenchArgs,
 ) -> Result<Vec<Figures>> {
     let triangles = TriangleSet::<V>::from_f64(&mesh.triangles);
-    let rays = crate::rays_of::<V>(axes.source, mesh)?;
+    let rays = crate::args::rays_of::<V>(axes.source, mesh)?;
     let options = args.trace.options_for(axes.source.kind());
     let rounds = args.repeat.max(1);
     let workers = axes
@@ -581,15 +581,5 @@ pub fn sah_check_json(check: &SahCheck) -> String {
         .number("sah_cost", check.sah_cost)
         .number("measured_chance_cost", check.measured_chance_cost)
         .raw("per_depth", &format!("[{}]", depths.join(",")))
-        .finish()
-}
-
-/// `{"agree": …, "tie": …, …}`: each outcome per million rays.
-pub fn outcomes_json(outcomes: &OutcomeCounts) -> String {
-    Outcome::ALL
-        .iter()
-        .fold(JsonObject::new(), |object, &outcome| {
-            object.number(outcome.name(), outcomes.per_million(outcome))
-        })
         .finish()
 }

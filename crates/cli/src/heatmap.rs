@@ -12,9 +12,9 @@ use accelviz_scene::rays::{RayKind, pixel_secondary_rays};
 use anyhow::{Result, anyhow, bail};
 use clap::{Args, ValueEnum};
 
+use crate::args::{BuildArgs, Precision, TraceArgs};
 use crate::json::JsonObject;
 use crate::spec::AccelSpec;
-use crate::{BuildArgs, Precision, TraceArgs};
 use accelviz_scene::builtin::load_mesh;
 
 /// A counter as the command line spells it.
@@ -41,9 +41,9 @@ impl CounterArg {
 
 #[derive(Args, Debug)]
 pub struct HeatmapArgs {
-    #[arg(long, default_value = "builtin:lumpy-sphere", help = crate::mesh_help())]
+    #[arg(long, default_value = "builtin:lumpy-sphere", help = crate::args::mesh_help())]
     mesh: String,
-    #[arg(long, help = crate::structure_help("The structure"))]
+    #[arg(long, help = crate::args::structure_help("The structure"))]
     accel: String,
     /// The image size WIDTHxHEIGHT; the camera is `bench --camera`'s.
     #[arg(long, default_value = "512x512")]

@@ -80,3 +80,13 @@ pub fn number(value: f64) -> String {
         format!("{value}")
     }
 }
+
+/// `{"agree": …, "tie": …, …}`: each outcome per million rays.
+pub fn outcomes_json(outcomes: &accelviz_core::outcome::OutcomeCounts) -> String {
+    accelviz_core::outcome::Outcome::ALL
+        .iter()
+        .fold(JsonObject::new(), |object, &outcome| {
+            object.number(outcome.name(), outcomes.per_million(outcome))
+        })
+        .finish()
+}

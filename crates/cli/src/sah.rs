@@ -10,8 +10,8 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use glam::{DVec2, DVec3, Vec2, Vec3};
 
+use crate::args::{BuildArgs, Precision};
 use crate::json::{JsonObject, number};
-use crate::{BuildArgs, Precision};
 use accelviz_scene::builtin::load_mesh;
 
 /// Which kind of tree.
@@ -39,7 +39,7 @@ pub struct SahArgs {
         long,
         required_unless_present = "scene2d",
         conflicts_with = "scene2d",
-        help = crate::mesh_help()
+        help = crate::args::mesh_help()
     )]
     mesh: Option<String>,
     /// A 2D scene instead: a scene file (`disc CX CY R`, `box X0 Y0 X1 Y1`, `segment AX AY BX
@@ -61,7 +61,7 @@ pub struct SahArgs {
     #[arg(long)]
     bins: Option<usize>,
     /// Arithmetic precision of the scene and the build.
-    #[arg(long, value_parser = crate::precision_parser(), default_value = "f32")]
+    #[arg(long, value_parser = crate::args::precision_parser(), default_value = "f32")]
     precision: Precision,
     #[command(flatten)]
     build: BuildArgs,

@@ -4,7 +4,7 @@ use accelviz_core::{Aabb, Ray, Real, SlabRecord, Vector, slab_record};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 
-use crate::Precision;
+use crate::args::Precision;
 use crate::json::{JsonObject, number};
 
 #[derive(Args, Debug)]
@@ -19,7 +19,7 @@ pub struct SlabArgs {
     #[arg(long)]
     json: bool,
     /// Arithmetic precision.
-    #[arg(long, value_parser = crate::precision_parser(), default_value = "f64")]
+    #[arg(long, value_parser = crate::args::precision_parser(), default_value = "f64")]
     precision: Precision,
     /// Widen every t_far conservatively (Ize 2013).
     #[arg(long)]

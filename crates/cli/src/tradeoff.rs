@@ -15,17 +15,17 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use glam::{DVec3, Vec3};
 
+use crate::args::{BuildArgs, convert_rays};
 use crate::json::JsonObject;
 use crate::parallel::Workers;
 use crate::plot::{Lines, Point, Scatter};
 use crate::spec::{Accel, AccelSpec};
 use crate::timing::interleaved;
-use crate::{BuildArgs, convert_rays};
 use accelviz_scene::builtin::load_mesh;
 
 #[derive(Args, Debug)]
 pub struct TradeoffArgs {
-    #[arg(long, default_value = "builtin:lumpy-sphere", help = crate::mesh_help())]
+    #[arg(long, default_value = "builtin:lumpy-sphere", help = crate::args::mesh_help())]
     mesh: String,
     /// How many rays of the kind (`--ray-kind`). Every one is also decided by the reference
     /// in each precision.
@@ -68,7 +68,7 @@ pub struct TradeoffArgs {
     /// Rounds: every structure is built, and every row traced, once per round, the rounds
     /// interleaved; each figure is the median of its rounds, with the range it moved in
     /// (with one round, the range says nothing and no winner is named).
-    #[arg(long, default_value_t = 5, value_parser = crate::parse_rounds)]
+    #[arg(long, default_value_t = 5, value_parser = crate::args::parse_rounds)]
     repeat: usize,
     /// Threads tracing rays, in tiles of 256 (builds are single-threaded).
     #[arg(long, default_value_t = 1)]
@@ -473,7 +473,7 @@ fn cells(row: &TradeRow, params: &BuildParams) -> Vec<String> {
 
 /// `row` as one JSON object.
 fn json(row: &TradeRow, params: &BuildParams, kind: RayKind, query: Query) -> String {
-    let outcomes = crate::bench::outcomes_json(&row.outcomes);
+    let outcomes = crate::json::outcomes_json(&row.outcomes);
     JsonObject::new()
         .string("structure", &row.structure.name())
         .string("order", row.switches.order.name())
