@@ -282,6 +282,23 @@ pub(crate) enum Link {
     },
 }
 
+impl Link {
+    /// A node that is a leaf of `count` references from `first`, or else an interior node
+    /// whose `children` children start at `first` (as BVH, kD and octree nodes are laid out).
+    pub(crate) fn of(leaf: bool, first: u32, count: u32, children: usize) -> Self {
+        match leaf {
+            true => Link::Leaf {
+                first: first as usize,
+                count: count as usize,
+            },
+            false => Link::Interior {
+                first: first as usize,
+                children,
+            },
+        }
+    }
+}
+
 /// Checks that a flat tree read from bytes can be walked as its traversal and facts walk it:
 /// from the root, every child lies in the node array and every node is reached exactly once
 /// (no cycle, none shared, none left over), and every leaf's run lies in the `references`.

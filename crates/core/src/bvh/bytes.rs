@@ -32,16 +32,7 @@ impl<V: Vector> Bvh<V> {
         let primitive_indices = input.u32s()?;
         check_links(nodes.len(), primitive_indices.len(), |index| {
             let node = &nodes[index];
-            Ok(match node.is_leaf() {
-                true => Link::Leaf {
-                    first: node.first as usize,
-                    count: node.count as usize,
-                },
-                false => Link::Interior {
-                    first: node.first as usize,
-                    children: 2,
-                },
-            })
+            Ok(Link::of(node.is_leaf(), node.first, node.count, 2))
         })?;
         Ok(Self {
             nodes,

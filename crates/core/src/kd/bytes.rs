@@ -46,16 +46,8 @@ impl<V: Vector> KdTree<V> {
         let primitive_indices = input.u32s()?;
         check_links(nodes.len(), primitive_indices.len(), |index| {
             let node = &nodes[index];
-            if node.is_leaf() {
-                Ok(Link::Leaf {
-                    first: node.first as usize,
-                    count: node.count as usize,
-                })
-            } else if (node.axis as usize) < V::DIM {
-                Ok(Link::Interior {
-                    first: node.first as usize,
-                    children: 2,
-                })
+            if node.is_leaf() || (node.axis as usize) < V::DIM {
+                Ok(Link::of(node.is_leaf(), node.first, node.count, 2))
             } else {
                 Err(BytesError::Invalid(format!(
                     "node {index}: axis {}",

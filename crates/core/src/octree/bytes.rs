@@ -36,16 +36,12 @@ impl<V: Vector> Octree<V> {
         let primitive_indices = input.u32s()?;
         check_links(nodes.len(), primitive_indices.len(), |index| {
             let node = &nodes[index];
-            Ok(match node.is_leaf() {
-                true => Link::Leaf {
-                    first: node.first as usize,
-                    count: node.count as usize,
-                },
-                false => Link::Interior {
-                    first: node.first as usize,
-                    children: child_count::<V>(),
-                },
-            })
+            Ok(Link::of(
+                node.is_leaf(),
+                node.first,
+                node.count,
+                child_count::<V>(),
+            ))
         })?;
         let depth_limit = input.usize()?;
         let leaves_at_depth_limit = input.usize()?;
