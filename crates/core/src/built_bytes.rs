@@ -5,6 +5,7 @@
 //! page, and what a caller adds its own fields after ([`Built::write_bytes`]).
 
 use crate::build_observer::LeafReason;
+use crate::built::Built;
 use crate::bvh::Bvh;
 use crate::bytes::{ByteReader, ByteWriter, BytesError, REAL_BYTES};
 use crate::facts::TreeFacts;
@@ -13,7 +14,7 @@ use crate::kd::KdTree;
 use crate::math::Vector;
 use crate::octree::Octree;
 use crate::sah::SahCost;
-use crate::structure::{Built, Family, Structure, Tree};
+use crate::structure::{Family, Structure, Tree};
 
 /// Marks a built structure's bytes, and the version of their layout.
 const MAGIC: &[u8; 8] = b"accelvz2";

@@ -11,9 +11,10 @@
 
 use glam::{DVec3, Vec3};
 
+use crate::built::Built;
 use crate::params::BuildParams;
 use crate::primitive::{LeafOrdered, TriangleSet};
-use crate::structure::{Built, Structure, TraversalStacks, Tree};
+use crate::structure::{Structure, TraversalStacks, Tree};
 use crate::{Counters, Hit, NoBuildObserver, NoObserver, Ray, TraceOptions};
 
 /// [`Built::new`] over triangles in f64, with no observer.

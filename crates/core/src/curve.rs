@@ -12,11 +12,12 @@
 //! between two bins (binned).
 
 use crate::aabb::Aabb;
+use crate::built::Built;
 use crate::bvh::{build_binned, build_sweep};
 use crate::kd;
 use crate::math::{Real, Vector};
 use crate::sah::SahCost;
-use crate::structure::{Built, Family};
+use crate::structure::Family;
 
 /// One candidate split with the parts of its cost:
 /// `cost = C_trav + P(L)·N_L·C_isect + P(R)·N_R·C_isect` (kD: discounted by the empty bonus
