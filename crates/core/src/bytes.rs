@@ -250,11 +250,6 @@ impl<'a> ByteReader<'a> {
         Ok(items)
     }
 
-    /// Whether every byte was read.
-    pub fn is_done(&self) -> bool {
-        self.rest.is_empty()
-    }
-
     /// Ok when every byte was read; else how many are left over.
     pub fn finish(&self) -> Result<(), BytesError> {
         match self.rest.len() {

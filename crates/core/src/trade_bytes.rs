@@ -17,7 +17,14 @@ const ROWS_MAGIC: &[u8; 8] = b"accelvt2";
 
 /// The fewest bytes a row takes (a name of no letters, no examples): a count of rows cannot
 /// ask for more than the bytes hold.
-const LEAST_ROW_BYTES: usize = 8 + 3 + 11 * REAL_BYTES + 1 + 8 + 6 * 8 + 6;
+const LEAST_ROW_BYTES: usize = 8 // the name's length
+    + 3 // the switches
+    + 5 * REAL_BYTES // the build's numbers
+    + 1 + REAL_BYTES // the EPO
+    + 8 // the bytes
+    + 6 * REAL_BYTES // the trace's numbers
+    + 6 * 8 // the outcome counts
+    + 6; // each example's flag
 
 impl TradeRow {
     /// `rows` as bytes.
